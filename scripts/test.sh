@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# README command 2: install dependencies, build, run the whole test suite,
+# first in the release build, then again under ASan+UBSan.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+jobs="${GROUNDLINE_JOBS:-$(nproc)}"
+
+echo "== release build =="
+scripts/build.sh release
+echo "== tests (release) =="
+ctest --test-dir build --output-on-failure -j "$jobs"
+
+echo "== ASan+UBSan build =="
+scripts/build.sh asan
+echo "== tests (ASan+UBSan) =="
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j "$jobs"

@@ -1,0 +1,21 @@
+// Subcommands of the `groundline` executable. Each Add*Command registers its
+// flags on `parent` and, when the subcommand is chosen on the command line,
+// stores in *run the function that executes it (returning the exit code:
+// 0 success, 1 failure caused by the input data, 2 usage error).
+//
+// The commands are thin: they turn flags and config files into the Options of
+// the libraries and call them.
+#ifndef GROUNDLINE_TOOLS_COMMANDS_H_
+#define GROUNDLINE_TOOLS_COMMANDS_H_
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace groundline::tools {
+
+using CommandRunner = std::function<int()>;
+
+}  // namespace groundline::tools
+
+#endif  // GROUNDLINE_TOOLS_COMMANDS_H_

@@ -1,0 +1,38 @@
+// The `groundline` executable: one binary, one subcommand per user task.
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "groundline/version.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "groundline: centimetre localization for warehouse AGVs from floor markings,\n"
+      "wheel odometry and a planar LiDAR.\n\n"
+      "Run 'groundline <command> --help' for the flags of one command."};
+  app.set_version_flag("--version", std::string("groundline ") + GROUNDLINE_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough();
+
+  groundline::tools::CommandRunner run;
+  (void)run;
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (!run) {
+    std::fprintf(stderr, "groundline: no command chosen; see 'groundline --help'\n");
+    return 2;
+  }
+  try {
+    return run();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}
