@@ -93,8 +93,8 @@ template <typename Derived, typename F, typename In>
   }
   if (worst <= tol) return ::testing::AssertionSuccess();
   std::ostringstream out;
-  out << analytic_expr << " differs from the numeric Jacobian of " << f_expr
-      << " by " << worst << " (tolerance " << tol << ")\nanalytic:\n"
+  out << analytic_expr << " differs from the numeric Jacobian of " << f_expr << " by " << worst
+      << " (tolerance " << tol << ")\nanalytic:\n"
       << analytic << "\nnumeric:\n"
       << numeric;
   return ::testing::AssertionFailure() << out.str();

@@ -38,14 +38,14 @@ inline std::filesystem::path ScratchDir(const std::string& name) {
 
 // Skips the current test, with the path and the reason, when a shared data
 // file or folder is absent.
-#define GROUNDLINE_REQUIRE_DATA(relative_path)                                             \
-  do {                                                                                     \
-    const std::filesystem::path groundline_data_path_ =                                    \
-        ::groundline::testing::SharedDataDir() / (relative_path);                          \
-    if (!std::filesystem::exists(groundline_data_path_)) {                                 \
-      GTEST_SKIP() << "shared data absent: " << groundline_data_path_                      \
+#define GROUNDLINE_REQUIRE_DATA(relative_path)                                              \
+  do {                                                                                      \
+    const std::filesystem::path groundline_data_path_ =                                     \
+        ::groundline::testing::SharedDataDir() / (relative_path);                           \
+    if (!std::filesystem::exists(groundline_data_path_)) {                                  \
+      GTEST_SKIP() << "shared data absent: " << groundline_data_path_                       \
                    << " (set GROUNDLINE_DATA_DIR or place ../shared/data beside the repo)"; \
-    }                                                                                      \
+    }                                                                                       \
   } while (0)
 
 #endif  // GROUNDLINE_TESTS_SUPPORT_TEST_DATA_H_

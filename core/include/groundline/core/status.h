@@ -43,7 +43,7 @@ template <typename T>
 class [[nodiscard]] Result {
  public:
   Result(T value) : value_(std::move(value)), status_(Status::Ok()) {}  // NOLINT: implicit
-  Result(Status status) : status_(std::move(status)) {                 // NOLINT: implicit
+  Result(Status status) : status_(std::move(status)) {                  // NOLINT: implicit
     assert(!status_.ok() && "Result constructed from an ok Status without a value");
   }
 
