@@ -16,6 +16,9 @@ namespace groundline::tools {
 
 using CommandRunner = std::function<int()>;
 
+// `groundline eval`: trajectory metrics against a reference and/or relations.
+CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_COMMANDS_H_

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
 
   groundline::tools::CommandRunner run;
-  (void)run;
+  groundline::tools::AddEvalCommand(app, &run);
 
   try {
     app.parse(argc, argv);

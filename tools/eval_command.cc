@@ -1,0 +1,264 @@
+// `groundline eval`: trajectory accuracy of one or more estimates against a
+// reference trajectory and/or Kuemmerle relations (EVAL.md, docs/metrics.md).
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "groundline/core/atomic_file.h"
+#include "groundline/core/metric_fields.h"
+#include "groundline/core/relation_metrics.h"
+#include "groundline/io/relations.h"
+#include "groundline/core/trajectory_io.h"
+#include "groundline/core/trajectory_metrics.h"
+
+namespace groundline::tools {
+namespace {
+
+struct EvalFlags {
+  std::vector<std::string> est_paths;
+  std::vector<std::string> labels;
+  std::string ref_path;
+  std::string relations_path;
+  bool align = false;
+  std::string assoc = "nearest";
+  double max_dt_s = 0.01;
+  std::optional<double> rpe_m;
+  std::optional<int> rpe_frames;
+  std::string json_path;
+};
+
+// One evaluated estimate: its identity and its metric fields in order.
+struct EvalRun {
+  std::string label;
+  std::string est_path;
+  std::vector<core::MetricField> fields;
+};
+
+constexpr char kHelp[] =
+    R"(Measures the accuracy of estimated trajectories (EVAL.md; formulas in docs/metrics.md).
+
+Reads TUM ('t x y z qx qy qz qw', t in s) or EuRoC (.csv, t in ns) trajectories and
+compares each --est with a reference trajectory (--ref) and/or Kuemmerle relations
+(--relations, lines 't1 t2 x y z roll pitch yaw'); at least one of the two.
+
+Against --ref: poses are matched by timestamp (--assoc nearest: the reference pose
+nearest in time within --max-dt-s; interp: the reference interpolated on SE(2)),
+unmatched estimate poses are counted. ATE RMSE/mean/median/max [m] in the map frame
+(no alignment unless --align: closed-form SE(2) least squares, no scale, reported
+as align_x_m/align_y_m/align_yaw_deg), along-track (slip) and cross-track RMSE [m]
+relative to the reference direction of travel, heading RMSE [deg], NEES when the
+estimate carries covariances, RPE with --rpe-m or --rpe-frames.
+Against --relations: for each relation the estimate poses nearest t1 and t2 (within
+--max-dt-s); mean and population std of the translational [m] and rotational [deg]
+error of delta_ref^-1 * delta_est.
+
+Prints a table (one column per estimate). --json writes, atomically, one object per
+estimate with the keys of EVAL.md plus label, est, ref, relations, assoc, max_dt_s,
+aligned: a single object for one --est, a JSON array of such objects (in --est
+order) for several.
+
+Example:
+  groundline eval --est run1/trajectory.tum --est run2/trajectory.tum \
+      --label floor --label lidar_only --ref gt.tum --align --json eval.json
+  groundline eval --est aces_odom.tum --relations aces.relations
+Exit codes: 0 ok, 1 unreadable input or no match, 2 usage error.)";
+
+std::string DefaultLabel(const std::string& path, const std::vector<std::string>& all) {
+  const std::string stem = std::filesystem::path(path).stem().string();
+  int same = 0;
+  for (const std::string& other : all) {
+    if (std::filesystem::path(other).stem().string() == stem) ++same;
+  }
+  return same > 1 ? path : stem;
+}
+
+nlohmann::ordered_json RunToJson(const EvalRun& run, const EvalFlags& flags) {
+  nlohmann::ordered_json object;
+  object["label"] = run.label;
+  object["est"] = run.est_path;
+  if (!flags.ref_path.empty()) {
+    object["ref"] = flags.ref_path;
+    object["assoc"] = flags.assoc;
+    object["aligned"] = flags.align;
+  }
+  if (!flags.relations_path.empty()) object["relations"] = flags.relations_path;
+  object["max_dt_s"] = flags.max_dt_s;
+  for (const core::MetricField& field : run.fields) {
+    if (field.is_count) {
+      object[field.key] = static_cast<std::uint64_t>(field.value);
+    } else {
+      object[field.key] = field.value;
+    }
+  }
+  return object;
+}
+
+// Rows are the union of the runs' fields, in first-seen order; "-" where a run lacks one.
+void PrintTable(const std::vector<EvalRun>& runs) {
+  std::vector<std::pair<std::string, std::string>> rows;  // key, label
+  std::vector<std::map<std::string, std::string>> cells(runs.size());
+  std::size_t label_width = 6;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    for (const core::MetricField& field : runs[r].fields) {
+      bool known = false;
+      for (const auto& row : rows) known = known || row.first == field.key;
+      if (!known) rows.emplace_back(field.key, field.label);
+      char text[64];
+      std::snprintf(text, sizeof(text), field.is_count ? "%.0f" : "%.4f", field.value);
+      cells[r][field.key] = text;
+      label_width = std::max(label_width, field.label.size());
+    }
+  }
+  std::vector<std::size_t> widths;
+  std::printf("%-*s", static_cast<int>(label_width), "metric");
+  for (const EvalRun& run : runs) {
+    widths.push_back(std::max<std::size_t>(12, run.label.size()));
+    std::printf("  %*s", static_cast<int>(widths.back()), run.label.c_str());
+  }
+  std::printf("\n");
+  for (const auto& [key, label] : rows) {
+    std::printf("%-*s", static_cast<int>(label_width), label.c_str());
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      const auto it = cells[r].find(key);
+      std::printf("  %*s", static_cast<int>(widths[r]),
+                  it == cells[r].end() ? "-" : it->second.c_str());
+    }
+    std::printf("\n");
+  }
+}
+
+int RunEval(const EvalFlags& flags) {
+  if (flags.ref_path.empty() && flags.relations_path.empty()) {
+    std::fprintf(stderr, "groundline eval: give --ref FILE and/or --relations FILE\n");
+    return 2;
+  }
+  if (!flags.labels.empty() && flags.labels.size() != flags.est_paths.size()) {
+    std::fprintf(stderr, "groundline eval: %zu --label for %zu --est; give one per --est or none\n",
+                 flags.labels.size(), flags.est_paths.size());
+    return 2;
+  }
+  core::TrajectoryMetricsOptions options;
+  options.align = flags.align;
+  options.association.max_dt_s = flags.max_dt_s;
+  options.association.method = flags.assoc == "interp" ? core::AssociationMethod::kInterpolate
+                                                       : core::AssociationMethod::kNearest;
+  if (flags.rpe_m) options.rpe = core::RpeOptions{core::RpeDeltaUnit::kMetres, *flags.rpe_m};
+  if (flags.rpe_frames) {
+    options.rpe =
+        core::RpeOptions{core::RpeDeltaUnit::kFrames, static_cast<double>(*flags.rpe_frames)};
+  }
+  core::RelationMetricsOptions relation_options;
+  relation_options.max_dt_s = flags.max_dt_s;
+  for (const core::Status& s : {options.Validate(), relation_options.Validate()}) {
+    if (!s.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", s.message().c_str());
+      return 2;
+    }
+  }
+
+  std::optional<core::Trajectory> reference;
+  if (!flags.ref_path.empty()) {
+    core::Result<core::Trajectory> read = core::ReadTrajectory(flags.ref_path);
+    if (!read.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", read.message().c_str());
+      return 1;
+    }
+    reference = std::move(read).value();
+  }
+  std::optional<std::vector<core::Relation>> relations;
+  if (!flags.relations_path.empty()) {
+    core::Result<std::vector<core::Relation>> read = io::ReadRelations(flags.relations_path);
+    if (!read.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", read.message().c_str());
+      return 1;
+    }
+    relations = std::move(read).value();
+  }
+
+  std::vector<EvalRun> runs;
+  for (std::size_t i = 0; i < flags.est_paths.size(); ++i) {
+    const std::string& path = flags.est_paths[i];
+    EvalRun run{
+        flags.labels.empty() ? DefaultLabel(path, flags.est_paths) : flags.labels[i], path, {}};
+    core::Result<core::Trajectory> estimate = core::ReadTrajectory(path);
+    if (!estimate.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", estimate.message().c_str());
+      return 1;
+    }
+    if (reference) {
+      core::Result<core::TrajectoryErrorSummary> summary =
+          core::ComputeTrajectoryErrors(*estimate, *reference, options);
+      if (!summary.ok()) {
+        std::fprintf(stderr, "groundline eval: %s vs %s: %s\n", path.c_str(),
+                     flags.ref_path.c_str(), summary.message().c_str());
+        return 1;
+      }
+      for (core::MetricField& f : core::MetricFields(*summary)) run.fields.push_back(std::move(f));
+    }
+    if (relations) {
+      core::Result<core::RelationErrorSummary> summary =
+          core::ComputeRelationErrors(*estimate, *relations, relation_options);
+      if (!summary.ok()) {
+        std::fprintf(stderr, "groundline eval: %s vs %s: %s\n", path.c_str(),
+                     flags.relations_path.c_str(), summary.message().c_str());
+        return 1;
+      }
+      for (core::MetricField& f : core::MetricFields(*summary)) run.fields.push_back(std::move(f));
+    }
+    runs.push_back(std::move(run));
+  }
+
+  PrintTable(runs);
+  if (!flags.json_path.empty()) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const EvalRun& run : runs) out.push_back(RunToJson(run, flags));
+    if (runs.size() == 1) out = out.front();
+    if (core::Status s = core::WriteFileAtomically(flags.json_path, out.dump(2) + "\n"); !s.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", s.message().c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
+  CLI::App* cmd = parent.add_subcommand("eval", kHelp);
+  auto flags = std::make_shared<EvalFlags>();
+  cmd->add_option("--est", flags->est_paths,
+                  "estimated trajectory (TUM, or EuRoC if .csv); repeat for several")
+      ->required();
+  cmd->add_option("--ref", flags->ref_path, "reference trajectory (TUM, or EuRoC if .csv)");
+  cmd->add_option("--relations", flags->relations_path,
+                  "Kuemmerle relations file ('t1 t2 x y z roll pitch yaw' per line)");
+  cmd->add_flag("--align", flags->align,
+                "fit and apply an SE(2) alignment (rotation + translation, no scale) before ATE");
+  cmd->add_option("--assoc", flags->assoc, "timestamp association: nearest or interp")
+      ->check(CLI::IsMember({"nearest", "interp"}))
+      ->capture_default_str();
+  cmd->add_option("--max-dt-s", flags->max_dt_s,
+                  "largest time offset for a match [s] (also for relation stamps)")
+      ->capture_default_str();
+  CLI::Option* rpe_m = cmd->add_option("--rpe-m", flags->rpe_m,
+                                       "also report RPE over this reference path length [m]");
+  cmd->add_option("--rpe-frames", flags->rpe_frames,
+                  "also report RPE over this many matched poses (a positive integer)")
+      ->excludes(rpe_m);
+  cmd->add_option("--label", flags->labels,
+                  "column name of each --est, in order (default: the file stem)");
+  cmd->add_option("--json", flags->json_path, "write the metrics as JSON to this file");
+  cmd->callback([flags, run] { *run = [flags] { return RunEval(*flags); }; });
+  return cmd;
+}
+
+}  // namespace groundline::tools
