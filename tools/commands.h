@@ -16,6 +16,9 @@ namespace groundline::tools {
 
 using CommandRunner = std::function<int()>;
 
+// `groundline convert carmen`: raw-odometry trajectory of a CARMEN log.
+CLI::App* AddConvertCommand(CLI::App& parent, CommandRunner* run);
+
 // `groundline eval`: trajectory metrics against a reference and/or relations.
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 

@@ -16,9 +16,9 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/metric_fields.h"
 #include "groundline/core/relation_metrics.h"
-#include "groundline/io/relations.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
+#include "groundline/io/relations.h"
 
 namespace groundline::tools {
 namespace {

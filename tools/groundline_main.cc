@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
 
   groundline::tools::CommandRunner run;
+  groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
 
   try {
