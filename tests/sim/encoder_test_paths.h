@@ -21,7 +21,6 @@ using localization::DiffDriveParams;
 using localization::OdometryIntegrator;
 using localization::OdometryNoiseParams;
 constexpr double kPi = std::numbers::pi;
-constexpr double kRateHz = 100.0;
 
 struct Segment {
   double distance_m;
@@ -30,21 +29,23 @@ struct Segment {
 };
 
 // A warehouse-like run at 1 m/s: down an aisle, U-turn into the next aisle,
-// back, turn in place, reverse into a station. About 20.7 m and 4.7 rad.
-inline std::vector<Segment> WarehouseRun() {
-  return {{8.0, 0.0, 800},
-          {1.5 * kPi, kPi, 471},
-          {8.0, 0.0, 800},
-          {0.0, -kPi / 2.0, 90},
-          {-2.0, 0.0, 200}};
+// back, turn in place, reverse into a station. About 20.7 m and 4.7 rad, in
+// steps of 1 cm / 1 degree (encoders read at 100 Hz) times `coarsen`.
+inline std::vector<Segment> WarehouseRun(int coarsen = 1) {
+  return {{8.0, 0.0, 800 / coarsen},
+          {1.5 * kPi, kPi, 471 / coarsen},
+          {8.0, 0.0, 800 / coarsen},
+          {0.0, -kPi / 2.0, 90 / coarsen},
+          {-2.0, 0.0, 200 / coarsen}};
 }
 
-inline core::Trajectory TruthFromSegments(const std::vector<Segment>& segments) {
+inline core::Trajectory TruthFromSegments(const std::vector<Segment>& segments,
+                                          double rate_hz = 100.0) {
   core::Trajectory truth{{0.0, SE2(1.0, 2.0, 0.3), std::nullopt}};
   for (const Segment& s : segments) {
     const SE2 step = SE2::Exp(Vector3(s.distance_m / s.steps, 0.0, s.rotation_rad / s.steps));
     for (int i = 0; i < s.steps; ++i) {
-      truth.push_back({truth.back().stamp_s + 1.0 / kRateHz, truth.back().pose * step, {}});
+      truth.push_back({truth.back().stamp_s + 1.0 / rate_hz, truth.back().pose * step, {}});
     }
   }
   return truth;
