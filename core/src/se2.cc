@@ -17,10 +17,16 @@ double SinOverT(double t) {
   if (std::abs(t) < kSmallAngleRad) return 1.0 - t * t / 6.0;
   return std::sin(t) / t;
 }
+// 1 - cos(t) written as 2 sin^2(t/2): no cancellation for small t, so the
+// values stay smooth across the series switch.
+double OneMinusCos(double t) {
+  const double s = std::sin(0.5 * t);
+  return 2.0 * s * s;
+}
 // (1 - cos(t))/t
 double OneMinusCosOverT(double t) {
   if (std::abs(t) < kSmallAngleRad) return t / 2.0 - t * t * t / 24.0;
-  return (1.0 - std::cos(t)) / t;
+  return OneMinusCos(t) / t;
 }
 // (t - sin(t))/t^2
 double TMinusSinOverT2(double t) {
@@ -30,7 +36,7 @@ double TMinusSinOverT2(double t) {
 // (1 - cos(t))/t^2
 double OneMinusCosOverT2(double t) {
   if (std::abs(t) < kSmallAngleRad) return 0.5 - t * t / 24.0;
-  return (1.0 - std::cos(t)) / (t * t);
+  return OneMinusCos(t) / (t * t);
 }
 
 Matrix2 RotationMatrix(double yaw_rad) {
