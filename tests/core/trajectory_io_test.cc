@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <ostream>
 #include <random>
 #include <string>
 
@@ -146,6 +147,9 @@ struct MalformedCase {
   const char* field;
   const char* got;
 };
+
+// Keeps the ctest names short: gtest_discover_tests appends the printed parameter.
+void PrintTo(const MalformedCase& c, std::ostream* os) { *os << c.name; }
 
 class TumMalformed : public ::testing::TestWithParam<MalformedCase> {};
 
