@@ -16,6 +16,10 @@ namespace groundline::tools {
 
 using CommandRunner = std::function<int()>;
 
+// `groundline dataset check DIR`: validates a dataset directory and prints a
+// summary (tools/dataset_command.cc).
+CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_COMMANDS_H_

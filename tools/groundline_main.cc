@@ -18,12 +18,13 @@ int main(int argc, char** argv) {
   app.fallthrough();
 
   groundline::tools::CommandRunner run;
-  (void)run;
+  groundline::tools::AddDatasetCommand(app, &run);
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every other parse error is a usage error (2).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   if (!run) {
     std::fprintf(stderr, "groundline: no command chosen; see 'groundline --help'\n");
