@@ -21,6 +21,9 @@ CLI::App* AddConvertCommand(CLI::App& parent, CommandRunner* run);
 
 // `groundline eval`: trajectory metrics against a reference and/or relations.
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
+// `groundline dataset check DIR`: validates a dataset directory and prints a
+// summary (tools/dataset_command.cc).
+CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run);
 
 }  // namespace groundline::tools
 

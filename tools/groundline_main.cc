@@ -20,11 +20,13 @@ int main(int argc, char** argv) {
   groundline::tools::CommandRunner run;
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
+  groundline::tools::AddDatasetCommand(app, &run);
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version exit 0; every other parse error is a usage error (2).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   if (!run) {
     std::fprintf(stderr, "groundline: no command chosen; see 'groundline --help'\n");

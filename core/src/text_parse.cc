@@ -7,6 +7,14 @@ namespace {
 
 bool IsSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
+// from_chars rejects a leading '+', which printf-style writers may emit; strip
+// one, but not one followed by another sign ("+-1" is not a number).
+bool StripPlus(std::string_view* token) {
+  if (token->empty() || token->front() != '+') return true;
+  token->remove_prefix(1);
+  return token->empty() || (token->front() != '-' && token->front() != '+');
+}
+
 }  // namespace
 
 std::vector<std::string_view> SplitWhitespace(std::string_view line) {
@@ -40,7 +48,7 @@ std::vector<std::string_view> SplitDelimited(std::string_view line, char delimit
 }
 
 std::optional<double> ParseDouble(std::string_view token) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  if (!StripPlus(&token)) return std::nullopt;
   double value = 0.0;
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
@@ -49,7 +57,7 @@ std::optional<double> ParseDouble(std::string_view token) {
 }
 
 std::optional<std::int64_t> ParseInt(std::string_view token) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  if (!StripPlus(&token)) return std::nullopt;
   std::int64_t value = 0;
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);

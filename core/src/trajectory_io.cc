@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <string_view>
 
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/text_parse.h"
@@ -29,7 +30,9 @@ Result<StampedPose> PoseFromFields(const PoseFields& f, const std::string& file,
     return Status::Error(FieldError(file, line, "quaternion", "a unit quaternion (norm 1 +- 1e-3)",
                                     "norm " + std::to_string(norm)));
   }
-  const double yaw = std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
+  // Homogeneous form of the ZYX yaw, so that the accepted slack in the norm
+  // does not bias the angle (1 - 2(qy^2 + qz^2) assumes |q| = 1 exactly).
+  const double yaw = std::atan2(2.0 * (qw * qz + qx * qy), qw * qw + qx * qx - qy * qy - qz * qz);
   StampedPose pose;
   pose.stamp_s = f[0];
   pose.pose = SE2(f[1], f[2], yaw);
@@ -51,11 +54,11 @@ Status ParseFields(const std::vector<std::string_view>& tokens,
 }
 
 Status AppendChecked(Trajectory* trajectory, StampedPose pose, const std::string& file,
-                     std::size_t line) {
+                     std::size_t line, std::string_view stamp_field) {
   if (!trajectory->empty() && !(pose.stamp_s > trajectory->back().stamp_s)) {
     char got[96];
     std::snprintf(got, sizeof(got), "%.9f after %.9f", pose.stamp_s, trajectory->back().stamp_s);
-    return Status::Error(FieldError(file, line, "timestamp", "strictly increasing stamps", got));
+    return Status::Error(FieldError(file, line, stamp_field, "strictly increasing stamps", got));
   }
   trajectory->push_back(std::move(pose));
   return Status::Ok();
@@ -87,7 +90,7 @@ Result<Trajectory> ReadTumTrajectory(const std::filesystem::path& path) {
     if (Status s = ParseFields(tokens, kTumFieldNames, file, line, &fields); !s.ok()) return s;
     Result<StampedPose> pose = PoseFromFields(fields, file, line);
     if (!pose.ok()) return pose.status();
-    if (Status s = AppendChecked(&trajectory, std::move(pose).value(), file, line); !s.ok()) {
+    if (Status s = AppendChecked(&trajectory, std::move(pose).value(), file, line, "t"); !s.ok()) {
       return s;
     }
   }
@@ -152,7 +155,8 @@ Result<Trajectory> ReadEurocTrajectory(const std::filesystem::path& path) {
                             euroc[4]};
     Result<StampedPose> pose = PoseFromFields(tum, file, line);
     if (!pose.ok()) return pose.status();
-    if (Status s = AppendChecked(&trajectory, std::move(pose).value(), file, line); !s.ok()) {
+    if (Status s = AppendChecked(&trajectory, std::move(pose).value(), file, line, kNames[0]);
+        !s.ok()) {
       return s;
     }
   }

@@ -1,0 +1,46 @@
+#include "groundline/core/text_parse.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace groundline::core {
+namespace {
+
+TEST(TextParse, ParseDoubleIsStrict) {
+  EXPECT_EQ(ParseDouble("1e-3"), 1e-3);
+  EXPECT_EQ(ParseDouble("+2.5"), 2.5);
+  EXPECT_EQ(ParseDouble("-0.5"), -0.5);
+  EXPECT_FALSE(ParseDouble("").has_value());
+  EXPECT_FALSE(ParseDouble("+").has_value());
+  EXPECT_FALSE(ParseDouble("+-1").has_value());
+  EXPECT_FALSE(ParseDouble("1.5x").has_value());
+  EXPECT_FALSE(ParseDouble(" 1").has_value());
+  // Non-finite values parse; callers report them as such.
+  EXPECT_TRUE(std::isnan(*ParseDouble("nan")));
+}
+
+TEST(TextParse, ParseIntIsStrict) {
+  EXPECT_EQ(ParseInt("+42"), 42);
+  EXPECT_EQ(ParseInt("-7"), -7);
+  EXPECT_FALSE(ParseInt("++1").has_value());
+  EXPECT_FALSE(ParseInt("1.0").has_value());
+  EXPECT_FALSE(ParseInt("99999999999999999999").has_value());
+}
+
+TEST(TextParse, SplitDelimitedKeepsEmptyFieldsAndTrims) {
+  const std::vector<std::string_view> fields = SplitDelimited(" a , b,,c \r", ',');
+  ASSERT_EQ(fields.size(), 4u);
+  EXPECT_EQ(fields[0], "a");
+  EXPECT_EQ(fields[1], "b");
+  EXPECT_EQ(fields[2], "");
+  EXPECT_EQ(fields[3], "c");
+}
+
+TEST(TextParse, FieldErrorNamesFileLineAndField) {
+  EXPECT_EQ(FieldError("x.csv", 3, "stamp_s", "a finite number", "nan"),
+            "x.csv:3: field 'stamp_s': expected a finite number, got 'nan'");
+}
+
+}  // namespace
+}  // namespace groundline::core
