@@ -19,6 +19,9 @@ using CommandRunner = std::function<int()>;
 // `groundline convert carmen`: raw-odometry trajectory of a CARMEN log.
 CLI::App* AddConvertCommand(CLI::App& parent, CommandRunner* run);
 
+// `groundline localize`: replays a dataset and writes trajectory, health and summary.
+CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run);
+
 // `groundline eval`: trajectory metrics against a reference and/or relations.
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 // `groundline dataset check DIR`: validates a dataset directory and prints a

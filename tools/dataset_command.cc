@@ -91,9 +91,10 @@ int RunCheck(const CheckFlags& flags) {
 
 CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* dataset = parent.add_subcommand(
-      "dataset",
-      "Work with groundline datasets (the directory format of docs/dataset.md: manifest.yaml,\n"
-      "images/index.csv, wheel_encoders.csv, lidar_scans.txt, ground_truth.tum, floor_map.yaml).");
+      "dataset", "Check and summarize groundline datasets (format: docs/dataset.md)");
+  dataset->footer(
+      "A dataset is a directory: manifest.yaml, images/index.csv, wheel_encoders.csv,\n"
+      "lidar_scans.txt, ground_truth.tum, floor_map.yaml (docs/dataset.md).");
   dataset->require_subcommand(1);
 
   auto flags = std::make_shared<CheckFlags>();

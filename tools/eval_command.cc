@@ -233,7 +233,9 @@ int RunEval(const EvalFlags& flags) {
 }  // namespace
 
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
-  CLI::App* cmd = parent.add_subcommand("eval", kHelp);
+  CLI::App* cmd = parent.add_subcommand(
+      "eval", "Accuracy of trajectories against ground truth or Kuemmerle relations");
+  cmd->footer(kHelp);
   auto flags = std::make_shared<EvalFlags>();
   cmd->add_option("--est", flags->est_paths,
                   "estimated trajectory (TUM, or EuRoC if .csv); repeat for several")

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   groundline::tools::CommandRunner run;
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
+  groundline::tools::AddLocalizeCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
 
   try {
