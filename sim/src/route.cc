@@ -1,0 +1,125 @@
+#include "groundline/sim/route.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "groundline/sim/obstacle_index.h"
+#include "options_check.h"
+#include "route_internal.h"
+
+namespace groundline::sim {
+namespace {
+
+using internal::CheckRange;
+using internal::PathSample;
+
+constexpr const char* kOwner = "RouteOptions";
+constexpr double kClearanceCheckStepM = 0.05;
+
+// Periodic speed profile: the speed limits, reduced so that speeding up and
+// slowing down respect max_accel_mps2 all around the loop (the last sample is
+// the first one again).
+std::vector<double> SpeedProfile(const std::vector<PathSample>& path, double max_accel_mps2) {
+  const std::size_t n = path.size();
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = path[i].speed_limit_mps;
+  v[0] = v[n - 1] = std::min(v[0], v[n - 1]);
+  auto reachable = [&](double from_v, std::size_t a, std::size_t b) {
+    return std::sqrt(from_v * from_v + 2.0 * max_accel_mps2 * std::abs(path[b].s_m - path[a].s_m));
+  };
+  for (int round = 0; round < 2; ++round) {
+    for (std::size_t i = 1; i < n; ++i) v[i] = std::min(v[i], reachable(v[i - 1], i - 1, i));
+    v[0] = std::min(v[0], v[n - 1]);
+  }
+  for (int round = 0; round < 2; ++round) {
+    for (std::size_t i = n - 1; i-- > 0;) v[i] = std::min(v[i], reachable(v[i + 1], i + 1, i));
+    v[n - 1] = std::min(v[n - 1], v[0]);
+  }
+  v[0] = v[n - 1] = std::min(v[0], v[n - 1]);
+  return v;
+}
+
+}  // namespace
+
+core::Status RouteOptions::Validate() const {
+  return internal::FirstError({
+      CheckRange(kOwner, "length_m", length_m, 10.0, 1e6),
+      CheckRange(kOwner, "length_tolerance_fraction", length_tolerance_fraction, 1e-4, 1.0),
+      CheckRange(kOwner, "max_walk_attempts", max_walk_attempts, 1, 100000),
+      CheckRange(kOwner, "min_speed_mps", min_speed_mps, 0.05, 10.0),
+      CheckRange(kOwner, "max_speed_mps", max_speed_mps, min_speed_mps, 10.0),
+      CheckRange(kOwner, "max_lateral_accel_mps2", max_lateral_accel_mps2, 0.01, 10.0),
+      CheckRange(kOwner, "max_accel_mps2", max_accel_mps2, 0.01, 10.0),
+      CheckRange(kOwner, "min_turn_radius_m", min_turn_radius_m, 0.1, 100.0),
+      CheckRange(kOwner, "turn_radius_m", turn_radius_m, min_turn_radius_m, 100.0),
+      CheckRange(kOwner, "transition_length_m", transition_length_m, 0.0, 10.0 * turn_radius_m),
+      CheckRange(kOwner, "max_turn_angle_rad", max_turn_angle_rad, 0.1, 2.7),
+      CheckRange(kOwner, "vehicle_half_width_m", vehicle_half_width_m, 0.0, 5.0),
+      CheckRange(kOwner, "min_clearance_m", min_clearance_m, 0.0, 5.0),
+      CheckRange(kOwner, "sample_rate_hz", sample_rate_hz, 0.1, 10000.0),
+  });
+}
+
+core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
+  if (core::Status status = o.Validate(); !status.ok()) return status;
+  std::mt19937_64 rng(o.seed);
+  core::Result<std::vector<int>> nodes = internal::PlanLoop(world.roads, o, &rng);
+  if (!nodes.ok()) return nodes.status().WithContext(world.name);
+  Route route;
+  for (int node : *nodes) route.waypoints_m.push_back(world.roads.nodes_m[std::size_t(node)]);
+  core::Result<std::vector<PathSample>> smoothed = internal::SmoothLoop(route.waypoints_m, o, &rng);
+  if (!smoothed.ok()) return smoothed.status().WithContext(world.name);
+  const std::vector<PathSample>& path = *smoothed;
+  route.length_m = path.back().s_m;
+
+  // Clearance of the vehicle disc from every static obstacle, at any height.
+  const ObstacleIndex index(world, ObstacleIndex::Options{});
+  const double search_m = o.vehicle_half_width_m + o.min_clearance_m + 1.0;
+  route.min_clearance_m = std::numeric_limits<double>::infinity();
+  double next_check_m = 0.0;
+  for (const PathSample& p : path) {
+    route.max_curvature_1pm = std::max(route.max_curvature_1pm, std::abs(p.curvature_1pm));
+    if (p.s_m < next_check_m) continue;
+    next_check_m = p.s_m + kClearanceCheckStepM;
+    const double clearance_m = index.ClearanceM({p.x_m, p.y_m}, search_m) - o.vehicle_half_width_m;
+    route.min_clearance_m = std::min(route.min_clearance_m, clearance_m);
+    if (clearance_m < o.min_clearance_m) {
+      std::ostringstream message;
+      message << world.name << ": route: at (" << p.x_m << ", " << p.y_m << ") m the vehicle is "
+              << clearance_m
+              << " m from an obstacle, less than min_clearance_m = " << o.min_clearance_m
+              << "; the road graph passes too close to an obstacle";
+      return core::Status::Error(message.str());
+    }
+  }
+
+  // Time along the path, then uniform sampling.
+  const std::vector<double> v = SpeedProfile(path, o.max_accel_mps2);
+  std::vector<double> t(path.size(), 0.0);
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    t[i] = t[i - 1] + 2.0 * (path[i].s_m - path[i - 1].s_m) / (v[i - 1] + v[i]);
+  }
+  route.duration_s = t.back();
+  std::size_t i = 0;
+  for (std::size_t k = 0;; ++k) {
+    const double tk = static_cast<double>(k) / o.sample_rate_hz;
+    if (tk >= route.duration_s) break;
+    while (i + 2 < path.size() && t[i + 1] <= tk) ++i;
+    const double f = std::clamp((tk - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0);
+    const PathSample& a = path[i];
+    const PathSample& b = path[i + 1];
+    auto lerp = [f](double x, double y) { return x + f * (y - x); };
+    const double speed = lerp(v[i], v[i + 1]);
+    route.T_map_base.push_back(
+        {o.start_stamp_s + tk,
+         core::SE2(lerp(a.x_m, b.x_m), lerp(a.y_m, b.y_m), lerp(a.yaw_rad, b.yaw_rad)),
+         std::nullopt});
+    route.speed_mps.push_back(speed);
+    route.yaw_rate_radps.push_back(speed * lerp(a.curvature_1pm, b.curvature_1pm));
+  }
+  return route;
+}
+
+}  // namespace groundline::sim

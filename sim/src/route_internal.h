@@ -1,0 +1,51 @@
+// Private pieces of the route generator (see route.h): turn geometry, the
+// loop planner on the road graph, and the dense smooth path.
+#ifndef GROUNDLINE_SIM_SRC_ROUTE_INTERNAL_H_
+#define GROUNDLINE_SIM_SRC_ROUTE_INTERNAL_H_
+
+#include <random>
+#include <vector>
+
+#include "groundline/core/status.h"
+#include "groundline/sim/route.h"
+#include "groundline/sim/world.h"
+
+namespace groundline::sim::internal {
+
+// A symmetric clothoid-arc-clothoid turn by angle_rad (>= 0): curvature ramps
+// from 0 to peak over the clothoid length, stays at peak on the arc, ramps
+// down. For turns smaller than clothoid_length / radius there is no arc and
+// the peak curvature is lower. tangent_length_m is the distance from the
+// corner of the two straights to where the turn starts (and ends).
+struct TurnShape {
+  double tangent_length_m = 0.0;
+  double curve_length_m = 0.0;
+  double clothoid_length_m = 0.0;
+  double peak_curvature_1pm = 0.0;
+};
+TurnShape ComputeTurn(double angle_rad, double radius_m, double clothoid_length_m);
+
+// Road-graph node indices of a closed loop (first == last) whose smoothed
+// length is as near options.length_m as the walks found.
+core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptions& options,
+                                        std::mt19937_64* rng);
+
+// The smooth loop through a closed polyline, densely sampled (about every
+// kPathStepM of arc length, and at every element boundary). The first sample is
+// at the middle of the first polyline segment; the last sample closes the loop
+// (same position as the first, yaw unwrapped by the total turn).
+struct PathSample {
+  double s_m = 0.0;
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;  // unwrapped along the path
+  double curvature_1pm = 0.0;
+  double speed_limit_mps = 0.0;
+};
+inline constexpr double kPathStepM = 0.01;
+core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& closed_polyline_m,
+                                                 const RouteOptions& options, std::mt19937_64* rng);
+
+}  // namespace groundline::sim::internal
+
+#endif  // GROUNDLINE_SIM_SRC_ROUTE_INTERNAL_H_

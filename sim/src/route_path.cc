@@ -1,0 +1,166 @@
+// Smoothing a closed polyline into straights and clothoid-arc-clothoid turns,
+// sampled densely with the curvature and a speed limit at every sample.
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "route_internal.h"
+
+namespace groundline::sim::internal {
+namespace {
+
+// Heading (relative to the turn's start) at arc length u into a turn of the
+// given shape and total angle (>= 0).
+double TurnHeading(const TurnShape& shape, double angle_rad, double u) {
+  const double lc = shape.clothoid_length_m;
+  const double kp = shape.peak_curvature_1pm;
+  const double total = shape.curve_length_m;
+  if (lc > 0.0 && u <= lc) return kp * u * u / (2.0 * lc);
+  if (u <= total - lc) return 0.5 * lc * kp + kp * (u - lc);
+  const double r = total - u;
+  return angle_rad - kp * r * r / (2.0 * lc);
+}
+
+double TurnCurvature(const TurnShape& shape, double u) {
+  const double lc = shape.clothoid_length_m;
+  const double kp = shape.peak_curvature_1pm;
+  if (lc > 0.0 && u < lc) return kp * u / lc;
+  if (lc > 0.0 && u > shape.curve_length_m - lc) return kp * (shape.curve_length_m - u) / lc;
+  return kp;
+}
+
+// Displacement over [u0, u1] of a curve with heading h(u), by Simpson's rule.
+template <typename Heading>
+Vector2 Integrate(const Heading& h, double u0, double u1, int steps) {
+  const double du = (u1 - u0) / steps;
+  Vector2 sum = Vector2::Zero();
+  for (int i = 0; i < steps; ++i) {
+    const double a = u0 + i * du;
+    for (const auto& [u, w] :
+         {std::pair(a, 1.0), std::pair(a + 0.5 * du, 4.0), std::pair(a + du, 1.0)}) {
+      sum += w * Vector2(std::cos(h(u)), std::sin(h(u)));
+    }
+  }
+  return sum * (du / 6.0);
+}
+
+}  // namespace
+
+TurnShape ComputeTurn(double angle_rad, double radius_m, double clothoid_length_m) {
+  TurnShape shape;
+  if (angle_rad < 1e-12) return shape;
+  double kp = 1.0 / radius_m;
+  if (clothoid_length_m > 0.0 && angle_rad < clothoid_length_m * kp) {
+    kp = angle_rad / clothoid_length_m;
+  }
+  const double arc_angle = std::max(0.0, angle_rad - clothoid_length_m * kp);
+  shape.clothoid_length_m = clothoid_length_m;
+  shape.peak_curvature_1pm = kp;
+  shape.curve_length_m = 2.0 * clothoid_length_m + arc_angle / kp;
+  // By symmetry the corner lies on the normal at the turn's midpoint M, so the
+  // tangent length is M.x + M.y tan(angle / 2) in the turn's start frame.
+  const Vector2 mid = Integrate([&](double u) { return TurnHeading(shape, angle_rad, u); }, 0.0,
+                                0.5 * shape.curve_length_m, 2000);
+  shape.tangent_length_m = mid.x() + mid.y() * std::tan(0.5 * angle_rad);
+  return shape;
+}
+
+core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& polyline,
+                                                 const RouteOptions& options,
+                                                 std::mt19937_64* rng) {
+  const std::size_t n = polyline.size() - 1;  // segments
+  if (polyline.size() < 3 || (polyline.front() - polyline.back()).norm() > 1e-9) {
+    return core::Status::Error("route: a loop needs a closed polyline of at least 2 segments");
+  }
+  std::vector<Vector2> dir(n);
+  std::vector<double> seg_m(n), heading(n), cruise(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Vector2 d = polyline[j + 1] - polyline[j];
+    seg_m[j] = d.norm();
+    dir[j] = d / seg_m[j];
+    heading[j] = std::atan2(d.y(), d.x());
+    cruise[j] =
+        std::uniform_real_distribution<double>(options.min_speed_mps, options.max_speed_mps)(*rng);
+  }
+  // The turn at each vertex, scaled down to fit half of each neighbouring straight.
+  std::vector<TurnShape> turn(n);
+  std::vector<double> signed_angle(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t in = (i + n - 1) % n;
+    signed_angle[i] = core::WrapAngle(heading[i] - heading[in]);
+    TurnShape t =
+        ComputeTurn(std::abs(signed_angle[i]), options.turn_radius_m, options.transition_length_m);
+    const double room_m = 0.5 * std::min(seg_m[in], seg_m[i]);
+    if (t.tangent_length_m > room_m) {
+      const double scale = room_m / t.tangent_length_m;
+      if (options.turn_radius_m * scale < options.min_turn_radius_m) {
+        std::ostringstream message;
+        message << "route: the turn at (" << polyline[i].x() << ", " << polyline[i].y()
+                << ") m needs a radius of " << options.turn_radius_m * scale
+                << " m to fit, below min_turn_radius_m = " << options.min_turn_radius_m;
+        return core::Status::Error(message.str());
+      }
+      t.tangent_length_m *= scale;
+      t.curve_length_m *= scale;
+      t.clothoid_length_m *= scale;
+      t.peak_curvature_1pm /= scale;
+    }
+    turn[i] = t;
+  }
+
+  std::vector<PathSample> samples;
+  double s_m = 0.0;
+  double yaw = heading[0];
+  auto speed_limit_in_turn = [&](double curvature) {
+    const double v = std::abs(curvature) > 0.0
+                         ? std::sqrt(options.max_lateral_accel_mps2 / std::abs(curvature))
+                         : options.max_speed_mps;
+    return std::clamp(v, options.min_speed_mps, options.max_speed_mps);
+  };
+  auto add_line = [&](const Vector2& a, const Vector2& b, std::size_t seg) {
+    const double len = (b - a).norm();
+    for (double u = 0.0; u < len; u += kPathStepM) {
+      const Vector2 p = a + u * dir[seg];
+      samples.push_back({s_m + u, p.x(), p.y(), yaw, 0.0, cruise[seg]});
+    }
+    s_m += len;
+  };
+  auto add_turn = [&](std::size_t i) {
+    const TurnShape& t = turn[i];
+    const double angle = std::abs(signed_angle[i]);
+    const double sign = signed_angle[i] >= 0.0 ? 1.0 : -1.0;
+    const std::size_t in = (i + n - 1) % n;
+    Vector2 p = polyline[i] - t.tangent_length_m * dir[in];
+    const double yaw0 = yaw;
+    auto h = [&](double u) { return yaw0 + sign * TurnHeading(t, angle, u); };
+    double u = 0.0;
+    while (u < t.curve_length_m) {
+      const double k = sign * TurnCurvature(t, u);
+      samples.push_back({s_m + u, p.x(), p.y(), h(u), k, speed_limit_in_turn(k)});
+      const double u_next = std::min(u + kPathStepM, t.curve_length_m);
+      p += Integrate(h, u, u_next, 4);
+      u = u_next;
+    }
+    s_m += t.curve_length_m;
+    yaw = yaw0 + signed_angle[i];
+    [[maybe_unused]] const Vector2 end = polyline[i] + t.tangent_length_m * dir[i];
+    assert((p - end).norm() < 1e-6);
+  };
+
+  const Vector2 start = 0.5 * (polyline[0] + polyline[1]);
+  add_line(start, polyline[1] - turn[1 % n].tangent_length_m * dir[0], 0);
+  for (std::size_t k = 1; k <= n; ++k) {
+    const std::size_t i = k % n;
+    add_turn(i);
+    const Vector2 a = polyline[i] + turn[i].tangent_length_m * dir[i];
+    const Vector2 b =
+        k < n ? Vector2(polyline[k + 1] - turn[(k + 1) % n].tangent_length_m * dir[i]) : start;
+    add_line(a, b, i);
+  }
+  samples.push_back({s_m, start.x(), start.y(), yaw, 0.0, cruise[0]});
+  return samples;
+}
+
+}  // namespace groundline::sim::internal
