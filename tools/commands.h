@@ -22,6 +22,9 @@ CLI::App* AddConvertCommand(CLI::App& parent, CommandRunner* run);
 // `groundline localize`: replays a dataset and writes trajectory, health and summary.
 CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run);
 
+// `groundline sim`: a simulated warehouse run written as a dataset.
+CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run);
+
 // `groundline eval`: trajectory metrics against a reference and/or relations.
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 // `groundline dataset check DIR`: validates a dataset directory and prints a

@@ -18,9 +18,10 @@ int main(int argc, char** argv) {
   app.fallthrough();
 
   groundline::tools::CommandRunner run;
+  groundline::tools::AddLocalizeCommand(app, &run);
+  groundline::tools::AddSimCommand(app, &run);
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
-  groundline::tools::AddLocalizeCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
 
   try {

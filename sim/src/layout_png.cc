@@ -1,6 +1,7 @@
 #include "groundline/sim/layout_png.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <string_view>
@@ -42,19 +43,8 @@ cv::Scalar ObstacleColour(ObstacleKind kind) {
 }
 
 cv::Scalar MarkingBgr(MarkingColour colour) {
-  switch (colour) {
-    case MarkingColour::kYellow:
-      return {0, 205, 245};
-    case MarkingColour::kWhite:
-      return {252, 252, 252};
-    case MarkingColour::kRed:
-      return {40, 40, 215};
-    case MarkingColour::kBlue:
-      return {200, 110, 30};
-    case MarkingColour::kGroove:
-      return {60, 60, 60};
-  }
-  return {0, 0, 0};
+  const std::array<int, 3> rgb = MarkingColourRgb(colour);
+  return {static_cast<double>(rgb[2]), static_cast<double>(rgb[1]), static_cast<double>(rgb[0])};
 }
 
 class Canvas {

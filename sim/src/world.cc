@@ -62,24 +62,6 @@ const char* ObstacleKindName(ObstacleKind kind) {
   return "unknown";
 }
 
-const char* MarkingKindName(MarkingKind kind) {
-  switch (kind) {
-    case MarkingKind::kTapeSolid:
-      return "tape_solid";
-    case MarkingKind::kTapeDashed:
-      return "tape_dashed";
-    case MarkingKind::kStopBar:
-      return "stop_bar";
-    case MarkingKind::kCrosswalkStripe:
-      return "crosswalk_stripe";
-    case MarkingKind::kStagingBoxEdge:
-      return "staging_box_edge";
-    case MarkingKind::kJoint:
-      return "joint";
-  }
-  return "unknown";
-}
-
 const char* MarkingColourName(MarkingColour colour) {
   switch (colour) {
     case MarkingColour::kYellow:
@@ -94,6 +76,22 @@ const char* MarkingColourName(MarkingColour colour) {
       return "groove";
   }
   return "unknown";
+}
+
+std::array<int, 3> MarkingColourRgb(MarkingColour colour) {
+  switch (colour) {
+    case MarkingColour::kYellow:
+      return {245, 205, 0};
+    case MarkingColour::kWhite:
+      return {252, 252, 252};
+    case MarkingColour::kRed:
+      return {215, 40, 40};
+    case MarkingColour::kBlue:
+      return {30, 110, 200};
+    case MarkingColour::kGroove:
+      return {60, 60, 60};
+  }
+  return {0, 0, 0};
 }
 
 double PolylineLength(const std::vector<Vector2>& polyline_m) {

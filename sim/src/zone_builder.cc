@@ -81,8 +81,7 @@ void ZoneBuilder::AddLine(MarkingKind kind, MarkingColour colour, const Vector2&
   FloorMarking m;
   m.kind = kind;
   m.colour = colour;
-  m.polarity = colour == MarkingColour::kGroove ? MarkingPolarity::kDarkOnLight
-                                                : MarkingPolarity::kLightOnDark;
+  m.polarity = colour == MarkingColour::kGroove ? MarkingPolarity::kDark : MarkingPolarity::kBright;
   m.polyline_m = {a_m, b_m};
   m.width_m = width_m;
   m.wear_fraction = wear_fraction;

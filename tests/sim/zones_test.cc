@@ -124,7 +124,7 @@ TEST(ZoneD, JointsCrossEveryCorridorEverySixMetres) {
   std::vector<double> south_x, cross_y;
   for (const FloorMarking& m : world->markings) {
     if (m.kind != MarkingKind::kJoint) continue;
-    EXPECT_EQ(m.polarity, MarkingPolarity::kDarkOnLight);
+    EXPECT_EQ(m.polarity, MarkingPolarity::kDark);
     EXPECT_LT(m.width_m, 0.02);
     const Vector2 a = m.polyline_m.front();
     const Vector2 b = m.polyline_m.back();
@@ -210,7 +210,7 @@ TEST(Zones, MarkingsAreWellFormedInEveryZone) {
       }
       if (m.kind != MarkingKind::kJoint) {
         EXPECT_GE(m.width_m, 0.05);
-        EXPECT_EQ(m.polarity, MarkingPolarity::kLightOnDark);
+        EXPECT_EQ(m.polarity, MarkingPolarity::kBright);
       }
     }
     EXPECT_TRUE(kinds.count(MarkingKind::kJoint));

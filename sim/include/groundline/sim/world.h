@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "groundline/core/floor_map.h"
 #include "groundline/core/se2.h"
 
 namespace groundline::sim {
@@ -68,22 +69,15 @@ struct Obstacle {
   bool IntersectsPlane(double height_m) const { return z_min_m <= height_m && height_m <= z_max_m; }
 };
 
-enum class MarkingKind {
-  kTapeSolid,
-  kTapeDashed,
-  kStopBar,
-  kCrosswalkStripe,
-  kStagingBoxEdge,
-  kJoint,  // saw-cut or expansion joint: a narrow groove, not paint
-};
-
-// Light paint or tape on darker concrete, or a dark groove in lighter concrete.
-enum class MarkingPolarity { kLightOnDark, kDarkOnLight };
+// Marking kinds and polarity are the dataset floor map's (core/floor_map.h).
+using core::MarkingKind;
+using core::MarkingPolarity;
 
 enum class MarkingColour { kYellow, kWhite, kRed, kBlue, kGroove };
 
-const char* MarkingKindName(MarkingKind kind);
 const char* MarkingColourName(MarkingColour colour);
+// 8-bit sRGB of a colour as painted (a groove is dark grey).
+std::array<int, 3> MarkingColourRgb(MarkingColour colour);
 
 // One marking: a band of width_m centred on a polyline. A closed outline (a
 // staging box) repeats its first point at the end. Dashed tape starts with a
@@ -91,7 +85,7 @@ const char* MarkingColourName(MarkingColour colour);
 // polyline's arc length.
 struct FloorMarking {
   MarkingKind kind = MarkingKind::kTapeSolid;
-  MarkingPolarity polarity = MarkingPolarity::kLightOnDark;
+  MarkingPolarity polarity = MarkingPolarity::kBright;
   MarkingColour colour = MarkingColour::kYellow;
   std::vector<Vector2> polyline_m;
   double width_m = 0.075;

@@ -1,0 +1,173 @@
+#include "groundline/sim/sim_run.h"
+
+#include <cmath>
+#include <string>
+
+namespace groundline::sim {
+namespace {
+
+// Independent seeds for the random streams of one run (splitmix64 of the run
+// seed and a stream number), so that changing one stream's options does not
+// change the others.
+std::uint64_t StreamSeed(std::uint64_t seed, std::uint64_t stream) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (stream + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+constexpr std::uint64_t kRouteStream = 1;
+constexpr std::uint64_t kEncoderStream = 2;
+constexpr std::uint64_t kLidarStream = 3;
+
+const char* ZoneLetter(Zone zone) {
+  switch (zone) {
+    case Zone::kA:
+      return "A";
+    case Zone::kB:
+      return "B";
+    case Zone::kC:
+      return "C";
+    case Zone::kD:
+      return "D";
+  }
+  return "?";
+}
+
+core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& world) {
+  core::DatasetManifest manifest;
+  manifest.name =
+      "sim_zone_" + std::string(ZoneLetter(options.zone)) + "_seed" + std::to_string(options.seed);
+  manifest.description = "groundline simulator: " + world.name + ", closed loop of " +
+                         std::to_string(static_cast<int>(std::lround(options.route.length_m))) +
+                         " m";
+  core::WheelEncoderSensor encoders;
+  encoders.rate_hz = options.route.sample_rate_hz;
+  encoders.wheel_radius_m = options.drive.wheel_radius_m;
+  encoders.track_m = options.drive.track_m;
+  encoders.ticks_per_rev = options.encoders.ticks_per_revolution;
+  manifest.wheel_encoders = encoders;
+  if (options.with_lidar) {
+    core::LidarSensor lidar;
+    lidar.rate_hz = options.lidar.rate_hz;
+    lidar.T_base_lidar = options.lidar.T_base_lidar;
+    lidar.mount_height_m = options.lidar.height_m;
+    lidar.range_min_m = options.lidar.range_min_m;
+    lidar.range_max_m = options.lidar.range_max_m;
+    manifest.lidar = lidar;
+  }
+  manifest.provenance["generator"] = "groundline sim";
+  manifest.provenance["zone"] = ZoneLetter(options.zone);
+  manifest.provenance["seed"] = std::to_string(options.seed);
+  manifest.provenance["route_length_m"] = std::to_string(options.route.length_m);
+  return manifest;
+}
+
+}  // namespace
+
+core::Status SimRunOptions::Validate() const {
+  if (core::Status s = route.Validate(); !s.ok()) return s.WithContext("route");
+  if (core::Status s = drive.Validate(); !s.ok()) return s.WithContext("drive");
+  if (core::Status s = encoders.Validate(); !s.ok()) return s.WithContext("encoders");
+  if (with_lidar) {
+    if (core::Status s = lidar.Validate(); !s.ok()) return s.WithContext("lidar");
+  }
+  return core::Status::Ok();
+}
+
+core::FloorMap ToFloorMap(const World& world) {
+  core::FloorMap map;
+  map.markings.reserve(world.markings.size());
+  for (std::size_t i = 0; i < world.markings.size(); ++i) {
+    const FloorMarking& m = world.markings[i];
+    core::FloorMarking out;
+    out.id = static_cast<std::int64_t>(i);
+    out.kind = m.kind;
+    out.width_m = m.width_m;
+    out.colour_rgb = MarkingColourRgb(m.colour);
+    out.polarity = m.polarity;
+    out.polyline_m = m.polyline_m;
+    if (m.kind == MarkingKind::kTapeDashed) {
+      out.dash_m = m.dash_length_m;
+      out.gap_m = m.gap_length_m;
+    }
+    map.markings.push_back(std::move(out));
+  }
+  return map;
+}
+
+core::LaserScan ToDatasetScan(const LaserScan& scan) {
+  core::LaserScan out;
+  out.stamp_s = scan.stamp_s;
+  out.angle_min_rad = scan.angle_min_rad;
+  out.angle_increment_rad = scan.angle_increment_rad;
+  out.range_min_m = scan.range_min_m;
+  out.range_max_m = scan.range_max_m;
+  out.ranges_m.reserve(scan.ranges_m.size());
+  for (const float r : scan.ranges_m) {
+    out.ranges_m.push_back(std::isfinite(r) ? static_cast<double>(r) : core::kNoReturnRange_m);
+  }
+  out.intensities.assign(scan.intensities.begin(), scan.intensities.end());
+  return out;
+}
+
+core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress) {
+  if (core::Status s = options.Validate(); !s.ok()) return s.WithContext("sim options");
+  const auto report = [&progress](std::string_view stage, double fraction) {
+    if (progress) progress(stage, fraction);
+  };
+  SimRun run;
+
+  report("zone", 0.0);
+  core::Result<World> world = BuildZone(options.zone, options.seed);
+  if (!world.ok()) return world.status().WithContext("building the zone");
+  run.world = std::move(world).value();
+  report("zone", 1.0);
+
+  report("route", 0.0);
+  RouteOptions route_options = options.route;
+  route_options.seed = StreamSeed(options.seed, kRouteStream);
+  core::Result<Route> route = GenerateRoute(run.world, route_options);
+  if (!route.ok()) return route.status().WithContext("generating the route");
+  run.route = std::move(route).value();
+  report("route", 1.0);
+
+  report("encoders", 0.0);
+  WheelEncoderOptions encoder_options = options.encoders;
+  encoder_options.seed = StreamSeed(options.seed, kEncoderStream);
+  core::Result<WheelEncoderLog> encoders =
+      SimulateWheelEncoders(run.route.T_map_base, options.drive, encoder_options);
+  if (!encoders.ok()) return encoders.status().WithContext("simulating the wheel encoders");
+  run.encoder_log = std::move(encoders).value();
+  report("encoders", 1.0);
+
+  core::Dataset& dataset = run.dataset;
+  dataset.manifest = MakeManifest(options, run.world);
+  dataset.ground_truth = run.route.T_map_base;
+  dataset.floor_map = ToFloorMap(run.world);
+  dataset.wheel_encoders.reserve(run.encoder_log.readings.size());
+  for (const EncoderReading& r : run.encoder_log.readings) {
+    dataset.wheel_encoders.push_back({r.stamp_s, r.increment.left_rad, r.increment.right_rad});
+  }
+
+  if (options.with_lidar) {
+    LidarOptions lidar_options = options.lidar;
+    lidar_options.seed = StreamSeed(options.seed, kLidarStream);
+    const PlanarLidar lidar(run.world, lidar_options);
+    const core::Trajectory& truth = run.route.T_map_base;
+    const double t0 = truth.front().stamp_s;
+    const double t1 = truth.back().stamp_s;
+    const auto n_scans = static_cast<std::uint64_t>(std::floor((t1 - t0) * lidar_options.rate_hz));
+    for (std::uint64_t k = 0; k <= n_scans; ++k) {
+      const double t = t0 + static_cast<double>(k) / lidar_options.rate_hz;
+      if (t > t1) break;
+      dataset.scans.push_back(ToDatasetScan(lidar.ScanAlong(truth, t, k)));
+      if (k % 200 == 0) report("lidar", static_cast<double>(k) / static_cast<double>(n_scans + 1));
+    }
+    report("lidar", 1.0);
+  }
+  dataset.UseDefaultFileNames();
+  return run;
+}
+
+}  // namespace groundline::sim

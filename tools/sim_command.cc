@@ -1,0 +1,136 @@
+// `groundline sim`: writes a simulated warehouse run as a groundline dataset.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "commands.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/text_parse.h"
+#include "groundline/sim/layout_png.h"
+#include "groundline/sim/sim_run.h"
+#include "progress.h"
+
+namespace groundline::tools {
+namespace {
+
+struct SimFlags {
+  std::string zone = "B";
+  std::string length = "1200m";
+  std::uint64_t seed = 1;
+  std::string out_dir;
+  bool no_lidar = false;
+};
+
+constexpr char kHelp[] =
+    R"(Simulates a warehouse run with ground truth and writes it as a dataset
+(docs/dataset.md) that 'groundline localize' replays.
+
+Zones (presets modelled on a 24,000 m^2 logistics terminal):
+  A  open staging hub: staging boxes, crosswalks, pallet stacks placed by the seed,
+     forklifts and pedestrians crossing
+  B  high-bay racks: 32 parallel aisles, 85 m long, 2.25 m clear, identical bays
+     (the LiDAR-degenerate case), boundary tape, stop bars, expansion joints
+  C  loading docks: 16 dock doors, apron and staging lanes
+  D  inter-bay corridors: long smooth walls, saw-cut joints every 6.0 m, yellow
+     boundary lines
+The vehicle drives a closed loop of --length along the zone's lanes at 1-2 m/s.
+
+Streams written: wheel encoders at 100 Hz (4096 ticks/rev, 0.1 % radius error per
+wheel, random wheel error, occasional slips), planar LiDAR at 15 Hz (270 deg,
+0.33 deg, 25 m, 1.5 cm noise, motion-distorted sweep), ground truth at 100 Hz, and
+the floor-marking map. The floor camera is not simulated yet.
+Also writes OUT/layout.png: the zone with the route in red.
+
+Examples:
+  groundline sim --zone B --length 1200m --seed 7 --out zone_b_seed7
+  groundline sim --zone D --length 300m --no-lidar --out quick_d)";
+
+// "1200", "1200m", "1.2km" -> metres.
+std::optional<double> ParseLengthM(const std::string& text) {
+  std::string_view v = core::Trim(text);
+  double scale = 1.0;
+  if (v.ends_with("km")) {
+    scale = 1000.0;
+    v.remove_suffix(2);
+  } else if (v.ends_with("m")) {
+    v.remove_suffix(1);
+  }
+  const std::optional<double> value = core::ParseDouble(v);
+  if (!value || !(*value > 0.0) || !std::isfinite(*value)) return std::nullopt;
+  return *value * scale;
+}
+
+int RunSim(const SimFlags& flags) {
+  const auto start = std::chrono::steady_clock::now();
+  sim::SimRunOptions options;
+  core::Result<sim::Zone> zone = sim::ParseZone(flags.zone);
+  if (!zone.ok()) {
+    std::fprintf(stderr, "groundline sim: --zone: %s\n", zone.message().c_str());
+    return 2;
+  }
+  options.zone = *zone;
+  const std::optional<double> length_m = ParseLengthM(flags.length);
+  if (!length_m) {
+    std::fprintf(stderr,
+                 "groundline sim: --length: expected a positive length such as 1200m or "
+                 "1.2km, got '%s'\n",
+                 flags.length.c_str());
+    return 2;
+  }
+  options.route.length_m = *length_m;
+  options.seed = flags.seed;
+  options.with_lidar = !flags.no_lidar;
+
+  ProgressLine progress("[sim]");
+  core::Result<sim::SimRun> run = sim::SimulateRun(
+      options,
+      [&progress](std::string_view stage, double fraction) { progress.Update(stage, fraction); });
+  if (!run.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
+    return 1;
+  }
+  progress.Update("writing", 0.0);
+  const std::filesystem::path out(flags.out_dir);
+  if (core::Status s = core::WriteDataset(out, run->dataset); !s.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
+    return 1;
+  }
+  if (core::Status s = sim::WriteLayoutPng(run->world, &run->route.T_map_base, out / "layout.png");
+      !s.ok()) {
+    std::fprintf(stderr, "groundline sim: layout picture: %s\n", s.message().c_str());
+    return 1;
+  }
+  progress.Update("writing", 1.0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf(
+      "%s: zone %s, seed %llu, %.0f m in %.0f s of driving; %zu encoder readings, "
+      "%zu LiDAR scans, %zu floor markings, %zu wheel slips; simulated in %.1f s\n",
+      flags.out_dir.c_str(), flags.zone.c_str(), static_cast<unsigned long long>(flags.seed),
+      run->route.length_m, run->route.duration_s, run->dataset.wheel_encoders.size(),
+      run->dataset.scans.size(),
+      run->dataset.floor_map ? run->dataset.floor_map->markings.size() : 0,
+      run->encoder_log.slips.size(), seconds);
+  return 0;
+}
+
+}  // namespace
+
+CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
+  auto flags = std::make_shared<SimFlags>();
+  CLI::App* cmd = parent.add_subcommand("sim", "Simulate a warehouse run (zones A-D) as a dataset");
+  cmd->footer(kHelp);
+  cmd->add_option("--zone", flags->zone, "Zone preset: A, B, C or D")->capture_default_str();
+  cmd->add_option("--length", flags->length, "Route length (e.g. 1200m, 1.2km)")
+      ->capture_default_str();
+  cmd->add_option("--seed", flags->seed, "Seed of every random choice")->capture_default_str();
+  cmd->add_option("-o,--out", flags->out_dir, "Output dataset directory")->required();
+  cmd->add_flag("--no-lidar", flags->no_lidar, "Skip the LiDAR stream (faster, smaller)");
+  cmd->callback([flags, run] { *run = [flags] { return RunSim(*flags); }; });
+  return cmd;
+}
+
+}  // namespace groundline::tools
