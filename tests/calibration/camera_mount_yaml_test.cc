@@ -153,3 +153,18 @@ TEST(CameraMountYaml, FileErrorsNameTheFile) {
 
 }  // namespace
 }  // namespace groundline::calibration
+
+namespace groundline::calibration {
+namespace {
+
+// The sample config shipped in samples/config is valid and is the reference AGV.
+TEST(CameraMountYaml, SampleConfigIsTheReferenceVehicle) {
+  const core::Result<CameraMount> mount = ReadCameraMountYaml(GROUNDLINE_SAMPLE_EXTRINSICS_FILE);
+  ASSERT_TRUE(mount.ok()) << mount.message();
+  EXPECT_DOUBLE_EQ(mount->height_m, 0.58);
+  EXPECT_NEAR(mount->pitch_rad, 42.4 * std::numbers::pi / 180.0, 1e-12);
+  EXPECT_DOUBLE_EQ(mount->forward_m, 0.42);
+}
+
+}  // namespace
+}  // namespace groundline::calibration
