@@ -11,23 +11,16 @@
 #include <sstream>
 #include <string>
 
+#include "cli_runner.h"
 #include "groundline/core/trajectory_io.h"
 #include "test_data.h"
 
 namespace groundline {
 namespace {
 
-// Runs the CLI with `args`; returns its exit code, stdout+stderr in *output.
+// Runs `groundline eval` with `args`; returns its exit code, stdout+stderr in *output.
 int RunCli(const std::string& args, const std::filesystem::path& dir, std::string* output) {
-  const std::filesystem::path log = dir / "cli_output.txt";
-  const std::string command =
-      std::string("'") + GROUNDLINE_CLI_PATH + "' eval " + args + " > '" + log.string() + "' 2>&1";
-  const int status = std::system(command.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  *output = text.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::RunGroundline("eval " + args, dir, output);
 }
 
 nlohmann::json ReadJson(const std::filesystem::path& path) {

@@ -1,0 +1,35 @@
+// Runs the `groundline` executable as a user would, for end-to-end tests.
+#ifndef GROUNDLINE_TESTS_TOOLS_CLI_RUNNER_H_
+#define GROUNDLINE_TESTS_TOOLS_CLI_RUNNER_H_
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace groundline::testing {
+
+// Runs `groundline <args>` (args are passed to the shell as written; quote
+// paths) and returns its exit code; stdout and stderr together in *output.
+// The captured output goes to <dir>/cli_output.txt.
+inline int RunGroundline(const std::string& args, const std::filesystem::path& dir,
+                         std::string* output) {
+  const std::filesystem::path log = dir / "cli_output.txt";
+  const std::string command =
+      std::string("'") + GROUNDLINE_CLI_PATH + "' " + args + " > '" + log.string() + "' 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  *output = text.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+inline std::string Quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+}  // namespace groundline::testing
+
+#endif  // GROUNDLINE_TESTS_TOOLS_CLI_RUNNER_H_
