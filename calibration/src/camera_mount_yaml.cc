@@ -12,6 +12,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "groundline/core/text_parse.h"
+
 namespace groundline::calibration {
 namespace {
 
@@ -22,15 +24,6 @@ double DegToRad(double deg) {
   return std::clamp(deg * kPi / 180.0, -kPi, kPi);
 }
 double RadToDeg(double rad) { return rad * 180.0 / kPi; }
-
-// Shortest decimal text that parses back to exactly `value`.
-std::string ShortestDecimal(double value) {
-  std::array<char, 64> buffer{};
-  const auto [end, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  assert(ec == std::errc());
-  (void)ec;
-  return std::string(buffer.data(), end);
-}
 
 std::string Where(const std::string& source, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();
@@ -183,12 +176,12 @@ std::string CameraMountToYaml(const CameraMount& mount) {
       << "# Lengths in metres, angles in degrees; see docs/extrinsics.md.\n"
       << "format: " << kCameraMountFormat << "\n"
       << "version: " << kCameraMountVersion << "\n"
-      << "height_m: " << ShortestDecimal(mount.height_m) << "\n"
-      << "pitch_deg: " << ShortestDecimal(RadToDeg(mount.pitch_rad)) << "\n"
-      << "roll_deg: " << ShortestDecimal(RadToDeg(mount.roll_rad)) << "\n"
-      << "yaw_deg: " << ShortestDecimal(RadToDeg(mount.yaw_rad)) << "\n"
-      << "forward_m: " << ShortestDecimal(mount.forward_m) << "\n"
-      << "lateral_m: " << ShortestDecimal(mount.lateral_m) << "\n";
+      << "height_m: " << core::FormatYamlDouble(mount.height_m) << "\n"
+      << "pitch_deg: " << core::FormatYamlDouble(RadToDeg(mount.pitch_rad)) << "\n"
+      << "roll_deg: " << core::FormatYamlDouble(RadToDeg(mount.roll_rad)) << "\n"
+      << "yaw_deg: " << core::FormatYamlDouble(RadToDeg(mount.yaw_rad)) << "\n"
+      << "forward_m: " << core::FormatYamlDouble(mount.forward_m) << "\n"
+      << "lateral_m: " << core::FormatYamlDouble(mount.lateral_m) << "\n";
   return out.str();
 }
 

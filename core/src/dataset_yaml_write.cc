@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "dataset_internal.h"
+#include "groundline/core/text_parse.h"
 #include "text_lines.h"
 
 namespace groundline::core::internal {
@@ -28,7 +29,7 @@ std::string Version(int major, int minor) {
 }
 
 void Number(YAML::Emitter& out, const char* key, double value) {
-  out << YAML::Key << key << YAML::Value << FormatShortest(value);
+  out << YAML::Key << key << YAML::Value << FormatYamlDouble(value);
 }
 
 void Quoted(YAML::Emitter& out, const char* key, const std::string& value) {
@@ -101,7 +102,7 @@ void EmitMarking(YAML::Emitter& out, const FloorMarking& marking) {
       << (marking.polarity == MarkingPolarity::kBright ? "bright" : "dark");
   out << YAML::Key << "polyline_m" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const Vector2& p : marking.polyline_m) {
-    out << YAML::Flow << YAML::BeginSeq << FormatShortest(p.x()) << FormatShortest(p.y())
+    out << YAML::Flow << YAML::BeginSeq << FormatYamlDouble(p.x()) << FormatYamlDouble(p.y())
         << YAML::EndSeq;
   }
   out << YAML::EndSeq;

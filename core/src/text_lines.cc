@@ -118,11 +118,7 @@ void AppendGeneral(double value, int digits, std::string* out) {
   out->append(buffer, ec == std::errc() ? end : buffer);
 }
 
-std::string FormatShortest(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return ec == std::errc() ? std::string(buffer, end) : std::string();
-}
+std::string FormatShortest(double value) { return FormatShortestDouble(value); }
 
 Status CheckEndsWithNewline(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);

@@ -1,6 +1,7 @@
 #include "groundline/core/text_parse.h"
 
 #include <charconv>
+#include <cmath>
 
 namespace groundline::core {
 namespace {
@@ -63,6 +64,23 @@ std::optional<std::int64_t> ParseInt(std::string_view token) {
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
   if (ec != std::errc() || ptr != end || token.empty()) return std::nullopt;
   return value;
+}
+
+std::string FormatShortestDouble(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return ec == std::errc() ? std::string(buffer, end) : std::string();
+}
+
+std::string FormatYamlDouble(double value) {
+  std::string text = FormatShortestDouble(value);
+  if (!std::isfinite(value)) return text;
+  const std::size_t exponent = text.find('e');
+  const std::string_view mantissa = std::string_view(text).substr(0, exponent);
+  if (exponent != std::string::npos && mantissa.find('.') == std::string_view::npos) {
+    text.insert(exponent, ".0");
+  }
+  return text;
 }
 
 std::string FieldError(const std::string& file, std::size_t line, std::string_view field,

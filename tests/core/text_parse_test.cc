@@ -44,3 +44,23 @@ TEST(TextParse, FieldErrorNamesFileLineAndField) {
 
 }  // namespace
 }  // namespace groundline::core
+
+namespace groundline::core {
+namespace {
+
+TEST(FormatDouble, ShortestRoundTripsAndYamlFormHasAMantissaPoint) {
+  for (const double v : {0.1, 1e-5, -2.5e-12, 1234567.0, 0.58, 3e100, -0.0}) {
+    EXPECT_EQ(*ParseDouble(FormatShortestDouble(v)), v);
+    const std::string yaml = FormatYamlDouble(v);
+    EXPECT_EQ(*ParseDouble(yaml), v) << yaml;
+    const std::size_t e = yaml.find('e');
+    if (e != std::string::npos) {
+      EXPECT_NE(yaml.substr(0, e).find('.'), std::string::npos) << yaml;
+    }
+  }
+  EXPECT_EQ(FormatYamlDouble(1e-5), "1.0e-05");
+  EXPECT_EQ(FormatYamlDouble(0.58), "0.58");
+}
+
+}  // namespace
+}  // namespace groundline::core

@@ -24,6 +24,13 @@ std::string_view Trim(std::string_view text);
 std::optional<double> ParseDouble(std::string_view token);
 std::optional<std::int64_t> ParseInt(std::string_view token);
 
+// The shortest text that parses back to exactly `value` ("0.1", "1e-05").
+std::string FormatShortestDouble(double value);
+// The same, written so that YAML 1.1 readers (PyYAML, and through it mrcal's
+// and ROS's tools) take it as a float: a mantissa with a '.' before any
+// exponent ("1.0e-05", not "1e-05"). yaml-cpp reads both.
+std::string FormatYamlDouble(double value);
+
 // "<file>:<line>: field '<field>': expected <expected>, got '<got>'".
 std::string FieldError(const std::string& file, std::size_t line, std::string_view field,
                        std::string_view expected, std::string_view got);
