@@ -92,32 +92,36 @@ void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out) {
   out->bright.create(size, CV_32F);
   out->dark.create(size, CV_32F);
   out->signed_strength.create(size, CV_32F);
-  out->normal_rad.create(size, CV_32F);
   out->eigen_ratio.create(size, CV_32F);
-  constexpr float kHalfPi = 0.5f * std::numbers::pi_v<float>;
+  // Vectorized polar form of ((L_uu - L_vv) / 2, L_uv): the radius is half the
+  // eigenvalue gap, the angle twice l_hi's eigenvector angle (cv::cartToPolar;
+  // OpenCV's fast atan, checked against an exact eigen-solver to 0.02 deg in the tests).
+  cv::Mat mean, half_diff, radius, double_angle;
+  cv::addWeighted(hessian.uu, 0.5, hessian.vv, 0.5, 0.0, mean);
+  cv::addWeighted(hessian.uu, 0.5, hessian.vv, -0.5, 0.0, half_diff);
+  cv::cartToPolar(half_diff, hessian.uv, radius, double_angle);  // angle in [0, 2 pi)
+  out->normal_rad.create(size, CV_32F);
+  constexpr float kPi = std::numbers::pi_v<float>;
   for (int r = 0; r < size.height; ++r) {
-    const float* uu = hessian.uu.ptr<float>(r);
-    const float* uv = hessian.uv.ptr<float>(r);
-    const float* vv = hessian.vv.ptr<float>(r);
+    const float* m = mean.ptr<float>(r);
+    const float* rad = radius.ptr<float>(r);
+    const float* angle = double_angle.ptr<float>(r);
     float* bright = out->bright.ptr<float>(r);
     float* dark = out->dark.ptr<float>(r);
     float* strength = out->signed_strength.ptr<float>(r);
     float* normal = out->normal_rad.ptr<float>(r);
     float* ratio = out->eigen_ratio.ptr<float>(r);
     for (int c = 0; c < size.width; ++c) {
-      const float mean = 0.5f * (uu[c] + vv[c]);
-      const float half_diff = 0.5f * (uu[c] - vv[c]);
-      const float radius = std::sqrt(half_diff * half_diff + uv[c] * uv[c]);
-      const float l_hi = mean + radius;
-      const float l_lo = mean - radius;
-      // Eigenvector of l_hi at angle 0.5 atan2(2 L_uv, L_uu - L_vv) in (-pi/2, pi/2].
-      const float t_hi = 0.5f * std::atan2(uv[c], half_diff);
+      const float l_hi = m[c] + rad[c];
+      const float l_lo = m[c] - rad[c];
       const bool lo_dominates = std::abs(l_lo) > std::abs(l_hi);
       bright[c] = std::max(0.0f, -l_lo);
       dark[c] = std::max(0.0f, l_hi);
       strength[c] = lo_dominates ? l_lo : l_hi;
-      float t = lo_dominates ? t_hi + kHalfPi : t_hi;
-      if (t > kHalfPi) t -= 2.0f * kHalfPi;
+      // l_hi's eigenvector at angle / 2 in [0, pi); l_lo's is perpendicular.
+      float t = 0.5f * angle[c] + (lo_dominates ? 0.5f * kPi : 0.0f);
+      if (t > 0.5f * kPi) t -= kPi;
+      if (t > 0.5f * kPi) t -= kPi;
       normal[c] = t;
       const float large = std::max(std::abs(l_lo), std::abs(l_hi));
       const float small = std::min(std::abs(l_lo), std::abs(l_hi));

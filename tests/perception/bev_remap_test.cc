@@ -186,6 +186,7 @@ TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
   cv::GaussianBlur(noise, image, cv::Size(0, 0), 4.0);
   cv::normalize(image, image, 0.0, 255.0, cv::NORM_MINMAX);
   image.convertTo(image, CV_8U);
+  image.at<std::uint8_t>(0, 0) = 200;  // invalid cells must not pick this up
   cv::Mat by_remap, by_warp, diff;
   remap.Apply(image, &by_remap);
   WarpToBevPinhole(image, remap.grid(), mount, camera.K(), &by_warp);
@@ -195,6 +196,13 @@ TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
   EXPECT_LE(max_diff, 2.0);
   EXPECT_LT(cv::mean(diff, remap.valid_mask())[0], 0.3);
   EXPECT_GT(remap.valid_cells(), 10000);
+  // Cells the camera does not see are 0, on both the float and fixed-point paths.
+  const cv::Mat invalid = remap.valid_mask() == 0;
+  EXPECT_EQ(cv::countNonZero(by_remap & invalid), 0);
+  cv::Mat by_fixed;
+  BevRemap(camera, mount, BevRemap::Options{}).Apply(image, &by_fixed);
+  EXPECT_EQ(cv::countNonZero(by_fixed & invalid), 0);
+  EXPECT_GT(cv::countNonZero(invalid), 1000);
 }
 
 TEST(BevRemapTest, RebuildAfterPitchAndHeightChangeMovesPointsAsPredicted) {

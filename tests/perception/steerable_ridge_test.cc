@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
@@ -187,6 +188,40 @@ TEST(SteerableRidgeTest, IsotropicBlobHasEigenRatioNearOneUnlikeABar) {
   filter.Compute(RenderBar(7.0, 35.0 * kDeg, {80.0, 80.0}, 100.0), &hessian);
   AnalyzeRidges(hessian, &ridges);
   EXPECT_LT(ridges.eigen_ratio.at<float>(80, 80), 0.05f);
+}
+
+TEST(SteerableRidgeTest, EigenAnalysisMatchesEigenSolver) {
+  HessianImages hessian;
+  cv::RNG rng(5);
+  for (cv::Mat* image : {&hessian.uu, &hessian.uv, &hessian.vv}) {
+    image->create(40, 50, CV_32F);
+    rng.fill(*image, cv::RNG::UNIFORM, -30.0, 30.0);
+  }
+  RidgeImages ridges;
+  AnalyzeRidges(hessian, &ridges);
+  double worst_angle = 0.0;
+  for (int r = 0; r < 40; ++r) {
+    for (int c = 0; c < 50; ++c) {
+      Eigen::Matrix2d H;
+      H << hessian.uu.at<float>(r, c), hessian.uv.at<float>(r, c), hessian.uv.at<float>(r, c),
+          hessian.vv.at<float>(r, c);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(H);
+      const Eigen::Vector2d l = solver.eigenvalues();  // ascending
+      const int dominant = std::abs(l(0)) > std::abs(l(1)) ? 0 : 1;
+      const double tol = 1e-4 * l.cwiseAbs().maxCoeff();
+      EXPECT_NEAR(ridges.bright.at<float>(r, c), std::max(0.0, -l(0)), tol);
+      EXPECT_NEAR(ridges.dark.at<float>(r, c), std::max(0.0, l(1)), tol);
+      EXPECT_NEAR(ridges.signed_strength.at<float>(r, c), l(dominant), tol);
+      EXPECT_NEAR(ridges.eigen_ratio.at<float>(r, c),
+                  l.cwiseAbs().minCoeff() / l.cwiseAbs().maxCoeff(), 1e-4);
+      const Eigen::Vector2d v = solver.eigenvectors().col(dominant);
+      const float t = ridges.normal_rad.at<float>(r, c);
+      EXPECT_GT(t, -0.5 * std::numbers::pi);
+      EXPECT_LE(t, 0.5 * std::numbers::pi + 1e-6);
+      worst_angle = std::max(worst_angle, AngleDifferenceModPi(t, std::atan2(v.y(), v.x())));
+    }
+  }
+  EXPECT_LT(worst_angle, 0.02 * kDeg);
 }
 
 TEST(SteerableRidgeTest, ValidateRejectsBadScales) {
