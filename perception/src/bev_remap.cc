@@ -1,0 +1,146 @@
+#include "groundline/perception/bev_remap.h"
+
+#include <cassert>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+namespace groundline::perception {
+namespace {
+
+constexpr int kMaxCellsPerSide = 4096;
+
+}  // namespace
+
+core::Status BevGridOptions::Validate() const {
+  for (const auto& [name, value] :
+       {std::pair{"x_min_m", x_min_m}, std::pair{"x_max_m", x_max_m}, std::pair{"y_min_m", y_min_m},
+        std::pair{"y_max_m", y_max_m}, std::pair{"cell_m", cell_m}}) {
+    if (!std::isfinite(value)) {
+      return core::Status::Error(std::string("BevGridOptions.") + name + " must be finite");
+    }
+  }
+  if (cell_m <= 0.0) return core::Status::Error("BevGridOptions.cell_m must be > 0");
+  if (x_max_m <= x_min_m) return core::Status::Error("BevGridOptions: x_max_m must exceed x_min_m");
+  if (y_max_m <= y_min_m) return core::Status::Error("BevGridOptions: y_max_m must exceed y_min_m");
+  if ((x_max_m - x_min_m) / cell_m > kMaxCellsPerSide ||
+      (y_max_m - y_min_m) / cell_m > kMaxCellsPerSide) {
+    return core::Status::Error("BevGridOptions: more than 4096 cells per side; increase cell_m");
+  }
+  return core::Status::Ok();
+}
+
+BevGrid::BevGrid(const BevGridOptions& options) : options_(options) {
+  assert(options.Validate().ok());
+  rows_ = std::max(
+      1, static_cast<int>(std::lround((options.x_max_m - options.x_min_m) / options.cell_m)));
+  cols_ = std::max(
+      1, static_cast<int>(std::lround((options.y_max_m - options.y_min_m) / options.cell_m)));
+}
+
+Eigen::Vector2d BevGrid::FloorPointOfCell(const Eigen::Vector2d& cell) const {
+  return {options_.x_max_m - (cell.y() + 0.5) * options_.cell_m,
+          options_.y_max_m - (cell.x() + 0.5) * options_.cell_m};
+}
+
+Eigen::Vector2d BevGrid::CellOfFloorPoint(const Eigen::Vector2d& floor_point_m) const {
+  return {(options_.y_max_m - floor_point_m.y()) / options_.cell_m - 0.5,
+          (options_.x_max_m - floor_point_m.x()) / options_.cell_m - 0.5};
+}
+
+Eigen::Matrix3d BevGrid::FloorFromCell() const {
+  const double c = options_.cell_m;
+  Eigen::Matrix3d A;
+  A << 0.0, -c, options_.x_max_m - 0.5 * c,  //
+      -c, 0.0, options_.y_max_m - 0.5 * c,   //
+      0.0, 0.0, 1.0;
+  return A;
+}
+
+BevRemap::BevRemap(calibration::CameraModel camera, const calibration::CameraMount& mount,
+                   const Options& options)
+    : camera_(std::move(camera)), options_(options), grid_(options.grid) {
+  assert(options.Validate().ok());
+  const int n = grid_.rows() * grid_.cols();
+  floor_points_base_.resize(3, n);
+  for (int row = 0; row < grid_.rows(); ++row) {
+    for (int col = 0; col < grid_.cols(); ++col) {
+      const Eigen::Vector2d p = grid_.FloorPointOfCell({col, row});
+      floor_points_base_.col(row * grid_.cols() + col) << p.x(), p.y(), 0.0;
+    }
+  }
+  pixel_map_.create(grid_.rows(), grid_.cols(), CV_32FC2);
+  remap_map_.create(grid_.rows(), grid_.cols(), CV_32FC2);
+  valid_mask_.create(grid_.rows(), grid_.cols(), CV_8UC1);
+  Rebuild(mount);
+}
+
+void BevRemap::Rebuild(const calibration::CameraMount& mount) {
+  assert(mount.Validate().ok());
+  mount_ = mount;
+  const Eigen::Isometry3d T_cam_base = calibration::BaseFromCamera(mount).inverse();
+  points_cam_.noalias() = T_cam_base.linear() * floor_points_base_;
+  points_cam_.colwise() += T_cam_base.translation();
+  camera_.ProjectBatch(points_cam_, &pixels_, &projected_);
+
+  const float u_max = static_cast<float>(camera_.width_px() - 1);
+  const float v_max = static_cast<float>(camera_.height_px() - 1);
+  valid_cells_ = 0;
+  for (int row = 0; row < grid_.rows(); ++row) {
+    auto* map_row = pixel_map_.ptr<cv::Vec2f>(row);
+    auto* safe_row = remap_map_.ptr<cv::Vec2f>(row);
+    auto* mask_row = valid_mask_.ptr<std::uint8_t>(row);
+    for (int col = 0; col < grid_.cols(); ++col) {
+      const int i = row * grid_.cols() + col;
+      const float u = static_cast<float>(pixels_(0, i));
+      const float v = static_cast<float>(pixels_(1, i));
+      const bool valid = projected_[i] != 0 && u >= 0.0f && u <= u_max && v >= 0.0f && v <= v_max;
+      map_row[col] = valid ? cv::Vec2f(u, v) : cv::Vec2f(-1.0f, -1.0f);
+      safe_row[col] = valid ? cv::Vec2f(u, v) : cv::Vec2f(0.0f, 0.0f);
+      mask_row[col] = valid ? 255 : 0;
+      valid_cells_ += valid ? 1 : 0;
+    }
+  }
+  cv::compare(valid_mask_, 0, invalid_mask_, cv::CMP_EQ);
+  if (options_.fixed_point) {
+    cv::convertMaps(remap_map_, cv::noArray(), fixed_map_xy_, fixed_map_frac_, CV_16SC2);
+  }
+}
+
+void BevRemap::Apply(const cv::Mat& image, cv::Mat* bev) const {
+  assert(bev != nullptr);
+  assert(image.cols == camera_.width_px() && image.rows == camera_.height_px());
+  // Invalid cells read pixel (0, 0) and are zeroed afterwards: cv::remap takes
+  // a per-pixel slow path for map entries outside the image (5x slower here).
+  if (options_.fixed_point) {
+    cv::remap(image, *bev, fixed_map_xy_, fixed_map_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+              cv::Scalar::all(0));
+  } else {
+    cv::remap(image, *bev, remap_map_, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+              cv::Scalar::all(0));
+  }
+  bev->setTo(cv::Scalar::all(0), invalid_mask_);
+}
+
+Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::CameraMount& mount,
+                                     const Eigen::Matrix3d& K) {
+  const Eigen::Matrix3d H_img_floor =
+      calibration::FloorToImageHomography(calibration::BaseFromCamera(mount), K);
+  return H_img_floor * grid.FloorFromCell();
+}
+
+void WarpToBevPinhole(const cv::Mat& image, const BevGrid& grid,
+                      const calibration::CameraMount& mount, const Eigen::Matrix3d& K,
+                      cv::Mat* bev) {
+  assert(bev != nullptr);
+  const Eigen::Matrix3d M = PinholeImageFromCell(grid, mount, K);
+  cv::Matx33d M_cv;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) M_cv(r, c) = M(r, c);
+  }
+  cv::warpPerspective(image, *bev, M_cv, cv::Size(grid.cols(), grid.rows()),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
+                      cv::Scalar::all(0));
+}
+
+}  // namespace groundline::perception

@@ -1,0 +1,237 @@
+// BevRemap against independent per-point projections (FloorProjection), a
+// camera image rendered here by unprojecting each pixel to the floor, and the
+// pinhole warpPerspective baseline.
+#include "groundline/perception/bev_remap.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "groundline/calibration/floor_projection.h"
+#include "groundline/perception/hesse_line.h"
+
+namespace groundline::perception {
+namespace {
+
+using calibration::CameraModel;
+using calibration::CameraMount;
+using calibration::FloorProjection;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// The reference camera (fx 1132 px on 1280 x 1024) with mild OPENCV8 distortion.
+CameraModel ReferenceCamera(double scale = 1.0) {
+  const core::Result<CameraModel> camera =
+      CameraModel::Create("LENSMODEL_OPENCV8",
+                          {1132.0 * scale, 1131.0 * scale, 639.5 * scale, 511.5 * scale, -0.12,
+                           0.05, 0.0006, -0.0004, 0.0, 0.004, -0.002, 0.001},
+                          static_cast<int>(1280 * scale), static_cast<int>(1024 * scale));
+  EXPECT_TRUE(camera.ok()) << camera.message();
+  return *camera;
+}
+
+TEST(BevGridTest, CellAndFloorPointAreInverse) {
+  const BevGrid grid(BevGridOptions{});
+  EXPECT_EQ(grid.rows(), 180);
+  EXPECT_EQ(grid.cols(), 200);
+  const Eigen::Vector2d corner = grid.FloorPointOfCell({-0.5, -0.5});
+  EXPECT_NEAR(corner.x(), 2.4, 1e-12);
+  EXPECT_NEAR(corner.y(), 1.0, 1e-12);
+  const Eigen::Vector2d p(1.234, -0.567);
+  const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+  EXPECT_LT((grid.FloorPointOfCell(cell) - p).norm(), 1e-12);
+  const Eigen::Vector3d affine = grid.FloorFromCell() * Eigen::Vector3d(cell.x(), cell.y(), 1.0);
+  EXPECT_LT((affine.head<2>() - p).norm(), 1e-12);
+}
+
+TEST(BevGridTest, ValidateNamesTheBadField) {
+  BevGridOptions options;
+  options.x_max_m = 0.5;
+  EXPECT_NE(options.Validate().message().find("x_max_m"), std::string::npos);
+  options = BevGridOptions{};
+  options.cell_m = 0.0;
+  EXPECT_NE(options.Validate().message().find("cell_m"), std::string::npos);
+  EXPECT_TRUE(BevGridOptions{}.Validate().ok());
+}
+
+TEST(BevRemapTest, TableMatchesPerPointFloorProjection) {
+  const CameraModel camera = ReferenceCamera();
+  const CameraMount mount;
+  const BevRemap remap(camera, mount, BevRemap::Options{});
+  const FloorProjection projection(camera, mount);
+  const BevGrid& grid = remap.grid();
+  int valid = 0;
+  for (int row = 0; row < grid.rows(); ++row) {
+    for (int col = 0; col < grid.cols(); ++col) {
+      const Eigen::Vector2d floor = grid.FloorPointOfCell({col, row});
+      const core::Result<Eigen::Vector2d> pixel = projection.PixelOfFloorPoint(floor);
+      const bool expected_valid = pixel.ok() && pixel->x() >= 0 && pixel->y() >= 0 &&
+                                  pixel->x() <= 1279 && pixel->y() <= 1023;
+      const bool table_valid = remap.valid_mask().at<std::uint8_t>(row, col) != 0;
+      ASSERT_EQ(table_valid, expected_valid) << "cell " << col << ", " << row;
+      if (!table_valid) continue;
+      ++valid;
+      const cv::Vec2f table = remap.pixel_map().at<cv::Vec2f>(row, col);
+      ASSERT_NEAR(table[0], pixel->x(), 0.01) << "cell " << col << ", " << row;
+      ASSERT_NEAR(table[1], pixel->y(), 0.01) << "cell " << col << ", " << row;
+    }
+  }
+  EXPECT_EQ(valid, remap.valid_cells());
+  // The reference camera sees the floor from about 0.67 m to 2.2 m ahead.
+  auto valid_at = [&](double x, double y) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint({x, y});
+    return remap.valid_mask().at<std::uint8_t>(static_cast<int>(std::lround(cell.y())),
+                                               static_cast<int>(std::lround(cell.x()))) != 0;
+  };
+  EXPECT_TRUE(valid_at(0.75, 0.0));
+  EXPECT_TRUE(valid_at(2.1, 0.0));
+  EXPECT_TRUE(valid_at(2.1, 0.8));
+  EXPECT_FALSE(valid_at(0.62, 0.0));
+  EXPECT_FALSE(valid_at(2.35, 0.0));
+  EXPECT_FALSE(valid_at(0.75, 0.6));
+}
+
+// Sub-cell centre of the bright ridge along one BEV row (scan_rows = false) or
+// column (true): background-subtracted centroid within +-6 cells of the maximum.
+bool RidgeCentre(const cv::Mat& bev, const cv::Mat& mask, int index, bool along_rows,
+                 double background, double* centre) {
+  const int n = along_rows ? bev.rows : bev.cols;
+  auto value = [&](int k) {
+    return along_rows ? bev.at<float>(k, index) : bev.at<float>(index, k);
+  };
+  auto valid = [&](int k) {
+    return (along_rows ? mask.at<std::uint8_t>(k, index) : mask.at<std::uint8_t>(index, k)) != 0;
+  };
+  int best = -1;
+  for (int k = 0; k < n; ++k) {
+    if (valid(k) && (best < 0 || value(k) > value(best))) best = k;
+  }
+  if (best < 6 || best >= n - 6 || value(best) < background + 100) return false;
+  double sum_w = 0.0, sum_wk = 0.0;
+  for (int k = best - 6; k <= best + 6; ++k) {
+    if (!valid(k)) return false;
+    const double w = value(k) - background;
+    sum_w += w;
+    sum_wk += w * k;
+  }
+  *centre = sum_wk / sum_w;
+  return true;
+}
+
+TEST(BevRemapTest, RenderedFloorLineComesOutStraightAtItsMetricPosition) {
+  const CameraModel camera = ReferenceCamera(0.5);
+  CameraMount mount;
+  mount.roll_rad = 0.8 * kDeg;
+  mount.yaw_rad = -1.5 * kDeg;
+  const FloorProjection projection(camera, mount);
+  constexpr double kBackground = 30.0, kPeak = 180.0, kSigmaM = 0.015;
+  const std::vector<HesseLine> truths = {{0.25, 80.0 * kDeg}, {1.6, 4.0 * kDeg}};
+  for (const HesseLine& truth : truths) {
+    cv::Mat image(camera.height_px(), camera.width_px(), CV_32F, cv::Scalar(kBackground));
+    for (int v = 0; v < image.rows; ++v) {
+      for (int u = 0; u < image.cols; ++u) {
+        const core::Result<Eigen::Vector2d> floor = projection.FloorPointOfPixel({u, v});
+        if (!floor.ok()) continue;
+        const double d = SignedDistance(truth, *floor);
+        image.at<float>(v, u) += kPeak * std::exp(-0.5 * d * d / (kSigmaM * kSigmaM));
+      }
+    }
+    const BevRemap remap(camera, mount, BevRemap::Options{});
+    cv::Mat bev;
+    remap.Apply(image, &bev);
+    const bool along_rows =
+        std::abs(std::cos(truth.alpha_rad)) > std::abs(std::sin(truth.alpha_rad));
+    const int count = along_rows ? bev.cols : bev.rows;
+    std::vector<Eigen::Vector2d> points;
+    for (int index = 0; index < count; ++index) {
+      double centre = 0.0;
+      if (!RidgeCentre(bev, remap.valid_mask(), index, along_rows, kBackground, &centre)) continue;
+      const Eigen::Vector2d cell =
+          along_rows ? Eigen::Vector2d(index, centre) : Eigen::Vector2d(centre, index);
+      points.push_back(remap.grid().FloorPointOfCell(cell));
+    }
+    ASSERT_GE(points.size(), 60u);
+    const std::vector<double> weights(points.size(), 1.0);
+    const core::Result<LineFit> fit = FitLineTls(points, weights, 0.001);
+    ASSERT_TRUE(fit.ok()) << fit.message();
+    EXPECT_NEAR(fit->line.rho_m, truth.rho_m, 0.003);
+    EXPECT_NEAR(fit->line.alpha_rad, truth.alpha_rad, 0.1 * kDeg);
+    EXPECT_LT(fit->rms_residual_m, 0.002);  // straight in the BEV
+  }
+}
+
+TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
+  const CameraModel camera = CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
+  CameraMount mount;
+  mount.roll_rad = -1.0 * kDeg;
+  BevRemap::Options options;
+  options.fixed_point = false;
+  const BevRemap remap(camera, mount, options);
+  const Eigen::Matrix3d M = PinholeImageFromCell(remap.grid(), mount, camera.K());
+  for (int row = 0; row < remap.grid().rows(); row += 3) {
+    for (int col = 0; col < remap.grid().cols(); col += 3) {
+      if (remap.valid_mask().at<std::uint8_t>(row, col) == 0) continue;
+      const Eigen::Vector3d h = M * Eigen::Vector3d(col, row, 1.0);
+      const cv::Vec2f table = remap.pixel_map().at<cv::Vec2f>(row, col);
+      ASSERT_NEAR(table[0], h.x() / h.z(), 1e-3);
+      ASSERT_NEAR(table[1], h.y() / h.z(), 1e-3);
+    }
+  }
+  cv::Mat noise(1024, 1280, CV_32F), image;
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, 0.0, 255.0);
+  cv::GaussianBlur(noise, image, cv::Size(0, 0), 4.0);
+  cv::normalize(image, image, 0.0, 255.0, cv::NORM_MINMAX);
+  image.convertTo(image, CV_8U);
+  image.at<std::uint8_t>(0, 0) = 200;  // invalid cells must not pick this up
+  cv::Mat by_remap, by_warp, diff;
+  remap.Apply(image, &by_remap);
+  WarpToBevPinhole(image, remap.grid(), mount, camera.K(), &by_warp);
+  cv::absdiff(by_remap, by_warp, diff);
+  double max_diff = 0.0;
+  cv::minMaxLoc(diff, nullptr, &max_diff, nullptr, nullptr, remap.valid_mask());
+  EXPECT_LE(max_diff, 2.0);
+  EXPECT_LT(cv::mean(diff, remap.valid_mask())[0], 0.3);
+  EXPECT_GT(remap.valid_cells(), 10000);
+  // Cells the camera does not see are 0, on both the float and fixed-point paths.
+  const cv::Mat invalid = remap.valid_mask() == 0;
+  EXPECT_EQ(cv::countNonZero(by_remap & invalid), 0);
+  cv::Mat by_fixed;
+  BevRemap(camera, mount, BevRemap::Options{}).Apply(image, &by_fixed);
+  EXPECT_EQ(cv::countNonZero(by_fixed & invalid), 0);
+  EXPECT_GT(cv::countNonZero(invalid), 1000);
+}
+
+TEST(BevRemapTest, RebuildAfterPitchAndHeightChangeMovesPointsAsPredicted) {
+  const CameraModel camera = ReferenceCamera();
+  CameraMount mount;
+  BevRemap remap(camera, mount, BevRemap::Options{});
+  const Eigen::Vector2d cell(137.0, 90.0);
+  const Eigen::Vector2d floor = remap.grid().FloorPointOfCell(cell);
+  const cv::Vec2f before = remap.pixel_map().at<cv::Vec2f>(90, 137);
+  mount.pitch_rad += 1.0 * kDeg;  // the camera looks further down
+  remap.Rebuild(mount);
+  const cv::Vec2f after = remap.pixel_map().at<cv::Vec2f>(90, 137);
+  const core::Result<Eigen::Vector2d> predicted =
+      FloorProjection(camera, mount).PixelOfFloorPoint(floor);
+  ASSERT_TRUE(predicted.ok());
+  EXPECT_NEAR(after[0], predicted->x(), 0.01);
+  EXPECT_NEAR(after[1], predicted->y(), 0.01);
+  // A 1 deg tilt moves the point up the image by about fx * 1 deg = 20 px.
+  EXPECT_NEAR(after[1] - before[1], -1132.0 * kDeg, 3.0);
+  mount.height_m += 0.03;
+  remap.Rebuild(mount);
+  const cv::Vec2f raised = remap.pixel_map().at<cv::Vec2f>(90, 137);
+  const core::Result<Eigen::Vector2d> predicted_raised =
+      FloorProjection(camera, mount).PixelOfFloorPoint(floor);
+  ASSERT_TRUE(predicted_raised.ok());
+  EXPECT_NEAR(raised[0], predicted_raised->x(), 0.01);
+  EXPECT_NEAR(raised[1], predicted_raised->y(), 0.01);
+  EXPECT_GT(raised[1], after[1] + 5.0);  // a higher camera sees the point lower
+}
+
+}  // namespace
+}  // namespace groundline::perception
