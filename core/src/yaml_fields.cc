@@ -175,7 +175,11 @@ void YamlFields::CheckFormat(const YAML::Node& root, std::string_view name, int 
   const std::string format = Text(root, "", "format");
   if (!ok()) return;
   if (format != name) {
-    Fail(root["format"], "format", "'" + std::string(name) + "'", format);
+    // Built piecewise: GCC 12 at -O3 warns (-Wrestrict, a false positive) on
+    // "'" + std::string(name) + "'".
+    std::string expected = "'";
+    expected.append(name).append("'");
+    Fail(root["format"], "format", expected, format);
     return;
   }
   const YAML::Node version = Child(root, "", "version");
