@@ -3,6 +3,7 @@
 #ifndef GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
 #define GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -67,11 +68,33 @@ class StrokeGrid {
 };
 
 // Procedural, seeded fields over the map plane.
+inline std::uint32_t HashU32(std::int64_t x, std::int64_t y, std::uint32_t seed) {
+  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B185EBCA87ULL ^
+                    static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^
+                    (static_cast<std::uint64_t>(seed) << 17);
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return static_cast<std::uint32_t>(h);
+}
+
 // Value noise in [0, 1] with lattice spacing 1 (smoothstep interpolation).
-float ValueNoise(double x, double y, std::uint32_t seed);
+inline float ValueNoise(double x, double y, std::uint32_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  const double tx = x - fx, ty = y - fy;
+  const double sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
+  constexpr double kScale = 1.0 / 4294967296.0;
+  const double v00 = HashU32(ix, iy, seed) * kScale, v10 = HashU32(ix + 1, iy, seed) * kScale;
+  const double v01 = HashU32(ix, iy + 1, seed) * kScale;
+  const double v11 = HashU32(ix + 1, iy + 1, seed) * kScale;
+  return static_cast<float>((v00 + sx * (v10 - v00)) * (1.0 - sy) + (v01 + sx * (v11 - v01)) * sy);
+}
+
 // Sum of octaves (each half the scale and amplitude of the previous), in [0, 1].
 float Fbm(double x, double y, int octaves, std::uint32_t seed);
-std::uint32_t HashU32(std::int64_t x, std::int64_t y, std::uint32_t seed);
 
 // The floor's low-frequency fields (features >= ~10 cm) at one point. The
 // renderer evaluates them on a coarse pixel grid and interpolates them

@@ -116,30 +116,6 @@ void StrokeGrid::Query(const Vector2& centre_m, double radius_m, std::vector<int
   out->erase(std::unique(out->begin(), out->end()), out->end());
 }
 
-std::uint32_t HashU32(std::int64_t x, std::int64_t y, std::uint32_t seed) {
-  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B185EBCA87ULL ^
-                    static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^
-                    (static_cast<std::uint64_t>(seed) << 17);
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdULL;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ULL;
-  h ^= h >> 33;
-  return static_cast<std::uint32_t>(h);
-}
-
-float ValueNoise(double x, double y, std::uint32_t seed) {
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
-  const double tx = x - fx, ty = y - fy;
-  const double sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
-  constexpr double kScale = 1.0 / 4294967296.0;
-  const double v00 = HashU32(ix, iy, seed) * kScale, v10 = HashU32(ix + 1, iy, seed) * kScale;
-  const double v01 = HashU32(ix, iy + 1, seed) * kScale;
-  const double v11 = HashU32(ix + 1, iy + 1, seed) * kScale;
-  return static_cast<float>((v00 + sx * (v10 - v00)) * (1.0 - sy) + (v01 + sx * (v11 - v01)) * sy);
-}
-
 float Fbm(double x, double y, int octaves, std::uint32_t seed) {
   double sum = 0.0, amp = 1.0, norm = 0.0;
   for (int o = 0; o < octaves; ++o) {
@@ -181,7 +157,7 @@ CoarseFields FloorFields::Coarse(const Vector2& p) const {
   CoarseFields c;
   if (options.texture) c.texture = Fbm(p.x() / 0.8, p.y() / 0.8, 3, seed + kTexture);
   if (options.scuffs) {
-    c.scuff_mask = SmoothStep(0.45f, 0.6f, ValueNoise(p.x() / 4.0, p.y() / 4.0, seed + kScuffMask));
+    c.scuff_mask = SmoothStep(0.55f, 0.7f, ValueNoise(p.x() / 4.0, p.y() / 4.0, seed + kScuffMask));
   }
   if (options.oil) c.oil = Fbm(p.x() / 0.6, p.y() / 0.6, 3, seed + kOil);
   if (options.illumination_gradient)
@@ -206,7 +182,7 @@ float FloorFields::Concrete(const Vector2& p, const CoarseFields& c) const {
     r *= 1.0f - static_cast<float>(options.scuff_darkness) * c.scuff_mask * streak;
   }
   if (options.oil) {
-    r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStep(0.72f, 0.76f, c.oil);
+    r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStep(0.77f, 0.79f, c.oil);
   }
   return r;
 }
