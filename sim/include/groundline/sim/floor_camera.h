@@ -96,7 +96,7 @@ struct FloorRenderOptions {
   double texture_contrast = 0.25;  // relative reflectance variation, peak to peak ~2x this
   bool wear = true;                // use each marking's wear_fraction
   bool scuffs = true;
-  double scuff_darkness = 0.25;  // fraction of reflectance removed at a full scuff
+  double scuff_darkness = 0.15;  // fraction of reflectance removed at a full scuff
   bool oil = true;
   double oil_darkness = 0.4;
 
