@@ -18,8 +18,8 @@ out="${GROUNDLINE_DEMO_OUT:-out/demo}"
 mkdir -p "$out"
 
 echo
-echo "== simulating zone B (high-bay rack aisles), 400 m loop, seed 1 =="
-"$gl" sim --zone B --length 400m --seed 1 --out "$out/zone_b_seed1"
+echo "== simulating zone B (high-bay rack aisles), 400 m loop, seed 1; floor camera at 0.5 Hz for sample frames =="
+"$gl" sim --zone B --length 400m --seed 1 --camera-rate 0.5 --out "$out/zone_b_seed1"
 
 echo
 echo "== localizing (mode: odometry; the floor-line and LiDAR modes come with the localization issues) =="

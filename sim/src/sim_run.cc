@@ -1,6 +1,7 @@
 #include "groundline/sim/sim_run.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace groundline::sim {
@@ -19,6 +20,7 @@ std::uint64_t StreamSeed(std::uint64_t seed, std::uint64_t stream) {
 constexpr std::uint64_t kRouteStream = 1;
 constexpr std::uint64_t kEncoderStream = 2;
 constexpr std::uint64_t kLidarStream = 3;
+constexpr std::uint64_t kCameraStream = 4;
 
 const char* ZoneLetter(Zone zone) {
   switch (zone) {
@@ -56,6 +58,13 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
     lidar.range_max_m = options.lidar.range_max_m;
     manifest.lidar = lidar;
   }
+  if (options.with_camera) {
+    core::CameraSensor camera;
+    camera.image_width_px = options.camera.width_px;
+    camera.image_height_px = options.camera.height_px;
+    camera.rate_hz = options.camera_rate_hz;
+    manifest.camera = camera;
+  }
   manifest.provenance["generator"] = "groundline sim";
   manifest.provenance["zone"] = ZoneLetter(options.zone);
   manifest.provenance["seed"] = std::to_string(options.seed);
@@ -71,6 +80,15 @@ core::Status SimRunOptions::Validate() const {
   if (core::Status s = encoders.Validate(); !s.ok()) return s.WithContext("encoders");
   if (with_lidar) {
     if (core::Status s = lidar.Validate(); !s.ok()) return s.WithContext("lidar");
+  }
+  if (with_camera) {
+    if (core::Status s = camera.Validate(); !s.ok()) return s.WithContext("camera");
+    if (core::Status s = render.Validate(); !s.ok()) return s.WithContext("render");
+    if (!(camera_rate_hz > 0.0 && camera_rate_hz <= camera.sensor_rate_hz)) {
+      return core::Status::Error("camera_rate_hz: expected a rate in (0, camera.sensor_rate_hz = " +
+                                 std::to_string(camera.sensor_rate_hz) + "], got " +
+                                 std::to_string(camera_rate_hz));
+    }
   }
   return core::Status::Ok();
 }
@@ -165,6 +183,23 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
       if (k % 200 == 0) report("lidar", static_cast<double>(k) / static_cast<double>(n_scans + 1));
     }
     report("lidar", 1.0);
+  }
+  if (options.with_camera) {
+    core::Result<calibration::CameraModel> model = options.camera.MakeCameraModel();
+    if (!model.ok()) return model.status().WithContext("building the floor camera");
+    FloorRenderOptions render = options.render;
+    render.seed = StreamSeed(options.seed, kCameraStream);
+    run.camera = SimCamera{std::move(model).value(), options.camera.mount, render};
+    const core::Trajectory& truth = run.route.T_map_base;
+    const double t0 = truth.front().stamp_s;
+    const double t1 = truth.back().stamp_s;
+    char name[32];
+    for (std::uint64_t k = 0;; ++k) {
+      const double t = t0 + static_cast<double>(k) / options.camera_rate_hz;
+      if (t > t1) break;
+      std::snprintf(name, sizeof(name), "%06llu.png", static_cast<unsigned long long>(k));
+      dataset.images.push_back({t, name});
+    }
   }
   dataset.UseDefaultFileNames();
   return run;

@@ -2,8 +2,13 @@
 // sensor streams a differential-drive AGV records along it, assembled as a
 // groundline dataset (docs/dataset.md) with ground truth and the floor map.
 //
-// The camera stream is not simulated yet (the floor renderer comes with the
-// camera model); the dataset then has no camera and no images.
+// The camera stream (with_camera) is planned here and rendered by
+// WriteSimulatedImages: SimulateRun fills the manifest's camera and the image
+// index (stamps and file names) but renders nothing, because core::WriteDataset
+// only checks that images and calibration files exist. Writing a run with a
+// camera is therefore two calls:
+//   WriteSimulatedImages(dir, run, progress);   // images/*.png, calibration/*
+//   core::WriteDataset(dir, run.dataset);       // index, streams, manifest last
 //
 // Deterministic for given options: every random stream is seeded from `seed`.
 // Not thread-safe across calls that share a progress callback.
@@ -14,9 +19,15 @@
 #include <functional>
 #include <string_view>
 
+#include <filesystem>
+#include <optional>
+
+#include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/camera_model.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/status.h"
 #include "groundline/localization/diff_drive_odometry.h"
+#include "groundline/sim/floor_camera.h"
 #include "groundline/sim/lidar.h"
 #include "groundline/sim/route.h"
 #include "groundline/sim/wheel_encoders.h"
@@ -46,23 +57,50 @@ struct SimRunOptions {
   }();
   bool with_lidar = true;
   LidarOptions lidar;
+  // The floor camera: images at camera_rate_hz (the 60 fps sensor subsampled;
+  // the manifest states camera_rate_hz), rendered per floor_camera.h. The
+  // renderer's seed is derived from `seed`.
+  bool with_camera = true;
+  double camera_rate_hz = 10.0;
+  FloorCameraOptions camera;
+  FloorRenderOptions render;
 
   core::Status Validate() const;
+};
+
+// What WriteSimulatedImages needs to render the run's frames.
+struct SimCamera {
+  calibration::CameraModel model;
+  calibration::CameraMount mount;
+  FloorRenderOptions render;  // seed already derived from the run's seed
 };
 
 struct SimRun {
   World world;
   Route route;
-  WheelEncoderLog encoder_log;  // with the slip events, for analysis
-  core::Dataset dataset;        // manifest, encoders, scans, ground truth, floor map
+  WheelEncoderLog encoder_log;      // with the slip events, for analysis
+  core::Dataset dataset;            // manifest, encoders, scans, ground truth, floor map
+  std::optional<SimCamera> camera;  // set iff dataset.manifest.camera is
 };
 
-// stage: "zone", "route", "encoders", "lidar"; fraction in [0, 1].
+// stage: "zone", "route", "encoders", "lidar" (SimulateRun), "camera"
+// (WriteSimulatedImages); fraction in [0, 1].
 using SimProgress = std::function<void(std::string_view stage, double fraction)>;
 
 // Errors: invalid options, a zone or route that cannot be built (the message
 // names the option to change).
 core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress = {});
+
+// Renders every frame of run.dataset.images at its stamp (pose interpolated
+// from the ground truth, motion blur from its velocity, noise seeded by the
+// frame index) and writes DIR/images/<file> (PNG, atomically), then the
+// calibration files named by the manifest's camera: the intrinsics as an OpenCV
+// YAML (calibration::WriteOpenCvCalibration) and the mount as a groundline
+// extrinsics file (calibration::WriteCameraMountYaml). Frames are split over
+// `threads` worker threads (>= 1; the images do not depend on it). A run
+// without a camera writes nothing. Errors name the file that failed.
+core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun& run,
+                                  const SimProgress& progress = {}, int threads = 1);
 
 // The world's markings as the dataset's floor map (ids in world order).
 core::FloorMap ToFloorMap(const World& world);

@@ -1,0 +1,134 @@
+// Internals of the floor renderer (floor_camera.h): the pixel-to-floor table,
+// the marking strokes with their grid index, and the procedural floor fields.
+#ifndef GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
+#define GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "groundline/sim/floor_camera.h"
+
+namespace groundline::sim::internal {
+
+// Per pixel: its centre's floor point in base_link and the columns of the
+// affine map d(floor)/d(u), d(floor)/d(v) (metres per pixel). valid = 0 for
+// pixels that show the wall.
+struct PixelFloorTable {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<float> x_m, y_m, dxu, dyu, dxv, dyv;
+  // Half the sum of the affine columns' lengths: a pixel's footprint radius.
+  std::vector<float> foot_m;
+  std::vector<std::uint8_t> valid;
+  // Image tiles of kTile x kTile pixels: centre and radius of the floor
+  // points of the tile's pixels (base_link), for culling markings per tile.
+  static constexpr int kTile = 32;
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<float> tile_cx_m, tile_cy_m, tile_radius_m;
+  int floor_pixels = 0;
+};
+
+core::Result<PixelFloorTable> BuildPixelFloorTable(const calibration::CameraModel& camera,
+                                                   const calibration::CameraMount& mount,
+                                                   double max_floor_range_m);
+
+// A straight piece of a marking: the rectangle of half width half_width_m
+// around the segment a-b (map frame), with flat ends.
+struct Stroke {
+  Vector2 a_m = Vector2::Zero();
+  Vector2 dir = Vector2::UnitX();  // unit, a -> b
+  double length_m = 0.0;
+  double half_width_m = 0.0;
+  int marking = 0;  // index into World::markings
+};
+
+// Signed distance from p to the stroke's rectangle (negative inside).
+double StrokeSignedDistance(const Stroke& s, const Vector2& p_m);
+
+// Splits markings into strokes (dashes for dashed tape; interior polyline
+// vertices extend the adjoining segments by the half width so corners close).
+std::vector<Stroke> MakeStrokes(const World& world);
+
+// A uniform grid over the strokes' bounding boxes.
+class StrokeGrid {
+ public:
+  StrokeGrid(std::vector<Stroke> strokes, double cell_m);
+  // Indices (ascending, unique) of strokes that may come within radius_m of
+  // centre_m; appends to *out after clearing it.
+  void Query(const Vector2& centre_m, double radius_m, std::vector<int>* out) const;
+  const std::vector<Stroke>& strokes() const { return strokes_; }
+
+ private:
+  std::vector<Stroke> strokes_;
+  double cell_m_;
+  Vector2 origin_m_ = Vector2::Zero();
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<int>> cells_;
+};
+
+// Procedural, seeded fields over the map plane.
+inline std::uint32_t HashU32(std::int64_t x, std::int64_t y, std::uint32_t seed) {
+  std::uint64_t h = static_cast<std::uint64_t>(x) * 0x9E3779B185EBCA87ULL ^
+                    static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^
+                    (static_cast<std::uint64_t>(seed) << 17);
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return static_cast<std::uint32_t>(h);
+}
+
+// Value noise in [0, 1] with lattice spacing 1 (smoothstep interpolation).
+inline float ValueNoise(double x, double y, std::uint32_t seed) {
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+  const double tx = x - fx, ty = y - fy;
+  const double sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
+  constexpr double kScale = 1.0 / 4294967296.0;
+  const double v00 = HashU32(ix, iy, seed) * kScale, v10 = HashU32(ix + 1, iy, seed) * kScale;
+  const double v01 = HashU32(ix, iy + 1, seed) * kScale;
+  const double v11 = HashU32(ix + 1, iy + 1, seed) * kScale;
+  return static_cast<float>((v00 + sx * (v10 - v00)) * (1.0 - sy) + (v01 + sx * (v11 - v01)) * sy);
+}
+
+// Sum of octaves (each half the scale and amplitude of the previous), in [0, 1].
+float Fbm(double x, double y, int octaves, std::uint32_t seed);
+
+// The floor's low-frequency fields (features >= ~10 cm) at one point. The
+// renderer evaluates them on a coarse pixel grid and interpolates them
+// bilinearly; thresholds that make hard edges (shadow, oil) are applied after
+// the interpolation, so the edges stay sharp.
+struct CoarseFields {
+  float texture = 0.5f;     // coarse concrete octaves, [0, 1]
+  float scuff_mask = 0.0f;  // where scuffs occur, [0, 1]
+  float oil = 0.0f;         // oil field before its threshold
+  float gradient = 0.5f;    // illumination gradient field
+  float shadow = 0.0f;      // shadow field before its threshold
+  float glare = 0.0f;       // DN
+  static constexpr int kCount = 6;
+};
+
+struct FloorFields {
+  explicit FloorFields(const FloorRenderOptions& options);
+  CoarseFields Coarse(const Vector2& p_m) const;
+  // Concrete reflectance (texture, scuffs, oil) at p.
+  float Concrete(const Vector2& p_m, const CoarseFields& c) const;
+  // True when the tape of a marking with this wear fraction is worn away at p.
+  bool Worn(const Vector2& p_m, double wear_fraction) const;
+  // Relative illumination (gradient and shadows), 1 = options.lux.
+  float Light(const CoarseFields& c) const;
+
+  FloorRenderOptions options;
+  std::uint32_t seed;
+  std::vector<float> wear_quantiles;  // sorted samples of the wear field
+  float shadow_threshold = 1.0f;
+
+ private:
+  float Glare(const Vector2& p_m) const;
+};
+
+}  // namespace groundline::sim::internal
+
+#endif  // GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_

@@ -1,0 +1,101 @@
+// WriteSimulatedImages: renders a run's camera frames and writes its
+// calibration files (sim_run.h).
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/opencv_calibration_io.h"
+#include "groundline/core/atomic_file.h"
+#include "groundline/sim/lidar.h"
+#include "groundline/sim/sim_run.h"
+
+namespace groundline::sim {
+namespace {
+
+// Forward speed and yaw rate at the stamp, by central differences of the
+// interpolated ground truth over +-5 ms.
+BaseVelocity VelocityAt(const core::Trajectory& truth, double stamp_s) {
+  constexpr double kH = 0.005;
+  const core::SE2 a = InterpolatePose(truth, stamp_s - kH);
+  const core::SE2 b = InterpolatePose(truth, stamp_s + kH);
+  const core::Vector3 xi = a.Between(b).Log();
+  return {xi.x() / (2.0 * kH), xi.z() / (2.0 * kH)};
+}
+
+core::Status WritePng(const std::filesystem::path& path, const GreyImage& image) {
+  const cv::Mat mat(image.height_px, image.width_px, CV_8UC1,
+                    const_cast<std::uint8_t*>(image.pixels.data()));
+  std::vector<std::uint8_t> bytes;
+  // Level 1: noisy floor images barely compress further and level 1 is ~4x faster.
+  if (!cv::imencode(".png", mat, bytes, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+    return core::Status::Error(path.string() + ": PNG encoding failed");
+  }
+  return core::WriteFileAtomically(
+      path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+}  // namespace
+
+core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun& run,
+                                  const SimProgress& progress, int threads) {
+  if (!run.camera || !run.dataset.manifest.camera) return core::Status::Ok();
+  const SimCamera& cam = *run.camera;
+  const core::CameraSensor& sensor = *run.dataset.manifest.camera;
+  const auto report = [&progress](double fraction) {
+    if (progress) progress("camera", fraction);
+  };
+  report(0.0);
+  core::Result<FloorRenderer> renderer =
+      FloorRenderer::Create(run.world, cam.model, cam.mount, cam.render);
+  if (!renderer.ok()) return renderer.status().WithContext("floor camera");
+
+  const std::filesystem::path image_dir =
+      (dir / run.dataset.manifest.files.image_index).parent_path();
+  const std::vector<core::ImageRecord>& frames = run.dataset.images;
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> done{0};
+  std::mutex mutex;  // guards first_error and progress
+  core::Status first_error = core::Status::Ok();
+  const auto worker = [&] {
+    for (std::size_t k = next++; k < frames.size(); k = next++) {
+      const core::ImageRecord& frame = frames[k];
+      const core::SE2 pose = InterpolatePose(run.route.T_map_base, frame.stamp_s);
+      const GreyImage image =
+          renderer->Render(pose, VelocityAt(run.route.T_map_base, frame.stamp_s), k);
+      core::Status s = WritePng(image_dir / frame.file, image);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!s.ok() && first_error.ok()) first_error = s;
+      if (!first_error.ok()) {
+        next = frames.size();
+        return;
+      }
+      const std::size_t n = ++done;
+      if (n % 20 == 0) report(static_cast<double>(n) / static_cast<double>(frames.size()));
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < std::max(1, threads); ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (!first_error.ok()) return first_error.WithContext("writing the camera images");
+
+  if (core::Status s = calibration::WriteOpenCvCalibration(dir / sensor.intrinsics_file, cam.model);
+      !s.ok()) {
+    return s.WithContext("writing the camera intrinsics");
+  }
+  if (core::Status s = calibration::WriteCameraMountYaml(cam.mount, dir / sensor.extrinsics_file);
+      !s.ok()) {
+    return s.WithContext("writing the camera extrinsics");
+  }
+  report(1.0);
+  return core::Status::Ok();
+}
+
+}  // namespace groundline::sim
