@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "groundline/core/text_parse.h"
+#include "yaml_text.h"
 
 namespace groundline::calibration {
 namespace {
@@ -84,14 +85,9 @@ core::Status RangeError(const std::string& source, const YAML::Node& node, const
 
 core::Result<CameraMount> ParseCameraMountYaml(const std::string& yaml_text,
                                                const std::string& source_name) {
-  YAML::Node loaded;
-  try {
-    loaded = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    return core::Status::Error(source_name + ":" + std::to_string(e.mark.line + 1) +
-                               ": YAML syntax error: " + e.msg);
-  }
-  const YAML::Node& root = loaded;  // const: lookups of absent keys must not insert them
+  const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
+  if (!loaded.ok()) return loaded.status();
+  const YAML::Node& root = *loaded;  // const: lookups of absent keys must not insert them
   if (!root.IsMap()) {
     return core::Status::Error(source_name +
                                ": expected a mapping of camera extrinsics keys at the top level");

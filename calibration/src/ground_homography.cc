@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "text_util.h"
+#include "yaml_text.h"
 #include "yaml_util.h"
 
 namespace groundline::calibration {
@@ -61,14 +62,9 @@ core::Result<Eigen::Matrix3d> ReadMatrix(const YAML::Node& root, const std::stri
 
 core::Result<GroundHomography> ParseGroundHomographyYaml(const std::string& yaml_text,
                                                          const std::string& source_name) {
-  YAML::Node loaded;
-  try {
-    loaded = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    return core::Status::Error(source_name + ":" + std::to_string(e.mark.line + 1) +
-                               ": YAML syntax error: " + e.msg);
-  }
-  const YAML::Node& root = loaded;  // const: absent keys must not be inserted
+  const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
+  if (!loaded.ok()) return loaded.status();
+  const YAML::Node& root = *loaded;  // const: absent keys must not be inserted
   if (!root.IsMap() || !root["homography"]) {
     return core::Status::Error(source_name +
                                ": missing key 'homography' (the 3x3 image-to-floor "

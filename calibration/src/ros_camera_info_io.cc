@@ -9,6 +9,7 @@
 
 #include "groundline/core/atomic_file.h"
 #include "text_util.h"
+#include "yaml_text.h"
 #include "yaml_util.h"
 
 namespace groundline::calibration {
@@ -112,14 +113,9 @@ RosCameraInfo MakeRosCameraInfo(const CameraModel& camera, const std::string& ca
 
 core::Result<RosCameraInfo> ParseRosCameraInfo(const std::string& yaml_text,
                                                const std::string& source_name) {
-  YAML::Node loaded;
-  try {
-    loaded = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    return core::Status::Error(source_name + ":" + std::to_string(e.mark.line + 1) +
-                               ": YAML syntax error: " + e.msg);
-  }
-  const YAML::Node& root = loaded;  // const: absent keys must not be inserted
+  const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
+  if (!loaded.ok()) return loaded.status();
+  const YAML::Node& root = *loaded;  // const: absent keys must not be inserted
   if (!root.IsMap()) return core::Status::Error(source_name + ": expected a camera_info mapping");
 
   core::Result<YAML::Node> width_node = Require(root, source_name, "image_width", "px");
