@@ -12,14 +12,17 @@ for t in "$@"; do targets+=(--target "$t"); done
 jobs="${GROUNDLINE_JOBS:-$(nproc)}"
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
+# ccache, when a developer has it, makes rebuilds across worktrees cheap; CI does not need it.
+launcher=()
+command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 case "$kind" in
   release)
-    cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    cmake -S . -B build "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=ON >/dev/null
     cmake --build build -j "$jobs" "${targets[@]}"
     ;;
   asan)
-    cmake -S . -B build-asan "${generator[@]}" -DCMAKE_BUILD_TYPE=Debug \
+    cmake -S . -B build-asan "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
       -DGROUNDLINE_SANITIZE=ON -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=OFF >/dev/null
     cmake --build build-asan -j "$jobs" "${targets[@]}"
     ;;
