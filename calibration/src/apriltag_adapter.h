@@ -9,6 +9,7 @@ extern "C" {
 #include <apriltag/tag36h11.h>
 }
 
+#include <cstdlib>
 #include <memory>
 
 namespace groundline::calibration::apriltag_adapter {
@@ -31,8 +32,15 @@ struct DetectionsDeleter {
 };
 using DetectionsPtr = std::unique_ptr<zarray_t, DetectionsDeleter>;
 
+// Debian's libapriltag.so does not export image_u8_destroy; an image_u8_t it
+// returns (apriltag_to_image) is two calloc'ed blocks, the struct and buf,
+// which is exactly what image_u8_destroy frees.
 struct ImageDeleter {
-  void operator()(image_u8_t* image) const noexcept { image_u8_destroy(image); }
+  void operator()(image_u8_t* image) const noexcept {
+    if (image == nullptr) return;
+    std::free(image->buf);
+    std::free(image);
+  }
 };
 using ImagePtr = std::unique_ptr<image_u8_t, ImageDeleter>;
 

@@ -53,7 +53,8 @@ std::vector<TagDetection> DetectAprilTags(const cv::Mat& gray, const AprilTagOpt
     tag.id = det->id;
     tag.hamming = det->hamming;
     tag.decision_margin = det->decision_margin;
-    for (int k = 0; k < 4; ++k) tag.corners_px[k] = {det->p[k][0], det->p[k][1]};
+    // libapriltag's pixel centres are at +0.5 (see the header).
+    for (int k = 0; k < 4; ++k) tag.corners_px[k] = {det->p[k][0] - 0.5, det->p[k][1] - 0.5};
     out.push_back(tag);
   }
   auto key = [](const TagDetection& t) {

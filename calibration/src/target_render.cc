@@ -158,9 +158,16 @@ core::Result<TargetSheet> LayoutFloorSheet(const CalibTarget& t, int id) {
   sheet.origin_y_mm = kMarginMm + quiet + 12.0;
   AddTag(id, sheet.origin_x_mm, sheet.origin_y_mm, tag, &sheet.primitives);
   const double cx = sheet.origin_x_mm + tag / 2.0, cy = sheet.origin_y_mm + tag / 2.0;
-  // Centre cross along the tag's centre lines, out to the page edges.
-  sheet.primitives.push_back(Line(cx, 0.0, cx, sheet.origin_y_mm + tag + quiet + 4.0, 0.3, kRed));
-  sheet.primitives.push_back(Line(0.0, cy, paper->w_mm, cy, 0.3, kRed));
+  // Centre marks: the tag's centre lines drawn from the page edges up to the
+  // quiet zone (a line crossing the quiet zone or the tag would break its
+  // outline for the detector); they cross at the tag centre.
+  const double gap = quiet + 1.0;
+  const double top = sheet.origin_y_mm - gap, bottom = sheet.origin_y_mm + tag + gap;
+  const double left = sheet.origin_x_mm - gap, right = sheet.origin_x_mm + tag + gap;
+  sheet.primitives.push_back(Line(cx, 0.0, cx, top, 0.3, kRed));
+  sheet.primitives.push_back(Line(cx, bottom, cx, bottom + 4.0, 0.3, kRed));
+  sheet.primitives.push_back(Line(0.0, cy, left, cy, 0.3, kRed));
+  sheet.primitives.push_back(Line(right, cy, paper->w_mm, cy, 0.3, kRed));
   // Corner marks just outside the quiet zone.
   const double x0 = sheet.origin_x_mm - quiet - 2.0, x1 = sheet.origin_x_mm + tag + quiet + 2.0;
   const double y0 = sheet.origin_y_mm - quiet - 2.0, y1 = sheet.origin_y_mm + tag + quiet + 2.0;
@@ -174,7 +181,7 @@ core::Result<TargetSheet> LayoutFloorSheet(const CalibTarget& t, int id) {
   sheet.primitives.push_back(Text(kMarginMm, kMarginMm + 6.0, 8.0, "ID " + std::to_string(id)));
   AddCaption(&sheet, y1 + 6.0,
              t.name + ": tag36h11 id " + std::to_string(id) + ", tag " + Mm(t.tag_size_m) +
-                 " (black border, outer edge); red cross = tag centre");
+                 " (black border, outer edge); the red lines meet at the tag centre");
   return sheet;
 }
 

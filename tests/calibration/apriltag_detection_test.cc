@@ -16,7 +16,8 @@
 namespace groundline::calibration {
 namespace {
 
-// Lines "id, (x y), (x y), (x y), (x y)".
+// Lines "id, (x y), (x y), (x y), (x y)", in libapriltag's pixel convention
+// (pixel centres at +0.5); returned in groundline's (centres at integers).
 std::vector<TagDetection> ReadExpected(const std::filesystem::path& path) {
   std::ifstream in(path);
   std::vector<TagDetection> tags;
@@ -28,7 +29,7 @@ std::vector<TagDetection> ReadExpected(const std::filesystem::path& path) {
                     &c[1], &c[2], &c[3], &c[4], &c[5], &c[6], &c[7]) != 9) {
       continue;
     }
-    for (int k = 0; k < 4; ++k) t.corners_px[k] = {c[2 * k], c[2 * k + 1]};
+    for (int k = 0; k < 4; ++k) t.corners_px[k] = {c[2 * k] - 0.5, c[2 * k + 1] - 0.5};
     tags.push_back(t);
   }
   return tags;

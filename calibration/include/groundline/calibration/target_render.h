@@ -14,11 +14,12 @@
 //                border's top-left corner at (c, r) * tag_size * (1 +
 //                spacing_ratio); the one-cell white border of each tag lies
 //                in the gaps.
-//   floor tag    one tag per sheet, centred, with its id and size in text, a
-//                thin red centre cross along the tag's centre lines (they run
-//                along cell edges, where the decoder never samples) extended
-//                to the page edges as alignment marks, and corner marks
-//                outside the quiet zone.
+//   floor tag    one tag per sheet, centred, with its id and size in text;
+//                centre marks: the tag's two centre lines in thin red from
+//                the page edges up to the quiet zone (they stop there: a line
+//                touching the tag's outline breaks its detection), meeting at
+//                the tag centre when extended, to align the sheet on floor
+//                marks; and corner marks outside the quiet zone.
 // Paper: a board's `paper` (A4, A3, ... A0, "_landscape" suffix) or else the
 // smallest ISO A sheet that holds the pattern with 10 mm margins and the
 // caption strip.
