@@ -83,11 +83,19 @@ const Paper* ChoosePaper(const std::string& requested, double need_w, double nee
   return nullptr;
 }
 
+// The scale bar, the caption (lines split at "; ") and the printing note.
 void AddCaption(TargetSheet* sheet, double y, const std::string& caption) {
   const double bar = sheet->width_mm - 2 * kMarginMm >= 110.0 ? 100.0 : 50.0;
   AddScaleBar(kMarginMm, y, bar, &sheet->primitives);
-  sheet->primitives.push_back(Text(kMarginMm, y + 15.0, 4.0, caption));
-  sheet->primitives.push_back(Text(kMarginMm, y + 21.0, 3.0,
+  y += 15.0;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = caption.find("; ", start);
+    sheet->primitives.push_back(Text(kMarginMm, y, 4.0, caption.substr(start, end - start)));
+    y += 6.0;
+    if (end == std::string::npos) break;
+    start = end + 2;
+  }
+  sheet->primitives.push_back(Text(kMarginMm, y, 3.0,
                                    "Print at 100 % (actual size, no fit-to-page). The bar must "
                                    "measure " +
                                        std::to_string(static_cast<int>(bar)) + " mm."));
@@ -143,7 +151,7 @@ core::Result<TargetSheet> LayoutFloorSheet(const CalibTarget& t, int id) {
   const double tag = t.tag_size_m * 1000.0;
   const double quiet = tag / 8.0;  // the white border cell
   if (tag + 2 * quiet + 2 * kMarginMm > paper->w_mm ||
-      tag + 2 * quiet + 2 * kMarginMm + kCaptionMm + 20.0 > paper->h_mm) {
+      tag + 2 * quiet + 2 * kMarginMm + kCaptionMm + 40.0 > paper->h_mm) {
     return core::Status::Error("target '" + t.name + "': a " + Mm(t.tag_size_m) +
                                " tag does not fit paper " + t.paper);
   }
@@ -155,7 +163,7 @@ core::Result<TargetSheet> LayoutFloorSheet(const CalibTarget& t, int id) {
   sheet.height_mm = paper->h_mm;
   sheet.paper = paper->name;
   sheet.origin_x_mm = (paper->w_mm - tag) / 2.0;
-  sheet.origin_y_mm = kMarginMm + quiet + 12.0;
+  sheet.origin_y_mm = kMarginMm + quiet + 18.0;
   AddTag(id, sheet.origin_x_mm, sheet.origin_y_mm, tag, &sheet.primitives);
   const double cx = sheet.origin_x_mm + tag / 2.0, cy = sheet.origin_y_mm + tag / 2.0;
   // Centre marks: the tag's centre lines drawn from the page edges up to the
@@ -180,7 +188,7 @@ core::Result<TargetSheet> LayoutFloorSheet(const CalibTarget& t, int id) {
   }
   sheet.primitives.push_back(Text(kMarginMm, kMarginMm + 6.0, 8.0, "ID " + std::to_string(id)));
   AddCaption(&sheet, y1 + 6.0,
-             t.name + ": tag36h11 id " + std::to_string(id) + ", tag " + Mm(t.tag_size_m) +
+             t.name + ": tag36h11 id " + std::to_string(id) + "; tag " + Mm(t.tag_size_m) +
                  " (black border, outer edge); the red lines meet at the tag centre");
   return sheet;
 }

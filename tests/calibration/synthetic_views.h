@@ -37,8 +37,8 @@ inline CalibTarget SyntheticAprilGrid() {
   return t;
 }
 
-// `n` views; `region` restricts the board centre's pixel to the image's
-// top-left quadrant when true (for coverage-failure tests).
+// `n` views; top_left_only keeps the whole board in the image's top-left
+// quadrant (for coverage-failure tests).
 inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
                                                    const CalibTarget& target, const BoardGrid& grid,
                                                    int n, double noise_px, unsigned seed,
@@ -49,9 +49,12 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
   const Eigen::Vector2d size = target.PatternSize_m();
   std::vector<CalibrationView> views;
   for (int v = 0; views.size() < static_cast<std::size_t>(n) && v < 50 * n; ++v) {
-    const double z = 0.45 + 0.15 * u(rng);
+    double z = 0.45 + 0.15 * u(rng);
     Eigen::Vector2d centre_px(320 + 200 * u(rng), 240 + 150 * u(rng));
-    if (top_left_only) centre_px = {160 + 100 * u(rng), 120 + 70 * u(rng)};
+    if (top_left_only) {  // a small board image (~190 px wide) kept in the top-left
+      z = 1.0 + 0.05 * u(rng);
+      centre_px = {130 + 40 * u(rng), 95 + 30 * u(rng)};
+    }
     const Eigen::Vector3d centre = *camera.Unproject(centre_px, RayNormalization::kZEqualsOne) * z;
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitX()) *
                                Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitY()) *
