@@ -102,8 +102,8 @@ std::string HistogramSvg(const IntrinsicCalibration& c, double max_worst_px) {
   s << "<line x1='" << x_thr << "' y1='15' x2='" << x_thr << "' y2='" << base
     << "' stroke='#d00' stroke-dasharray='4'/><text x='20' y='" << base + 16
     << "' font-size='12'>0 px</text><text x='" << w - 90 << "' y='" << base + 16
-    << "' font-size='12'>" << Fmt("%.2f px", top) << "</text><text x='" << x_thr + 4
-    << "' y='28' font-size='12' fill='#d00'>worst limit</text></svg>";
+    << "' font-size='12'>" << Fmt("%.2f px", top) << "</text><text x='" << x_thr - 4
+    << "' y='28' font-size='12' fill='#d00' text-anchor='end'>worst limit</text></svg>";
   return s.str();
 }
 
