@@ -160,7 +160,6 @@ core::Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<Calibra
   const int n_params = mrcal_lensmodel_num_params(&p.lensmodel);
   p.intrinsics.assign(n_params, 0.0);
   for (int i = 0; i < std::min<int>(n_params, 9); ++i) p.intrinsics[i] = seed->intrinsics[i];
-  if (lens.distortions == 4) p.intrinsics.resize(8);
   p.imagersize[0] = width_px;
   p.imagersize[1] = height_px;
   const int n_views = static_cast<int>(views.size());

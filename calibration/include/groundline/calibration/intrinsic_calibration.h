@@ -84,9 +84,11 @@ struct OpenCvSeedResult {
 struct IntrinsicCalibrationSummary {
   double rms_px = 0.0;
   double worst_px = 0.0;
-  int points = 0;             // observed corners
-  int outliers = 0;           // of those, rejected by mrcal
-  double mrcal_rms_px = 0.0;  // mrcal's own figure (includes regularization terms)
+  int points = 0;    // observed corners
+  int outliers = 0;  // of those, rejected by mrcal
+  // mrcal's own figure (mrcal_stats_t, what mrcal-calibrate-cameras prints):
+  // per coordinate, about rms_px / sqrt(2), with the regularization terms.
+  double mrcal_rms_px = 0.0;
   // Largest difference between groundline's residual of an inlier and
   // mrcal's measurement vector (a self-check; ~1e-9 px).
   double residual_check_px = 0.0;
