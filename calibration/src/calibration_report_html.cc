@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "groundline/calibration/calibration_report.h"
+#include "xml_text.h"
 
 namespace groundline::calibration {
 namespace {
@@ -13,29 +14,6 @@ std::string Fmt(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
   return text;
-}
-
-std::string Escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 constexpr double kPlotWidth = 640.0;
@@ -155,8 +133,8 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
        "</style></head><body>";
   h << "<h1>Intrinsic calibration <span class='" << (r.pass ? "pass'>PASS" : "fail'>FAIL")
     << "</span></h1>";
-  h << "<p>Target <b>" << Escape(r.target_name) << "</b>, lens model <b>"
-    << Escape(c.camera.lens_model()) << "</b>, imager " << c.camera.width_px() << " x "
+  h << "<p>Target <b>" << internal::XmlEscape(r.target_name) << "</b>, lens model <b>"
+    << internal::XmlEscape(c.camera.lens_model()) << "</b>, imager " << c.camera.width_px() << " x "
     << c.camera.height_px() << " px, " << c.views.size() << " views, " << s.points << " corners, "
     << s.outliers << " rejected as outliers by mrcal.</p>";
   h << "<table><tr><th>figure</th><th>value</th><th>limit</th></tr>"
@@ -169,8 +147,9 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
     << "</td></tr></table>";
   if (!r.pass) {
     h << "<h2>What failed and what to do</h2><ul>";
-    for (const std::string& f : r.failures) h << "<li class='bad'>" << Escape(f) << "</li>";
-    for (const std::string& a : r.advice) h << "<li>" << Escape(a) << "</li>";
+    for (const std::string& f : r.failures)
+      h << "<li class='bad'>" << internal::XmlEscape(f) << "</li>";
+    for (const std::string& a : r.advice) h << "<li>" << internal::XmlEscape(a) << "</li>";
     h << "</ul>";
   }
   h << "<h2>Intrinsics</h2><p style='font-family:monospace'>";
@@ -189,8 +168,8 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
        "<th>inliers</th><th>RMS px</th><th>worst px</th></tr>";
   for (int i : r.views_by_rms) {
     const ViewResult& v = c.views[i];
-    h << "<tr><td style='text-align:left'>" << Escape(v.name) << "</td><td>" << v.observed_px.size()
-      << "</td><td>" << v.inliers << "</td><td"
+    h << "<tr><td style='text-align:left'>" << internal::XmlEscape(v.name) << "</td><td>"
+      << v.observed_px.size() << "</td><td>" << v.inliers << "</td><td"
       << (v.rms_px > r.thresholds.max_rms_px ? " class='bad'" : "") << ">" << Fmt("%.4f", v.rms_px)
       << "</td><td" << (v.worst_px > r.thresholds.max_worst_px ? " class='bad'" : "") << ">"
       << Fmt("%.4f", v.worst_px) << "</td></tr>";
@@ -199,7 +178,8 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
   if (!r.rejected.empty()) {
     h << "<h2>Images without a usable board</h2><ul>";
     for (const RejectedImage& x : r.rejected) {
-      h << "<li>" << Escape(x.name) << ": " << Escape(x.reason) << "</li>";
+      h << "<li>" << internal::XmlEscape(x.name) << ": " << internal::XmlEscape(x.reason)
+        << "</li>";
     }
     h << "</ul>";
   }

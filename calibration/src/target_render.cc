@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "apriltag_adapter.h"
+#include "xml_text.h"
 
 namespace groundline::calibration {
 namespace {
@@ -208,21 +209,6 @@ std::string Num(double v) {
   return s;
 }
 
-std::string XmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
-}
-
 }  // namespace
 
 std::vector<std::uint8_t> Tag36h11Cells(int id) {
@@ -275,7 +261,7 @@ std::string SheetToSvg(const TargetSheet& sheet) {
       case SheetPrimitive::Kind::kText:
         s << "<text x='" << Num(p.x_mm) << "' y='" << Num(p.y_mm) << "' font-family='sans-serif' "
           << "font-size='" << Num(p.h_mm * 1.4) << "' fill='" << Hex(p.rgb) << "'>"
-          << XmlEscape(p.text) << "</text>\n";
+          << internal::XmlEscape(p.text) << "</text>\n";
         break;
     }
   }
