@@ -31,6 +31,15 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 // summary (tools/dataset_command.cc).
 CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run);
 
+// `groundline targets`: printable calibration targets, SVG + PNG
+// (tools/targets_command.cc).
+CLI::App* AddTargetsCommand(CLI::App& parent, CommandRunner* run);
+
+// `groundline calibrate`: the parent of the commissioning calibrations, with
+// `calibrate intrinsics` (tools/calibrate_command.cc). Returns the parent so
+// that other calibrations (`calibrate floor`) can add their subcommand to it.
+CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_COMMANDS_H_

@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
+  groundline::tools::AddTargetsCommand(app, &run);
+  groundline::tools::AddCalibrateCommand(app, &run);
 
   try {
     app.parse(argc, argv);

@@ -37,14 +37,14 @@ std::size_t DetectChessboard(const std::filesystem::path& image_path, const YAML
 
 TEST(CalibTargets, DefinitionsAreCompleteAndPositive) {
   const std::map<std::string, YAML::Node> targets = LoadTargets();
-  ASSERT_EQ(targets.size(), 3u);
+  ASSERT_EQ(targets.size(), 7u);
   for (const auto& [name, t] : targets) {
     const std::string type = t["type"].as<std::string>();
     if (type == "chessboard") {
       EXPECT_GT(t["square_m"].as<double>(), 0.0) << name;
       EXPECT_GE(t["inner_corners_x"].as<int>(), 2) << name;
     } else {
-      ASSERT_EQ(type, "aprilgrid") << name;
+      ASSERT_TRUE(type == "aprilgrid" || type == "floor_tag_sheet") << name;
       EXPECT_EQ(t["family"].as<std::string>(), "tag36h11");
       EXPECT_GT(t["tag_size_m"].as<double>(), 0.0);
     }

@@ -1,0 +1,190 @@
+// report.html: one self-contained page, plots as inline SVG.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "groundline/calibration/calibration_report.h"
+#include "xml_text.h"
+
+namespace groundline::calibration {
+namespace {
+
+std::string Fmt(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+constexpr double kPlotWidth = 640.0;
+
+// Observed corners (grey dots) with their residuals as arrows, magnified so
+// that the 95th percentile residual is 20 plot pixels; outliers in red.
+std::string ResidualFieldSvg(const IntrinsicCalibration& c) {
+  const double scale = kPlotWidth / c.camera.width_px();
+  const double height = c.camera.height_px() * scale;
+  std::vector<double> norms;
+  for (const ViewResult& v : c.views) {
+    for (std::size_t j = 0; j < v.residual_px.size(); ++j) {
+      if (!v.outlier[j]) norms.push_back(v.residual_px[j].norm());
+    }
+  }
+  double p95 = 1.0;
+  if (!norms.empty()) {
+    std::sort(norms.begin(), norms.end());
+    p95 = std::max(1e-6, norms[static_cast<std::size_t>(0.95 * (norms.size() - 1))]);
+  }
+  const double gain = 20.0 / p95;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kPlotWidth << "' height='" << height
+    << "'><rect width='100%' height='100%' fill='#fff' stroke='#888'/>";
+  for (const ViewResult& v : c.views) {
+    for (std::size_t j = 0; j < v.residual_px.size(); ++j) {
+      const Eigen::Vector2d a = v.observed_px[j] * scale;
+      const Eigen::Vector2d b = a + v.residual_px[j] * gain;
+      const char* colour = v.outlier[j] ? "#d00" : "#1565c0";
+      s << "<circle cx='" << Fmt("%.1f", a.x()) << "' cy='" << Fmt("%.1f", a.y())
+        << "' r='1' fill='#999'/><line x1='" << Fmt("%.1f", a.x()) << "' y1='" << Fmt("%.1f", a.y())
+        << "' x2='" << Fmt("%.1f", b.x()) << "' y2='" << Fmt("%.1f", b.y()) << "' stroke='"
+        << colour << "' stroke-width='1'/>";
+    }
+  }
+  s << "<text x='6' y='" << height - 6 << "' font-size='12'>arrow gain " << Fmt("%.0f", gain)
+    << "x (20 px arrow = " << Fmt("%.3f", p95) << " px residual, the 95th percentile)</text></svg>";
+  return s.str();
+}
+
+std::string HistogramSvg(const IntrinsicCalibration& c, double max_worst_px) {
+  constexpr int kBins = 30;
+  const double top = std::max(c.summary.worst_px, max_worst_px) * 1.0001;
+  std::vector<int> bins(kBins, 0);
+  for (const ViewResult& v : c.views) {
+    for (std::size_t j = 0; j < v.residual_px.size(); ++j) {
+      if (v.outlier[j]) continue;
+      const int b = std::min(kBins - 1, static_cast<int>(v.residual_px[j].norm() / top * kBins));
+      ++bins[b];
+    }
+  }
+  const int peak = std::max(1, *std::max_element(bins.begin(), bins.end()));
+  const double w = kPlotWidth, h = 220, base = 190, bar = (w - 40) / kBins;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h
+    << "'><rect width='100%' height='100%' fill='#fff' stroke='#888'/>";
+  for (int b = 0; b < kBins; ++b) {
+    const double bh = 170.0 * bins[b] / peak;
+    s << "<rect x='" << Fmt("%.1f", 20 + b * bar) << "' y='" << Fmt("%.1f", base - bh)
+      << "' width='" << Fmt("%.1f", bar - 1) << "' height='" << Fmt("%.1f", bh)
+      << "' fill='#1565c0'><title>" << bins[b] << " corners</title></rect>";
+  }
+  const double x_thr = 20 + max_worst_px / top * (w - 40);
+  s << "<line x1='" << x_thr << "' y1='15' x2='" << x_thr << "' y2='" << base
+    << "' stroke='#d00' stroke-dasharray='4'/><text x='20' y='" << base + 16
+    << "' font-size='12'>0 px</text><text x='" << w - 90 << "' y='" << base + 16
+    << "' font-size='12'>" << Fmt("%.2f px", top) << "</text><text x='" << x_thr - 4
+    << "' y='28' font-size='12' fill='#d00' text-anchor='end'>worst limit</text></svg>";
+  return s.str();
+}
+
+std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  const int nx = CalibrationReport::kCoverageCellsX, ny = CalibrationReport::kCoverageCellsY;
+  const double scale = kPlotWidth / c.camera.width_px();
+  const double w = kPlotWidth, h = c.camera.height_px() * scale;
+  const int peak = std::max(1, *std::max_element(r.coverage.begin(), r.coverage.end()));
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h << "'>";
+  for (int y = 0; y < ny; ++y) {
+    for (int x = 0; x < nx; ++x) {
+      const int n = r.coverage[y * nx + x];
+      const int shade = n == 0 ? 255 : 230 - static_cast<int>(200.0 * n / peak);
+      char colour[16];
+      std::snprintf(colour, sizeof(colour), "#%02x%02xff", shade, shade);
+      s << "<rect x='" << Fmt("%.1f", x * w / nx) << "' y='" << Fmt("%.1f", y * h / ny)
+        << "' width='" << Fmt("%.1f", w / nx) << "' height='" << Fmt("%.1f", h / ny) << "' fill='"
+        << (n == 0 ? "#fde0e0" : colour) << "' stroke='#ccc'><title>" << n
+        << " corners</title></rect>";
+    }
+  }
+  s << "<line x1='" << w / 2 << "' y1='0' x2='" << w / 2 << "' y2='" << h
+    << "' stroke='#000' stroke-width='2'/><line x1='0' y1='" << h / 2 << "' x2='" << w << "' y2='"
+    << h / 2 << "' stroke='#000' stroke-width='2'/>";
+  const double qx[4] = {w / 4, 3 * w / 4, w / 4, 3 * w / 4};
+  const double qy[4] = {h / 4, h / 4, 3 * h / 4, 3 * h / 4};
+  for (int q = 0; q < 4; ++q) {
+    const bool ok = r.quadrant_corners[q] >= r.thresholds.min_corners_per_quadrant;
+    s << "<text x='" << qx[q] << "' y='" << qy[q] << "' font-size='20' text-anchor='middle' fill='"
+      << (ok ? "#000" : "#d00") << "'>" << r.quadrant_corners[q] << "</text>";
+  }
+  s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
+  return s.str();
+}
+
+}  // namespace
+
+std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  const IntrinsicCalibrationSummary& s = c.summary;
+  std::ostringstream h;
+  h << "<!DOCTYPE html><html><head><meta charset='utf-8'><title>groundline intrinsics "
+       "report</title>"
+       "<style>body{font-family:sans-serif;margin:24px;max-width:1000px}"
+       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px "
+       "8px;text-align:right}"
+       "th{background:#eee}.pass{color:#fff;background:#2e7d32;padding:4px 12px}"
+       ".fail{color:#fff;background:#c62828;padding:4px 12px}.bad{color:#c62828;font-weight:bold}"
+       "</style></head><body>";
+  h << "<h1>Intrinsic calibration <span class='" << (r.pass ? "pass'>PASS" : "fail'>FAIL")
+    << "</span></h1>";
+  h << "<p>Target <b>" << internal::XmlEscape(r.target_name) << "</b>, lens model <b>"
+    << internal::XmlEscape(c.camera.lens_model()) << "</b>, imager " << c.camera.width_px() << " x "
+    << c.camera.height_px() << " px, " << c.views.size() << " views, " << s.points << " corners, "
+    << s.outliers << " rejected as outliers by mrcal.</p>";
+  h << "<table><tr><th>figure</th><th>value</th><th>limit</th></tr>"
+    << "<tr><td style='text-align:left'>RMS (per point: sqrt(mean |r|&sup2;))</td><td"
+    << (s.rms_px > r.thresholds.max_rms_px ? " class='bad'" : "") << ">" << Fmt("%.4f px", s.rms_px)
+    << "</td><td>" << Fmt("%.2f px", r.thresholds.max_rms_px)
+    << "</td></tr><tr><td style='text-align:left'>worst residual |r|</td><td"
+    << (s.worst_px > r.thresholds.max_worst_px ? " class='bad'" : "") << ">"
+    << Fmt("%.4f px", s.worst_px) << "</td><td>" << Fmt("%.2f px", r.thresholds.max_worst_px)
+    << "</td></tr></table>";
+  if (!r.pass) {
+    h << "<h2>What failed and what to do</h2><ul>";
+    for (const std::string& f : r.failures)
+      h << "<li class='bad'>" << internal::XmlEscape(f) << "</li>";
+    for (const std::string& a : r.advice) h << "<li>" << internal::XmlEscape(a) << "</li>";
+    h << "</ul>";
+  }
+  h << "<h2>Intrinsics</h2><p style='font-family:monospace'>";
+  for (double v : c.camera.intrinsics()) h << Fmt("%.6g", v) << " ";
+  h << "</p><p>OpenCV calibrateCamera seed (5 terms): RMS " << Fmt("%.4f px", c.opencv_seed.rms_px)
+    << ", fx fy cx cy = ";
+  for (int i = 0; i < 4; ++i) h << Fmt("%.3f ", c.opencv_seed.intrinsics[i]);
+  h << "</p>";
+  h << "<h2>Residual vector field</h2>" << ResidualFieldSvg(c);
+  h << "<h2>Residual histogram (|r|, inliers)</h2>" << HistogramSvg(c, r.thresholds.max_worst_px);
+  h << "<h2>Corner coverage over the imager</h2><p>Inlier corners per cell; the numbers are the "
+       "quadrant totals (red: fewer than "
+    << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner.</p>"
+    << CoverageSvg(r, c);
+  h << "<h2>Per-image residuals (worst first)</h2><table><tr><th>image</th><th>corners</th>"
+       "<th>inliers</th><th>RMS px</th><th>worst px</th></tr>";
+  for (int i : r.views_by_rms) {
+    const ViewResult& v = c.views[i];
+    h << "<tr><td style='text-align:left'>" << internal::XmlEscape(v.name) << "</td><td>"
+      << v.observed_px.size() << "</td><td>" << v.inliers << "</td><td"
+      << (v.rms_px > r.thresholds.max_rms_px ? " class='bad'" : "") << ">" << Fmt("%.4f", v.rms_px)
+      << "</td><td" << (v.worst_px > r.thresholds.max_worst_px ? " class='bad'" : "") << ">"
+      << Fmt("%.4f", v.worst_px) << "</td></tr>";
+  }
+  h << "</table>";
+  if (!r.rejected.empty()) {
+    h << "<h2>Images without a usable board</h2><ul>";
+    for (const RejectedImage& x : r.rejected) {
+      h << "<li>" << internal::XmlEscape(x.name) << ": " << internal::XmlEscape(x.reason)
+        << "</li>";
+    }
+    h << "</ul>";
+  }
+  h << "</body></html>\n";
+  return h.str();
+}
+
+}  // namespace groundline::calibration

@@ -1,0 +1,140 @@
+// The verdict, the advice and the report files of an intrinsic calibration.
+#include "groundline/calibration/calibration_report.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "groundline/calibration/mrcal_cameramodel_io.h"
+#include "groundline/calibration/opencv_calibration_io.h"
+#include "groundline/calibration/ros_camera_info_io.h"
+#include "synthetic_views.h"
+#include "test_data.h"
+
+namespace groundline::calibration {
+namespace {
+
+IntrinsicCalibration Calibrate(bool top_left_only, unsigned seed = 7) {
+  const CalibTarget target = testing::SyntheticAprilGrid();
+  const BoardGrid grid = MakeBoardGrid(target);
+  const std::vector<CalibrationView> views = testing::SyntheticViews(
+      testing::TrueOpencv8Camera(), target, grid, 12, 0.1, seed, top_left_only);
+  core::Result<IntrinsicCalibration> cal =
+      CalibrateIntrinsics(views, grid, 640, 480, IntrinsicCalibrationOptions{});
+  EXPECT_TRUE(cal.ok()) << cal.message();
+  return *cal;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(CalibrationReport, AGoodCalibrationPassesWithEveryQuadrantCovered) {
+  const IntrinsicCalibration cal = Calibrate(false);
+  const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
+  EXPECT_TRUE(report.pass);
+  EXPECT_TRUE(report.failures.empty());
+  int total = 0;
+  for (int n : report.quadrant_corners) {
+    EXPECT_GE(n, 10);
+    total += n;
+  }
+  EXPECT_EQ(total, cal.summary.points - cal.summary.outliers);
+  ASSERT_EQ(report.views_by_rms.size(), cal.views.size());
+  EXPECT_GE(cal.views[report.views_by_rms.front()].rms_px,
+            cal.views[report.views_by_rms.back()].rms_px);
+}
+
+TEST(CalibrationReport, UncoveredQuadrantsFailAndSayWhereToTakeViews) {
+  const IntrinsicCalibration cal = Calibrate(true);
+  const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
+  EXPECT_FALSE(report.pass);
+  EXPECT_LT(report.quadrant_corners[3], 10);  // bottom-right
+  bool advised = false;
+  for (const std::string& a : report.advice) {
+    advised = advised || a.find("bottom-right of the image") != std::string::npos;
+  }
+  EXPECT_TRUE(advised);
+  ReportThresholds lenient;
+  lenient.require_all_quadrants = false;
+  EXPECT_TRUE(BuildCalibrationReport(cal, "grid", {}, lenient).pass);
+}
+
+TEST(CalibrationReport, ABadImageFailsTheRmsAndIsNamedForDropping) {
+  IntrinsicCalibration cal = Calibrate(false);
+  // One view far worse than the rest (as if its corners were misdetected).
+  ViewResult& bad = cal.views[4];
+  bad.rms_px = 3.0;
+  bad.worst_px = 4.0;
+  cal.summary.rms_px = 0.9;
+  cal.summary.worst_px = 4.0;
+  const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
+  EXPECT_FALSE(report.pass);
+  EXPECT_EQ(report.failures.size(), 2u);
+  EXPECT_EQ(report.views_by_rms.front(), 4);
+  ASSERT_FALSE(report.advice.empty());
+  EXPECT_NE(report.advice[0].find("drop or retake image " + bad.name), std::string::npos)
+      << report.advice[0];
+}
+
+TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
+  const IntrinsicCalibration cal = Calibrate(false);
+  const CalibrationReport report =
+      BuildCalibrationReport(cal, "grid", {{"blurry.png", "no tag found"}}, ReportThresholds{});
+  const std::filesystem::path dir = groundline::testing::ScratchDir("report");
+  ASSERT_TRUE(WriteCalibrationOutputs(dir / "out", report, cal).ok());
+  core::Result<MrcalCameraModelFile> mrcal = ReadMrcalCameraModel(dir / "out/camera.cameramodel");
+  ASSERT_TRUE(mrcal.ok()) << mrcal.message();
+  EXPECT_EQ(mrcal->camera.intrinsics(), cal.camera.intrinsics());  // bit for bit
+  core::Result<CameraModel> opencv = ReadOpenCvCalibration(dir / "out/camera_opencv.yaml");
+  ASSERT_TRUE(opencv.ok()) << opencv.message();
+  EXPECT_EQ(opencv->intrinsics(), cal.camera.intrinsics());
+  core::Result<RosCameraInfo> ros = ReadRosCameraInfo(dir / "out/camera_info.yaml");
+  ASSERT_TRUE(ros.ok()) << ros.message();
+  EXPECT_EQ(ros->camera.lens_model(), "LENSMODEL_OPENCV8");
+
+  const nlohmann::json json = nlohmann::json::parse(ReadFile(dir / "out/report.json"));
+  EXPECT_EQ(json["verdict"], "PASS");
+  EXPECT_DOUBLE_EQ(json["rms_px"].get<double>(), cal.summary.rms_px);
+  EXPECT_EQ(json["views"].size(), cal.views.size());
+  EXPECT_EQ(json["rejected_images"][0]["image"], "blurry.png");
+  const std::string html = ReadFile(dir / "out/report.html");
+  EXPECT_NE(html.find("PASS"), std::string::npos);
+  EXPECT_EQ(html.find("<img"), std::string::npos);  // self-contained: inline SVG only
+  EXPECT_EQ(std::count(html.begin(), html.end(), '\n'), 1);
+  std::size_t svgs = 0;
+  for (std::size_t at = html.find("<svg"); at != std::string::npos;
+       at = html.find("<svg", at + 1)) {
+    ++svgs;
+  }
+  EXPECT_EQ(svgs, 3u);  // residual field, histogram, coverage
+  EXPECT_NE(html.find("blurry.png"), std::string::npos);
+  // No temporary file is left behind.
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+  }
+}
+
+TEST(CalibrationReport, ThresholdsAreReadFromAConfigAndCheckedWithNamedErrors) {
+  const std::filesystem::path dir = groundline::testing::ScratchDir("thresholds");
+  std::ofstream(dir / "ok.yaml") << "intrinsics_report:\n  max_rms_px: 0.3\n"
+                                    "  require_all_quadrants: false\n";
+  core::Result<ReportThresholds> t = ReadReportThresholds(dir / "ok.yaml");
+  ASSERT_TRUE(t.ok()) << t.message();
+  EXPECT_DOUBLE_EQ(t->max_rms_px, 0.3);
+  EXPECT_DOUBLE_EQ(t->max_worst_px, 2.0);
+  EXPECT_FALSE(t->require_all_quadrants);
+  std::ofstream(dir / "bad.yaml") << "intrinsics_report:\n  max_worst_px: -1\n";
+  t = ReadReportThresholds(dir / "bad.yaml");
+  ASSERT_FALSE(t.ok());
+  EXPECT_NE(t.message().find("bad.yaml"), std::string::npos) << t.message();
+  EXPECT_NE(t.message().find("max_worst_px"), std::string::npos) << t.message();
+}
+
+}  // namespace
+}  // namespace groundline::calibration

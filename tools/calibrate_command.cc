@@ -1,0 +1,234 @@
+// `groundline calibrate`: commissioning calibrations. This file holds the
+// parent command and `calibrate intrinsics`; other calibrations add their
+// subcommand to the parent AddCalibrateCommand returns.
+#include <fnmatch.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "calib_targets_file.h"
+#include "commands.h"
+#include "groundline/calibration/board_detection.h"
+#include "groundline/calibration/calib_target.h"
+#include "groundline/calibration/calibration_report.h"
+#include "groundline/calibration/intrinsic_calibration.h"
+#include "groundline/core/atomic_file.h"
+#include "progress.h"
+
+namespace groundline::tools {
+namespace {
+
+struct IntrinsicsFlags {
+  std::string images;
+  std::string target;
+  std::string model = "LENSMODEL_OPENCV8";
+  std::string out_dir;
+  std::string config;
+  std::string targets_file;
+  bool no_board_warp = false;
+  bool no_outlier_rejection = false;
+};
+
+constexpr char kIntrinsicsHelp[] =
+    R"(Calibrates a camera's intrinsics from images of a printed board
+(`groundline targets`), solving with mrcal (mrcal_optimize) from an OpenCV seed.
+
+--images is a directory (every .png .jpg .jpeg .bmp .pgm .tif in it) or a glob
+on file names ("views/cam0_*.png"). All images must have the same size. Images
+where the board is not found are listed in the report and skipped.
+Take 20-40 views: the board near every corner and edge of the image, tilted
+30-45 degrees in different directions, at the working distance, sharp.
+
+Outputs in --out:
+  camera.cameramodel   mrcal model (mrcal's tools read it: mrcal-show-distortion-off-pinhole ...)
+  camera_opencv.yaml   OpenCV calibration file     camera_info.yaml  ROS camera_info
+  report.html          PASS/FAIL, residual plots, coverage heatmap, per-image table
+  report.json          the same figures             corners.vnl      the detected corners
+                                                    (mrcal-calibrate-cameras --corners-cache)
+Residuals are r = projected - observed in pixels; RMS is per point,
+sqrt(mean |r|^2) over the corners mrcal kept. PASS needs RMS <= 0.5 px,
+worst |r| <= 2 px and at least 10 corners in each image quadrant (override in
+--config under `intrinsics_report:` max_rms_px, max_worst_px,
+require_all_quadrants, min_corners_per_quadrant). A FAIL says what to do.
+
+Exit code: 0 PASS, 1 FAIL or unusable data (files are still written when the
+solve ran), 2 usage error.
+
+Example:
+  groundline calibrate intrinsics --images views/ --target aprilgrid_7x5_38mm_a3 --out cam0_intrinsics
+  groundline calibrate intrinsics --images 'left*.jpg' --target opencv_chessboard_9x6_25mm \
+      --model LENSMODEL_OPENCV5 --out left)";
+
+bool IsImageFile(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm" ||
+         ext == ".tif" || ext == ".tiff";
+}
+
+// The image files of a directory or a glob on file names, sorted.
+std::vector<std::filesystem::path> ListImages(const std::string& spec) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  std::error_code ec;
+  if (fs::is_directory(spec, ec)) {
+    for (const fs::directory_entry& e : fs::directory_iterator(spec, ec)) {
+      if (e.is_regular_file() && IsImageFile(e.path())) files.push_back(e.path());
+    }
+  } else {
+    const fs::path pattern(spec);
+    const fs::path dir = pattern.has_parent_path() ? pattern.parent_path() : fs::path(".");
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+      if (e.is_regular_file() &&
+          fnmatch(pattern.filename().c_str(), e.path().filename().c_str(), 0) == 0) {
+        files.push_back(e.path());
+      }
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+int RunIntrinsics(const IntrinsicsFlags& flags) {
+  using namespace calibration;
+  const char* kName = "groundline calibrate intrinsics";
+  const std::string file =
+      flags.targets_file.empty() ? DefaultCalibTargetsFile() : flags.targets_file;
+  core::Result<std::vector<CalibTarget>> targets = ReadCalibTargets(file);
+  if (!targets.ok()) {
+    std::fprintf(stderr, "%s: %s\n", kName, targets.message().c_str());
+    return 1;
+  }
+  core::Result<CalibTarget> target = FindCalibTarget(*targets, flags.target);
+  if (!target.ok() || !target->IsBoard()) {
+    std::fprintf(stderr, "%s: --target: %s\n", kName,
+                 target.ok() ? (flags.target + " is a floor tag set, not a board").c_str()
+                             : target.message().c_str());
+    return 2;
+  }
+  IntrinsicCalibrationOptions options;
+  options.lens_model = flags.model;
+  options.optimize_board_warp = !flags.no_board_warp;
+  options.outlier_rejection = !flags.no_outlier_rejection;
+  if (core::Status s = options.Validate(); !s.ok()) {
+    std::fprintf(stderr, "%s: --model: %s\n", kName, s.message().c_str());
+    return 2;
+  }
+  ReportThresholds thresholds;
+  if (!flags.config.empty()) {
+    core::Result<ReportThresholds> read = ReadReportThresholds(flags.config);
+    if (!read.ok()) {
+      std::fprintf(stderr, "%s: --config: %s\n", kName, read.message().c_str());
+      return 2;
+    }
+    thresholds = *read;
+  }
+  const std::vector<std::filesystem::path> images = ListImages(flags.images);
+  if (images.empty()) {
+    std::fprintf(stderr, "%s: --images: no image file matches '%s'\n", kName, flags.images.c_str());
+    return 2;
+  }
+
+  const BoardGrid grid = MakeBoardGrid(*target);
+  const BoardDetectionOptions detection;
+  std::vector<CalibrationView> views;
+  std::vector<RejectedImage> rejected;
+  cv::Size size;
+  ProgressLine progress("[calibrate]");
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    progress.Update("detecting", static_cast<double>(i) / images.size());
+    const std::string name = images[i].filename().string();
+    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty()) {
+      rejected.push_back({name, "cannot be read as an image"});
+      continue;
+    }
+    if (size.area() == 0) size = image.size();
+    if (image.size() != size) {
+      rejected.push_back({name, "size " + std::to_string(image.cols) + "x" +
+                                    std::to_string(image.rows) +
+                                    " differs from the first image's"});
+      continue;
+    }
+    core::Result<BoardObservation> obs = DetectBoard(image, *target, grid, detection);
+    if (!obs.ok()) {
+      rejected.push_back({name, obs.message()});
+      continue;
+    }
+    views.push_back({name, std::move(obs).value()});
+  }
+  progress.Update("detecting", 1.0);
+  std::fprintf(stderr, "%s: board found in %zu of %zu images\n", kName, views.size(),
+               images.size());
+  for (const RejectedImage& r : rejected) {
+    std::fprintf(stderr, "  skipped %s: %s\n", r.name.c_str(), r.reason.c_str());
+  }
+  progress.Update("solving", 0.0);
+  core::Result<IntrinsicCalibration> cal =
+      CalibrateIntrinsics(views, grid, size.width, size.height, options);
+  if (!cal.ok()) {
+    std::fprintf(stderr, "%s: %s\n", kName, cal.message().c_str());
+    return 1;
+  }
+  progress.Update("solving", 1.0);
+  const CalibrationReport report =
+      BuildCalibrationReport(*cal, target->name, std::move(rejected), thresholds);
+  const std::filesystem::path out(flags.out_dir);
+  core::Status written = WriteCalibrationOutputs(out, report, *cal);
+  if (written.ok())
+    written = core::WriteFileAtomically(out / "corners.vnl", MrcalCornersVnl(views, grid));
+  if (!written.ok()) {
+    std::fprintf(stderr, "%s: %s\n", kName, written.message().c_str());
+    return 1;
+  }
+  const std::vector<double>& q = cal->camera.intrinsics();
+  std::printf(
+      "%s: %s, %zu views, fx %.2f fy %.2f cx %.2f cy %.2f px; RMS %.3f px, worst %.3f px, "
+      "%d of %d corners rejected as outliers -> %s\n",
+      report.pass ? "PASS" : "FAIL", cal->camera.lens_model().c_str(), views.size(), q[0], q[1],
+      q[2], q[3], cal->summary.rms_px, cal->summary.worst_px, cal->summary.outliers,
+      cal->summary.points, (out / "report.html").c_str());
+  for (const std::string& f : report.failures) std::printf("  failed: %s\n", f.c_str());
+  for (const std::string& a : report.advice) std::printf("  to do: %s\n", a.c_str());
+  return report.pass ? 0 : 1;
+}
+
+}  // namespace
+
+CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
+  CLI::App* calibrate =
+      parent.add_subcommand("calibrate", "Commissioning calibrations (camera intrinsics, ...)");
+  calibrate->require_subcommand(1);
+  calibrate->footer(
+      "Run 'groundline calibrate <calibration> --help' for one calibration.\n"
+      "Print the targets first with 'groundline targets' (docs/calibration.md).");
+
+  CLI::App* cmd = calibrate->add_subcommand(
+      "intrinsics", "Camera intrinsics (mrcal .cameramodel + OpenCV/ROS files + report)");
+  cmd->footer(kIntrinsicsHelp);
+  auto flags = std::make_shared<IntrinsicsFlags>();
+  cmd->add_option("--images", flags->images, "Directory of images or a glob on file names")
+      ->required();
+  cmd->add_option("--target", flags->target, "Board name from the targets file")->required();
+  cmd->add_option("--model", flags->model,
+                  "mrcal lens model: LENSMODEL_OPENCV8, OPENCV5, OPENCV4, OPENCV12 or PINHOLE")
+      ->capture_default_str();
+  cmd->add_option("--out", flags->out_dir, "Output directory (created)")->required();
+  cmd->add_option("--config", flags->config,
+                  "YAML with an 'intrinsics_report:' mapping of PASS/FAIL thresholds");
+  cmd->add_option("--targets-file", flags->targets_file,
+                  "Target definitions (default: ./calib_targets/targets.yaml, else the source "
+                  "tree's)");
+  cmd->add_flag("--no-board-warp", flags->no_board_warp,
+                "Assume the board perfectly flat (default: solve mrcal's board flex)");
+  cmd->add_flag("--no-outlier-rejection", flags->no_outlier_rejection,
+                "Keep every corner (default: mrcal rejects outliers)");
+  cmd->callback([run, flags]() { *run = [flags]() { return RunIntrinsics(*flags); }; });
+  return calibrate;
+}
+
+}  // namespace groundline::tools
