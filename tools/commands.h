@@ -31,6 +31,15 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 // summary (tools/dataset_command.cc).
 CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run);
 
+// `groundline sim-commissioning`: a tag mat on the floor seen from a few vehicle
+// poses, with the layout, intrinsics and true extrinsics
+// (tools/sim_commissioning_command.cc).
+CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run);
+
+// `groundline calibrate floor`: the camera mount from tags on the floor
+// (tools/calibrate_floor_command.cc); hangs on the `calibrate` parent.
+void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_COMMANDS_H_

@@ -23,6 +23,10 @@ int main(int argc, char** argv) {
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
+  groundline::tools::AddSimCommissioningCommand(app, &run);
+  CLI::App* calibrate = app.add_subcommand("calibrate", "Calibrate the camera (floor extrinsics)");
+  calibrate->require_subcommand(1);
+  groundline::tools::AddCalibrateFloorSubcommand(calibrate, &run);
 
   try {
     app.parse(argc, argv);

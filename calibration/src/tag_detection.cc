@@ -54,6 +54,9 @@ core::Status TagDetectorOptions::Validate() const {
   if (!(min_decision_margin >= 0.0)) {
     return core::Status::Error("TagDetectorOptions.min_decision_margin: expected >= 0");
   }
+  if (!(border_margin_px >= 0.0)) {
+    return core::Status::Error("TagDetectorOptions.border_margin_px: expected >= 0");
+  }
   if (threads < 1 || threads > 64) {
     return core::Status::Error("TagDetectorOptions.threads: expected 1..64");
   }
@@ -96,6 +99,13 @@ std::vector<TagDetection> DetectTags(const std::uint8_t* pixels, int width_px, i
       d.corners_px[k] =
           Eigen::Vector2d(det->p[k][0] - kApriltagPixelOffset, det->p[k][1] - kApriltagPixelOffset);
     }
+    bool inside = true;
+    for (const Eigen::Vector2d& c : d.corners_px) {
+      inside = inside && c.x() >= options.border_margin_px && c.y() >= options.border_margin_px &&
+               c.x() <= width_px - 1 - options.border_margin_px &&
+               c.y() <= height_px - 1 - options.border_margin_px;
+    }
+    if (!inside) continue;
     auto it = by_id.find(d.id);
     if (it == by_id.end() || it->second.decision_margin < d.decision_margin) by_id[d.id] = d;
   }

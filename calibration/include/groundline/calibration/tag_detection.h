@@ -39,6 +39,9 @@ struct TagDetectorOptions {
   double decode_sharpening = 0.25;
   int max_bits_corrected = 1;         // reject codes with more bit errors
   double min_decision_margin = 20.0;  // reject weak decodes (grey levels)
+  // Reject tags with a corner closer than this to the image border: libapriltag
+  // extrapolates the edges of a tag cut by the border, misplacing its corners.
+  double border_margin_px = 4.0;
   int threads = 1;
 
   core::Status Validate() const;
@@ -52,7 +55,8 @@ struct TagDetection {
 };
 
 // Detects tag36h11 in an 8-bit grey image (row-major, row stride in bytes).
-// Detections are sorted by id; an id seen twice in one image keeps the one
+// Detections are sorted by id; tags closer than border_margin_px to the image
+// border are dropped; an id seen twice in one image keeps the one
 // with the larger decision margin. options must be valid (asserted).
 std::vector<TagDetection> DetectTags(const std::uint8_t* pixels, int width_px, int height_px,
                                      int stride_bytes, const TagDetectorOptions& options = {});
