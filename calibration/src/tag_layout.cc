@@ -139,9 +139,12 @@ core::Status TagLayout::Validate() const {
   }
   std::set<std::string> images;
   for (const VehiclePose& p : vehicle_poses) {
-    if (p.image.empty() || !images.insert(p.image).second || !p.T_floor_base.Vector().allFinite()) {
+    const bool plain = p.image.find_first_of("\"\\\n\r") == std::string::npos;
+    if (p.image.empty() || !plain || !images.insert(p.image).second ||
+        !p.T_floor_base.Vector().allFinite()) {
       return core::Status::Error("tag layout: vehicle pose of image '" + p.image +
-                                 "' is unnamed, repeated or not finite");
+                                 "' is unnamed, repeated, has quotes, backslashes or line "
+                                 "breaks in its name, or is not finite");
     }
   }
   return core::Status::Ok();

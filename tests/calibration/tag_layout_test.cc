@@ -65,6 +65,10 @@ TEST(TagLayout, WritesAndReadsBackExactly) {
   }
   ASSERT_EQ(back->vehicle_poses.size(), 2u);
   EXPECT_EQ(back->vehicle_poses[1].image, "b.png");
+  // Names the writer cannot quote are refused.
+  TagLayout quoted = layout;
+  quoted.vehicle_poses[0].image = "a\"b.png";
+  EXPECT_FALSE(WriteTagLayout(quoted, path).ok());
   // base_link layouts have no poses.
   layout.frame = TagLayoutFrame::kBaseLink;
   layout.vehicle_poses.clear();
