@@ -72,7 +72,7 @@ CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run) {
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
   cmd->add_flag("--small", flags->small,
-                "640x512 camera looking more steeply down at larger tags (the unit-test scene)");
+                "480x384 camera looking more steeply down at larger tags (the unit-test scene)");
   cmd->callback([flags, run] { *run = [flags] { return RunSimCommissioning(*flags); }; });
   return cmd;
 }

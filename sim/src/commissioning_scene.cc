@@ -41,16 +41,17 @@ FloorRenderOptions CommissioningOptions::DefaultRender() {
 
 CommissioningOptions CommissioningOptions::Small() {
   CommissioningOptions o;
-  o.camera.width_px = 640;
-  o.camera.height_px = 512;
-  o.camera.focal_px = 566.0;
+  o.camera.width_px = 480;
+  o.camera.height_px = 384;
+  o.camera.focal_px = 425.0;
   o.camera.principal_offset_px = {1.5, -1.0};
   o.camera.mount.pitch_rad = 52.0 * std::numbers::pi / 180.0;
+  o.render.supersampling = 4;
   o.tag_rows = 6;
-  o.tag_cols = 5;
-  o.tag_size_m = 0.18;
-  o.tag_pitch_m = 0.28;
-  o.mat_origin_m = Vector2(0.5, -0.56);
+  o.tag_cols = 4;
+  o.tag_size_m = 0.2;
+  o.tag_pitch_m = 0.3;
+  o.mat_origin_m = Vector2(0.5, -0.45);
   o.poses = 5;
   o.start_x_m = -0.3;
   o.step_x_m = 0.25;

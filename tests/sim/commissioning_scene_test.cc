@@ -79,7 +79,7 @@ CornerStats CompareWithTruth(const CommissioningScene& scene, const std::vector<
 
 TEST(CommissioningScene, AprilTagFindsEveryTagAtItsTrueCorners) {
   CommissioningOptions options = CommissioningOptions::Small();
-  options.poses = 3;  // CI time; the detector's border margin is 4 px, the check's 5
+  options.poses = 2;  // CI time; the detector's border margin is 4 px, the check's 5
   core::Result<CommissioningScene> scene = MakeCommissioningScene(options);
   ASSERT_TRUE(scene.ok()) << scene.message();
   core::Result<std::vector<GreyImage>> images = RenderCommissioningImages(*scene, options);
@@ -87,7 +87,7 @@ TEST(CommissioningScene, AprilTagFindsEveryTagAtItsTrueCorners) {
   const CornerStats st = CompareWithTruth(*scene, *images, 5.0);
   std::printf("tags expected %d found %d, corner error rms %.3f px max %.3f px mean (%.3f, %.3f)\n",
               st.tags_expected, st.tags_found, st.rms_px, st.max_px, st.mean_x_px, st.mean_y_px);
-  EXPECT_GE(st.tags_expected, 15);
+  EXPECT_GE(st.tags_expected, 8);
   EXPECT_EQ(st.tags_found, st.tags_expected);
   EXPECT_LT(st.rms_px, 0.3);
   EXPECT_LT(std::abs(st.mean_x_px), 0.1);

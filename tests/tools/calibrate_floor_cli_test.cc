@@ -53,7 +53,7 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
   EXPECT_NE(ReadText(dir / "cal" / "floor_report.html").find("<svg"), std::string::npos);
 
   // An image without tags is named and skipped.
-  const cv::Mat blank(512, 640, CV_8UC1, cv::Scalar(90));
+  const cv::Mat blank(384, 480, CV_8UC1, cv::Scalar(90));
   ASSERT_TRUE(cv::imwrite((scene / "images" / "pose_002.png").string(), blank));
   ASSERT_EQ(RunGroundline(calibrate + Quoted(dir / "cal1"), dir, &out), 0) << out;
   EXPECT_NE(out.find("pose_002.png: no tag of the layout found; image skipped"), std::string::npos)
