@@ -46,7 +46,7 @@ CommissioningOptions CommissioningOptions::Small() {
   o.camera.focal_px = 425.0;
   o.camera.principal_offset_px = {1.5, -1.0};
   o.camera.mount.pitch_rad = 52.0 * std::numbers::pi / 180.0;
-  o.render.supersampling = 4;
+  o.render.supersampling = 3;
   o.tag_rows = 6;
   o.tag_cols = 4;
   o.tag_size_m = 0.2;

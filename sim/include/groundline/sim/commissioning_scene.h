@@ -61,7 +61,7 @@ struct CommissioningOptions {
   core::Status Validate() const;
   static FloorCameraOptions DefaultCamera();
   static FloorRenderOptions DefaultRender();
-  // A 480 x 384 camera (fx = 425 px, 4 x 4 anti-aliasing samples) looking more
+  // A 480 x 384 camera (fx = 425 px, 3 x 3 anti-aliasing samples) looking more
   // steeply down at a mat of larger tags: the scene of the unit tests (fast to
   // render, also under sanitizers).
   static CommissioningOptions Small();
