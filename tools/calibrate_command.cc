@@ -200,8 +200,10 @@ int RunIntrinsics(const IntrinsicsFlags& flags) {
 }  // namespace
 
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
-  CLI::App* calibrate =
-      parent.add_subcommand("calibrate", "Commissioning calibrations (camera intrinsics, ...)");
+  CLI::App* calibrate = parent.add_subcommand(
+      "calibrate",
+      "Commissioning calibrations: camera intrinsics from a printed board (intrinsics), "
+      "camera-to-floor extrinsics from tags on the floor (floor)");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

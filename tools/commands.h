@@ -39,6 +39,14 @@ CLI::App* AddTargetsCommand(CLI::App& parent, CommandRunner* run);
 // `calibrate intrinsics` (tools/calibrate_command.cc). Returns the parent so
 // that other calibrations (`calibrate floor`) can add their subcommand to it.
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run);
+// `groundline sim-commissioning`: a tag mat on the floor seen from a few vehicle
+// poses, with the layout, intrinsics and true extrinsics
+// (tools/sim_commissioning_command.cc).
+CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run);
+
+// `groundline calibrate floor`: the camera mount from tags on the floor
+// (tools/calibrate_floor_command.cc); hangs on the `calibrate` parent.
+void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run);
 
 }  // namespace groundline::tools
 

@@ -23,8 +23,10 @@ int main(int argc, char** argv) {
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
+  groundline::tools::AddSimCommissioningCommand(app, &run);
   groundline::tools::AddTargetsCommand(app, &run);
-  groundline::tools::AddCalibrateCommand(app, &run);
+  CLI::App* calibrate = groundline::tools::AddCalibrateCommand(app, &run);
+  groundline::tools::AddCalibrateFloorSubcommand(calibrate, &run);
 
   try {
     app.parse(argc, argv);

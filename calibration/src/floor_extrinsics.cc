@@ -1,0 +1,293 @@
+#include "groundline/calibration/floor_extrinsics.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+namespace groundline::calibration {
+namespace {
+
+constexpr int kHeight = 0, kPitch = 1, kRoll = 2, kYaw = 3, kForward = 4, kLateral = 5;
+
+std::array<double, 6> ToParams(const CameraMount& m) {
+  return {m.height_m, m.pitch_rad, m.roll_rad, m.yaw_rad, m.forward_m, m.lateral_m};
+}
+
+CameraMount FromParams(const double* p) {
+  CameraMount m;
+  m.height_m = p[kHeight];
+  m.pitch_rad = p[kPitch];
+  m.roll_rad = p[kRoll];
+  m.yaw_rad = p[kYaw];
+  m.forward_m = p[kForward];
+  m.lateral_m = p[kLateral];
+  return m;
+}
+
+// The pixel residual of one corner, analytic Jacobian (file comment of the header).
+class CornerCost : public ceres::SizedCostFunction<2, 6> {
+ public:
+  CornerCost(const CameraModel* camera, const core::SE2& T_floor_base, const FloorCorner& corner)
+      : camera_(camera), T_floor_base_(T_floor_base), corner_(corner) {}
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const CameraMount mount = FromParams(parameters[0]);
+    if (!mount.Validate().ok()) return false;
+    MountJacobian J;
+    const core::Result<Eigen::Vector2d> pixel = PredictFloorPixel(
+        *camera_, mount, T_floor_base_, corner_.floor_m, jacobians && jacobians[0] ? &J : nullptr);
+    if (!pixel.ok()) return false;
+    Eigen::Map<Eigen::Vector2d> r(residuals);
+    r = *pixel - corner_.pixel;
+    if (jacobians && jacobians[0]) {
+      Eigen::Map<Eigen::Matrix<double, 2, 6, Eigen::RowMajor>> J_out(jacobians[0]);
+      J_out = J;
+    }
+    return true;
+  }
+
+ private:
+  const CameraModel* camera_;
+  core::SE2 T_floor_base_;
+  FloorCorner corner_;
+};
+
+// Hartley-normalized DLT of the homography a -> b (both 2-D, N >= 4).
+Eigen::Matrix3d Homography(const std::vector<Eigen::Vector2d>& a,
+                           const std::vector<Eigen::Vector2d>& b) {
+  const auto normalizer = [](const std::vector<Eigen::Vector2d>& pts) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& p : pts) mean += p;
+    mean /= static_cast<double>(pts.size());
+    double dist = 0.0;
+    for (const auto& p : pts) dist += (p - mean).norm();
+    const double s = std::sqrt(2.0) * static_cast<double>(pts.size()) / std::max(dist, 1e-12);
+    Eigen::Matrix3d T;
+    T << s, 0, -s * mean.x(), 0, s, -s * mean.y(), 0, 0, 1;
+    return T;
+  };
+  const Eigen::Matrix3d Ta = normalizer(a), Tb = normalizer(b);
+  Eigen::MatrixXd A(2 * a.size(), 9);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector3d p = Ta * a[i].homogeneous();
+    const Eigen::Vector3d q = Tb * b[i].homogeneous();
+    const auto r = static_cast<Eigen::Index>(2 * i);
+    A.row(r) << 0, 0, 0, -q.z() * p.transpose(), q.y() * p.transpose();
+    A.row(r + 1) << q.z() * p.transpose(), 0, 0, 0, -q.x() * p.transpose();
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Eigen::Matrix3d H;
+  H << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  return Tb.inverse() * H * Ta;
+}
+
+// The mount from the pooled homography base floor -> normalized image plane.
+core::Result<CameraMount> InitialMount(const CameraModel& camera,
+                                       const std::vector<FloorImage>& images) {
+  std::vector<Eigen::Vector2d> floor, image;
+  for (const FloorImage& im : images) {
+    const core::SE2 T_base_floor = im.T_floor_base.Inverse();
+    for (const FloorCorner& c : im.corners) {
+      const core::Result<Eigen::Vector3d> ray =
+          camera.Unproject(c.pixel, RayNormalization::kZEqualsOne);
+      if (!ray.ok()) continue;
+      floor.push_back(T_base_floor * c.floor_m);
+      image.push_back(ray->head<2>());
+    }
+  }
+  if (floor.size() < 8) {
+    return core::Status::Error("floor extrinsics: only " + std::to_string(floor.size()) +
+                               " corners unproject; need at least 8 (two tags)");
+  }
+  Eigen::Matrix3d H = Homography(floor, image);
+  // H = s [r1 r2 t] with R = R_cam_base; fix the scale by |r1|, |r2| and the
+  // sign by positive depth of the first floor point.
+  H /= 0.5 * (H.col(0).norm() + H.col(1).norm());
+  if ((H * floor[0].homogeneous()).z() < 0.0) H = -H;
+  Eigen::Matrix3d R;
+  R << H.col(0), H.col(1), H.col(0).cross(H.col(1));
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0.0) {
+    return core::Status::Error(
+        "floor extrinsics: degenerate corner geometry (the tags may lie "
+        "on one line); add tags spread across the image");
+  }
+  Eigen::Isometry3d T_cam_base = Eigen::Isometry3d::Identity();
+  T_cam_base.linear() = R;
+  T_cam_base.translation() = H.col(2);
+  core::Result<CameraMount> mount = MountFromBaseCamera(T_cam_base.inverse());
+  if (!mount.ok()) return mount.status().WithContext("floor extrinsics: initialization");
+  return mount;
+}
+
+}  // namespace
+
+core::Status FloorExtrinsicsOptions::Validate() const {
+  if (!(huber_px > 0.0))
+    return core::Status::Error("FloorExtrinsicsOptions.huber_px: expected > 0");
+  if (!(corner_sigma_px >= 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.corner_sigma_px: expected >= 0");
+  }
+  if (max_iterations < 1) {
+    return core::Status::Error("FloorExtrinsicsOptions.max_iterations: expected >= 1");
+  }
+  return core::Status::Ok();
+}
+
+Eigen::Vector3d FloorPointInCamera(const CameraMount& mount, const core::SE2& T_floor_base,
+                                   const Eigen::Vector2d& p_floor_m,
+                                   Eigen::Matrix<double, 3, 6>* J_cam_mount) {
+  const Eigen::Isometry3d T_base_cam = BaseFromCamera(mount);
+  const Eigen::Matrix3d& R = T_base_cam.linear();
+  const Eigen::Vector2d p_base = T_floor_base.Inverse() * p_floor_m;
+  const Eigen::Vector3d q = Eigen::Vector3d(p_base.x(), p_base.y(), 0.0) - T_base_cam.translation();
+  const Eigen::Vector3d p_cam = R.transpose() * q;
+  if (J_cam_mount != nullptr) {
+    const Eigen::Matrix3d Rz = Eigen::AngleAxisd(mount.yaw_rad, Eigen::Vector3d::UnitZ()).matrix();
+    const Eigen::Matrix3d Ry =
+        Eigen::AngleAxisd(mount.pitch_rad, Eigen::Vector3d::UnitY()).matrix();
+    const Eigen::Vector3d a_yaw = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d a_pitch = Rz * Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d a_roll = Rz * Ry * Eigen::Vector3d::UnitX();
+    J_cam_mount->col(kHeight) = -R.transpose().col(2);
+    J_cam_mount->col(kPitch) = -R.transpose() * a_pitch.cross(q);
+    J_cam_mount->col(kRoll) = -R.transpose() * a_roll.cross(q);
+    J_cam_mount->col(kYaw) = -R.transpose() * a_yaw.cross(q);
+    J_cam_mount->col(kForward) = -R.transpose().col(0);
+    J_cam_mount->col(kLateral) = -R.transpose().col(1);
+  }
+  return p_cam;
+}
+
+core::Result<Eigen::Vector2d> PredictFloorPixel(const CameraModel& camera, const CameraMount& mount,
+                                                const core::SE2& T_floor_base,
+                                                const Eigen::Vector2d& p_floor_m,
+                                                MountJacobian* J_pixel_mount) {
+  Eigen::Matrix<double, 3, 6> J_cam_mount;
+  const Eigen::Vector3d p_cam =
+      FloorPointInCamera(mount, T_floor_base, p_floor_m, J_pixel_mount ? &J_cam_mount : nullptr);
+  Eigen::Matrix<double, 2, 3> J_pixel_cam;
+  core::Result<Eigen::Vector2d> pixel =
+      camera.Project(p_cam, J_pixel_mount ? &J_pixel_cam : nullptr);
+  if (!pixel.ok()) return pixel.status();
+  if (J_pixel_mount != nullptr) *J_pixel_mount = J_pixel_cam * J_cam_mount;
+  return pixel;
+}
+
+core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& camera,
+                                                         const std::vector<FloorImage>& images,
+                                                         const FloorExtrinsicsOptions& options) {
+  if (core::Status s = options.Validate(); !s.ok()) return s;
+  FloorExtrinsicsResult result;
+  for (const FloorImage& im : images) result.corners += static_cast<int>(im.corners.size());
+  if (result.corners < 8) {
+    return core::Status::Error("floor extrinsics: " + std::to_string(result.corners) +
+                               " tag corners in all images; need at least 8 (two tags)");
+  }
+  core::Result<CameraMount> initial = InitialMount(camera, images);
+  if (!initial.ok()) return initial.status();
+  result.initial_mount = *initial;
+
+  std::array<double, 6> params = ToParams(*initial);
+  ceres::Problem problem;
+  for (const FloorImage& im : images) {
+    for (const FloorCorner& c : im.corners) {
+      problem.AddResidualBlock(new CornerCost(&camera, im.T_floor_base, c),
+                               new ceres::HuberLoss(options.huber_px), params.data());
+    }
+  }
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.parameter_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  const auto start = std::chrono::steady_clock::now();
+  ceres::Solve(solver_options, &problem, &summary);
+  result.solve_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.termination = ceres::TerminationTypeToString(summary.termination_type);
+  if (summary.termination_type != ceres::CONVERGENCE) {
+    return core::Status::Error("floor extrinsics: the solver did not converge (" +
+                               summary.BriefReport() + ")");
+  }
+  result.mount = FromParams(params.data());
+  if (core::Status s = result.mount.Validate(); !s.ok()) {
+    return s.WithContext("floor extrinsics: the solution is not a valid mount");
+  }
+
+  double sum_sq = 0.0;
+  for (const FloorImage& im : images) {
+    double image_sq = 0.0;
+    for (const FloorCorner& c : im.corners) {
+      const core::Result<Eigen::Vector2d> px =
+          PredictFloorPixel(camera, result.mount, im.T_floor_base, c.floor_m);
+      if (!px.ok())
+        return px.status().WithContext("floor extrinsics: corner of tag " +
+                                       std::to_string(c.tag_id) + " in " + im.name);
+      image_sq += (*px - c.pixel).squaredNorm();
+    }
+    sum_sq += image_sq;
+    result.image_rms_px.push_back(
+        im.corners.empty() ? 0.0 : std::sqrt(image_sq / static_cast<double>(im.corners.size())));
+  }
+  result.rms_px = std::sqrt(sum_sq / result.corners);
+  result.sigma_px = options.corner_sigma_px > 0.0
+                        ? options.corner_sigma_px
+                        : std::sqrt(sum_sq / std::max(1, 2 * result.corners - 6));
+
+  ceres::Covariance::Options cov_options;
+  cov_options.algorithm_type = ceres::DENSE_SVD;
+  ceres::Covariance covariance(cov_options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {
+      {params.data(), params.data()}};
+  if (!covariance.Compute(blocks, &problem)) {
+    return core::Status::Error(
+        "floor extrinsics: the mount is not observable from these tags "
+        "(rank-deficient Jacobian); spread the tags over the image");
+  }
+  Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov;
+  covariance.GetCovarianceBlock(params.data(), params.data(), cov.data());
+  result.covariance = result.sigma_px * result.sigma_px * cov;
+  return result;
+}
+
+core::Result<BevError> BevErrorAhead(const CameraMount& mount, const Matrix6d& covariance,
+                                     double distance_m) {
+  const Eigen::Vector2d p(distance_m, 0.0);
+  Eigen::Matrix<double, 3, 6> J_cam_mount;
+  const Eigen::Vector3d p_cam = FloorPointInCamera(mount, core::SE2::Identity(), p, &J_cam_mount);
+  if (p_cam.z() <= 1e-6) {
+    return core::Status::Error("BEV error: the floor point " + std::to_string(distance_m) +
+                               " m ahead is not in front of the camera");
+  }
+  // Normalized projection n = (x / z, y / z).
+  Eigen::Matrix<double, 2, 3> J_n_cam;
+  J_n_cam << 1 / p_cam.z(), 0, -p_cam.x() / (p_cam.z() * p_cam.z()), 0, 1 / p_cam.z(),
+      -p_cam.y() / (p_cam.z() * p_cam.z());
+  const Eigen::Matrix3d R_cam_base = BaseFromCamera(mount).linear().transpose();
+  const Eigen::Matrix2d J_n_floor = J_n_cam * R_cam_base.leftCols<2>();
+  const Eigen::Matrix<double, 2, 6> J_floor_mount = -J_n_floor.inverse() * (J_n_cam * J_cam_mount);
+  BevError e;
+  e.distance_m = distance_m;
+  e.cov_floor_m2 = J_floor_mount * covariance * J_floor_mount.transpose();
+  e.rms_mm = 1000.0 * std::sqrt(e.cov_floor_m2.trace());
+  const double lmax =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(e.cov_floor_m2).eigenvalues().maxCoeff();
+  e.sigma3_mm = 3000.0 * std::sqrt(std::max(lmax, 0.0));
+  return e;
+}
+
+}  // namespace groundline::calibration

@@ -1,0 +1,129 @@
+// `groundline calibrate floor`: the camera mount from AprilTags on the floor.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "groundline/calibration/camera_file.h"
+#include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/floor_calibration.h"
+#include "groundline/core/atomic_file.h"
+
+namespace groundline::tools {
+namespace {
+
+struct CalibrateFloorFlags {
+  std::string images;
+  std::string layout;
+  std::string camera;
+  std::string out;
+  double max_bev_error_2m_mm = 5.0;
+  double max_rms_px = 0.5;
+  double corner_sigma_px = 0.0;
+};
+
+constexpr char kHelp[] =
+    R"(Solves the camera mount (height, pitch, roll, yaw, forward and lateral offset;
+docs/extrinsics.md) from tag36h11 AprilTags lying flat on the floor at surveyed
+positions (the tag layout file, docs/tag_layout.md), seen in the images of
+--images with the intrinsics of --camera.
+
+Tags found by libapriltag (full resolution, refined edges) are matched to the
+layout by id; their corners are fitted over all images with Ceres (Huber loss at
+1 px). The covariance is scaled by the a posteriori residual variance unless
+--corner-sigma gives the corner noise.
+
+Writes into --out:
+  extrinsics.yaml     the mount (groundline_camera_extrinsics, metres and degrees)
+  floor_report.json   values in mm and deg with 3-sigma bounds, expected BEV error
+                      at 1, 2 and 4 m ahead, per-image corner RMS, PASS/FAIL
+  floor_report.html   the same with a bird's-eye view of the tag field
+PASS needs the BEV error at 2 m <= --max-bev-error (default 5 mm) and every
+image's corner RMS <= --max-rms (default 0.5 px). Exit code 0 on PASS, 1 on FAIL
+or a data error (malformed layout, unreadable image, no tags), 2 on usage errors.
+Images without any layout tag are skipped with a warning; tags never seen warn.
+
+Example (with a scene from 'groundline sim-commissioning --out scene'):
+  groundline calibrate floor --images scene/images --layout scene/tag_layout.yaml \
+      --camera scene/camera.cameramodel --out scene/calibration)";
+
+int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
+  const auto fail = [](const std::string& message) {
+    std::fprintf(stderr, "groundline calibrate floor: %s\n", message.c_str());
+    return 1;
+  };
+  core::Result<calibration::TagLayout> layout = calibration::ReadTagLayout(flags.layout);
+  if (!layout.ok()) return fail(layout.message());
+  core::Result<calibration::CameraModel> camera = calibration::ReadCameraModel(flags.camera);
+  if (!camera.ok()) return fail(camera.message());
+  calibration::FloorCalibrationOptions options;
+  options.max_bev_error_2m_mm = flags.max_bev_error_2m_mm;
+  options.max_image_rms_px = flags.max_rms_px;
+  options.solver.corner_sigma_px = flags.corner_sigma_px;
+  if (core::Status s = options.Validate(); !s.ok()) {
+    std::fprintf(stderr, "groundline calibrate floor: %s\n", s.message().c_str());
+    return 2;
+  }
+  core::Result<calibration::FloorCalibration> result =
+      calibration::CalibrateFloor(*camera, *layout, flags.images, options);
+  if (!result.ok()) return fail(result.message());
+  for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+  const std::filesystem::path out(flags.out);
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) return fail(out.string() + ": " + ec.message());
+  for (const core::Status& s :
+       {calibration::WriteCameraMountYaml(result->solution.mount, out / "extrinsics.yaml"),
+        core::WriteFileAtomically(out / "floor_report.json",
+                                  calibration::FloorReportJson(*result, options)),
+        core::WriteFileAtomically(
+            out / "floor_report.html",
+            calibration::FloorReportHtml(*result, *layout, *camera, options))}) {
+    if (!s.ok()) return fail(s.message());
+  }
+  const calibration::FloorExtrinsicsResult& r = result->solution;
+  const auto sd3 = [&r](int i, double scale) {
+    return 3.0 * std::sqrt(r.covariance(i, i)) * scale;
+  };
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  std::printf(
+      "%s: %zu images, %d corners, RMS %.3f px\n"
+      "  height  %8.2f mm  +- %.2f (3 sigma)\n  pitch   %8.3f deg +- %.3f\n"
+      "  roll    %8.3f deg +- %.3f\n  yaw     %8.3f deg +- %.3f\n"
+      "  forward %8.2f mm  +- %.2f\n  lateral %8.2f mm  +- %.2f\n"
+      "  BEV error (1 sigma) at 1/2/4 m: %.2f / %.2f / %.2f mm\n%s\n",
+      out.string().c_str(), result->images.size(), r.corners, r.rms_px, r.mount.height_m * 1e3,
+      sd3(0, 1e3), r.mount.pitch_rad * kDeg, sd3(1, kDeg), r.mount.roll_rad * kDeg, sd3(2, kDeg),
+      r.mount.yaw_rad * kDeg, sd3(3, kDeg), r.mount.forward_m * 1e3, sd3(4, 1e3),
+      r.mount.lateral_m * 1e3, sd3(5, 1e3), result->bev[0].rms_mm, result->bev[1].rms_mm,
+      result->bev[2].rms_mm, result->verdict.c_str());
+  return result->pass ? 0 : 1;
+}
+
+}  // namespace
+
+void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
+  auto flags = std::make_shared<CalibrateFloorFlags>();
+  CLI::App* cmd = calibrate->add_subcommand(
+      "floor", "Camera mount (extrinsics) from AprilTags surveyed on the floor");
+  cmd->footer(kHelp);
+  cmd->add_option("--images", flags->images, "Directory of the images")->required();
+  cmd->add_option("--layout", flags->layout, "Tag layout file (docs/tag_layout.md)")->required();
+  cmd->add_option("--camera", flags->camera,
+                  "Intrinsics: .cameramodel, OpenCV YAML or ROS camera_info")
+      ->required();
+  cmd->add_option("-o,--out", flags->out, "Output directory")->required();
+  cmd->add_option("--max-bev-error", flags->max_bev_error_2m_mm,
+                  "PASS threshold on the BEV error 2 m ahead, mm")
+      ->capture_default_str();
+  cmd->add_option("--max-rms", flags->max_rms_px, "PASS threshold on each image's corner RMS, px")
+      ->capture_default_str();
+  cmd->add_option("--corner-sigma", flags->corner_sigma_px,
+                  "Corner noise in px for the covariance (0: a posteriori)")
+      ->capture_default_str();
+  cmd->callback([flags, run] { *run = [flags] { return RunCalibrateFloor(*flags); }; });
+}
+
+}  // namespace groundline::tools
