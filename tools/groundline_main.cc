@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);
   groundline::tools::AddDatasetCommand(app, &run);
+  groundline::tools::AddExtractCommand(app, &run);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,38 @@
+// Private to the line extractor: the side-contrast test on the BEV and the
+// pairing of wide-bar edges into centre lines (line_extractor.h, steps 4-5).
+#ifndef GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
+#define GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <span>
+#include <vector>
+
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::perception::internal {
+
+// A fitted line before the side test, with its floor centres.
+struct CandidateLine {
+  ExtractedLine line;
+  std::vector<Eigen::Vector2d> centres_m;
+  // Mean BEV grey level at the centres minus at side_offset along +n and -n
+  // (n: the line's normal in base_link).
+  double contrast_plus = 0.0;
+  double contrast_minus = 0.0;
+};
+
+// Fills contrast_plus / contrast_minus from the BEV (CV_32FC1).
+void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
+                         CandidateLine* candidate);
+
+// The kept lines of one polarity: lines brighter (bright) or darker (dark)
+// than both sides by min_contrast; for bright, also the centre lines of
+// facing edge pairs (see line_extractor.h). Appends to *out.
+void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
+                 const LineExtractorOptions& options, std::vector<ExtractedLine>* out);
+
+}  // namespace groundline::perception::internal
+
+#endif  // GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
