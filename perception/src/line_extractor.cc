@@ -201,6 +201,7 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     }
     internal::SelectLines(std::move(candidates), polarity, options_, &result.lines);
   }
+  internal::MergeDuplicateLines(&result.lines);
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;
   std::vector<LineSegmentEstimate> estimates;
   for (ExtractedLine& line : result.lines) {

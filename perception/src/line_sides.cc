@@ -72,7 +72,8 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
       edges.push_back(static_cast<int>(i));
     }
   }
-  // Facing edges: each one's bright side points at the other.
+  // Facing edges: each one's bright side (the side as bright as its centre,
+  // the smaller contrast) points at the other.
   std::vector<bool> used(candidates.size(), false);
   for (size_t x = 0; x < edges.size(); ++x) {
     const CandidateLine& a = candidates[edges[x]];
@@ -87,8 +88,8 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
       const Eigen::Vector2d a_mid = 0.5 * (a.line.start_m + a.line.end_m);
       const double a_to_b = SignedDistance(a.line.line, b_mid);
       const double b_to_a = SignedDistance(b.line.line, a_mid);
-      const bool a_faces_b = (a.contrast_plus > a.contrast_minus) == (a_to_b > 0.0);
-      const bool b_faces_a = (b.contrast_plus > b.contrast_minus) == (b_to_a > 0.0);
+      const bool a_faces_b = (a.contrast_plus < a.contrast_minus) == (a_to_b > 0.0);
+      const bool b_faces_a = (b.contrast_plus < b.contrast_minus) == (b_to_a > 0.0);
       const double separation = std::abs(a_to_b);
       if (!a_faces_b || !b_faces_a || separation < options.bar_min_width_m ||
           separation > best_separation) {
@@ -113,6 +114,27 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     SpanEndpoints(la, lb, &merged);
     out->push_back(merged);
   }
+}
+
+void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {
+  std::stable_sort(
+      lines->begin(), lines->end(),
+      [](const ExtractedLine& a, const ExtractedLine& b) { return a.samples > b.samples; });
+  std::vector<ExtractedLine> kept;
+  for (const ExtractedLine& line : *lines) {
+    bool merged = false;
+    for (ExtractedLine& k : kept) {
+      if (k.kind.polarity != line.kind.polarity) continue;
+      const Eigen::Vector2d r = LineDifference(line.line, k.line);
+      if (std::abs(r(0)) > kDuplicateRhoM || std::abs(r(1)) > kDuplicateAlphaRad) continue;
+      const ExtractedLine keep = k;
+      SpanEndpoints(keep, line, &k);
+      merged = true;
+      break;
+    }
+    if (!merged) kept.push_back(line);
+  }
+  *lines = std::move(kept);
 }
 
 }  // namespace groundline::perception::internal

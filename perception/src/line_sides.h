@@ -33,6 +33,12 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  const LineExtractorOptions& options, std::vector<ExtractedLine>* out);
 
+// Lines of one polarity closer than these are one line (pieces of a marking
+// interrupted by a crossing one): the one with more samples is kept, spanning both.
+inline constexpr double kDuplicateRhoM = 0.01;
+inline constexpr double kDuplicateAlphaRad = 0.0175;
+void MergeDuplicateLines(std::vector<ExtractedLine>* lines);
+
 }  // namespace groundline::perception::internal
 
 #endif  // GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_

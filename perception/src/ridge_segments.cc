@@ -21,6 +21,9 @@ core::Status RidgeSegmentOptions::Validate() const {
   if (!(otsu_energy_range > 0.0) || !std::isfinite(otsu_energy_range))
     return bad("otsu_energy_range", "a finite number > 0");
   if (!(min_energy >= 0.0) || !std::isfinite(min_energy)) return bad("min_energy", "a number >= 0");
+  if (!(max_energy >= min_energy) || !std::isfinite(max_energy)) {
+    return bad("max_energy", "a finite number >= min_energy");
+  }
   if (!(max_eigen_ratio > 0.0 && max_eigen_ratio <= 1.0))
     return bad("max_eigen_ratio", "a number in (0, 1]");
   if (hough_votes < 1) return bad("hough_votes", "an integer >= 1");
@@ -72,7 +75,7 @@ double RidgeEnergyThreshold(const cv::Mat& energy, const cv::Mat& mask,
     }
   }
   const double otsu = (OtsuThreshold(histogram) + 1) / scale;
-  return std::max(otsu, options.min_energy);
+  return std::clamp(otsu, options.min_energy, std::max(options.min_energy, options.max_energy));
 }
 
 void RidgeCentreMask(const cv::Mat& energy, const cv::Mat& eigen_ratio, const cv::Mat& normal_rad,

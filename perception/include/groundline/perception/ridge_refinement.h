@@ -22,7 +22,9 @@ namespace groundline::perception {
 
 struct RidgeRefinementOptions {
   int search_half_width_cells = 3;  // K
-  double extend_cells = 6.0;        // also sample this far beyond both ends
+  // Sampling continues beyond both ends of the segment until this many
+  // consecutive positions have no accepted centre.
+  double extend_cells = 8.0;
   double max_eigen_ratio = 0.35;
   double max_normal_deviation_deg = 12.0;  // ridge normal vs the segment's normal
 };

@@ -23,9 +23,12 @@ struct RidgeSegmentOptions {
   // map to 0..255 (larger values saturate). Ridge energy is in grey levels of
   // the sigma^2-normalized response (steerable_ridge.h).
   double otsu_energy_range = 64.0;
-  // The threshold is max(Otsu, min_energy): without markings in view, Otsu
+  // The threshold is Otsu clamped to [min_energy, max_energy]: without markings in view, Otsu
   // alone would split the concrete texture.
   double min_energy = 4.0;
+  // .. and at most max_energy: one strong marking (a wide bar's edges) would
+  // otherwise lift it above thin faint ones (8 mm joints) in the same frame.
+  double max_energy = 5.0;
   // Anisotropy: cells with eigen_ratio above this are blobs, not ridges.
   double max_eigen_ratio = 0.35;
   // cv::HoughLinesP: accumulator votes, shortest segment, largest gap (cells).
@@ -53,8 +56,8 @@ struct RidgeSegment {
 // maximizing the between-class variance of {< = t} and {> t}. 0 when empty.
 int OtsuThreshold(std::span<const double> histogram);
 
-// The energy threshold of one image: max(Otsu over the energies of the cells
-// in mask (CV_8U, nonzero = use), min_energy), in energy units.
+// The energy threshold of one image: (Otsu over the energies of the cells
+// in mask (CV_8U, nonzero = use)) clamped to [min_energy, max_energy], in energy units.
 double RidgeEnergyThreshold(const cv::Mat& energy, const cv::Mat& mask,
                             const RidgeSegmentOptions& options);
 
