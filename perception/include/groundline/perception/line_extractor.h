@@ -68,7 +68,7 @@ struct LineExtractorOptions {
   double orientation_tolerance_deg = 20.0;
   // Covariance: pixel noise of a ridge centre in the camera image, and the
   // samples per independent sample (<= 0: 2 sqrt(pi) sigma_cells).
-  double sigma_px = 0.5;
+  double sigma_px = 1.2;  // fitted to the simulator datasets (docs/perception.md)
   double correlation_samples = 0.0;
 
   core::Status Validate() const;
