@@ -36,6 +36,7 @@ struct ExtractFlags {
   int png_every = 10;
   int max_frames = 0;
   double sigma_px = perception::LineExtractorOptions{}.sigma_px;
+  int supersampling = 2;
 };
 
 constexpr char kHelp[] =
@@ -175,7 +176,9 @@ int RunExtract(const ExtractFlags& flags) {
   }
   perception::LineExtractorOptions options;
   options.sigma_px = flags.sigma_px;
-  const perception::BevRemap remap(*input->camera, input->mount, perception::BevRemap::Options{});
+  perception::BevRemap::Options remap_options;
+  remap_options.supersampling = flags.supersampling;
+  const perception::BevRemap remap(*input->camera, input->mount, remap_options);
   const perception::LineExtractor extractor(remap, options);
   const perception::BevGrid& grid = remap.grid();
   const cv::Mat& mask = extractor.search_mask();
@@ -304,6 +307,10 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
                   "Write BEV + overlay PNGs every Nth frame (0: none)")
       ->capture_default_str();
   cmd->add_option("--max-frames", flags->max_frames, "Process at most this many images (0: all)")
+      ->capture_default_str();
+  cmd->add_option("--bev-supersampling", flags->supersampling,
+                  "BEV anti-aliasing: samples per cell side, averaged (1..4; 1: none)")
+      ->check(CLI::Range(1, 4))
       ->capture_default_str();
   cmd->add_option("--sigma-px", flags->sigma_px,
                   "Pixel noise of a ridge centre in the camera image [px] (line covariance)")

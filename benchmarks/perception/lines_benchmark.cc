@@ -4,7 +4,7 @@
 // The frame: the reference camera (OPENCV5, 1280 x 1024 grey, the simulator's
 // lens) on the reference mount looking at concrete (value noise) with a
 // longitudinal tape, a transverse 20 cm stop bar and a dark joint.
-//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract
+//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract; arg: BEV supersampling
 //   BM_ExtractOnly           LineExtractor::Extract on the BEV
 //   BM_WarpPerspectiveToBev  cv::warpPerspective (pinhole, no undistortion)
 #include <benchmark/benchmark.h>
@@ -54,7 +54,9 @@ const cv::Mat& FloorFrame() {
 
 void BM_FrameToLines(benchmark::State& state) {
   cv::setNumThreads(1);
-  const BevRemap remap(ReferenceCamera(), calibration::CameraMount{}, BevRemap::Options{});
+  BevRemap::Options options;
+  options.supersampling = static_cast<int>(state.range(0));
+  const BevRemap remap(ReferenceCamera(), calibration::CameraMount{}, options);
   const LineExtractor extractor(remap, LineExtractorOptions{});
   const cv::Mat& frame = FloorFrame();
   cv::Mat bev;
@@ -67,7 +69,7 @@ void BM_FrameToLines(benchmark::State& state) {
   }
   state.counters["lines"] = static_cast<double>(lines);
 }
-BENCHMARK(BM_FrameToLines)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrameToLines)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 void BM_ExtractOnly(benchmark::State& state) {
   cv::setNumThreads(1);
