@@ -27,7 +27,7 @@ double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
   return (p - (a + t * d)).norm();
 }
 
-// The BEV of a floor, 4x4 supersampled per cell, plus Gaussian noise.
+// The BEV of a floor, 3x3 supersampled per cell, plus Gaussian noise.
 cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5) {
   cv::Mat bev(grid.rows(), grid.cols(), CV_8U);
   std::mt19937 rng(7);
@@ -35,12 +35,12 @@ cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5
   for (int r = 0; r < grid.rows(); ++r) {
     for (int c = 0; c < grid.cols(); ++c) {
       double sum = 0.0;
-      for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j) {
-          sum += floor(grid.FloorPointOfCell({c - 0.375 + 0.25 * i, r - 0.375 + 0.25 * j}));
+      for (int i = -1; i <= 1; ++i) {
+        for (int j = -1; j <= 1; ++j) {
+          sum += floor(grid.FloorPointOfCell({c + i / 3.0, r + j / 3.0}));
         }
       }
-      bev.at<std::uint8_t>(r, c) = cv::saturate_cast<std::uint8_t>(sum / 16.0 + noise(rng));
+      bev.at<std::uint8_t>(r, c) = cv::saturate_cast<std::uint8_t>(sum / 9.0 + noise(rng));
     }
   }
   return bev;
@@ -135,8 +135,9 @@ TEST(LineExtractor, GlareBlobsAndShortScuffsGiveNoLines) {
     const Eigen::Vector2d d(std::cos(angle(rng)), std::sin(angle(rng)));
     scuffs.push_back({c - 0.04 * d, c + 0.04 * d, 0.03, 60.0});
   }
+  const Floor painted = Paint(scuffs);
   const Floor floor = [&](const Eigen::Vector2d& p) {
-    double v = Paint(scuffs)(p);
+    double v = painted(p);
     for (const Eigen::Vector2d& g : {Eigen::Vector2d(1.5, 0.2), Eigen::Vector2d(2.0, -0.4)}) {
       v += 110.0 * std::exp(-0.5 * (p - g).squaredNorm() / (0.12 * 0.12));  // glare
     }
