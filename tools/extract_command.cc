@@ -37,6 +37,7 @@ struct ExtractFlags {
   int max_frames = 0;
   double sigma_px = perception::LineExtractorOptions{}.sigma_px;
   int supersampling = 2;
+  double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
 };
 
 constexpr char kHelp[] =
@@ -176,6 +177,7 @@ int RunExtract(const ExtractFlags& flags) {
   }
   perception::LineExtractorOptions options;
   options.sigma_px = flags.sigma_px;
+  options.min_dark_side_contrast = flags.min_dark_contrast;
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = flags.supersampling;
   const perception::BevRemap remap(*input->camera, input->mount, remap_options);
@@ -311,6 +313,9 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--bev-supersampling", flags->supersampling,
                   "BEV anti-aliasing: samples per cell side, averaged (1..4; 1: none)")
       ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  cmd->add_option("--min-dark-contrast", flags->min_dark_contrast,
+                  "A dark line (joint) is darker than both sides by this many grey levels")
       ->capture_default_str();
   cmd->add_option("--sigma-px", flags->sigma_px,
                   "Pixel noise of a ridge centre in the camera image [px] (line covariance)")

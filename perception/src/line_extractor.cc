@@ -177,6 +177,7 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
 
   LineExtraction result;
   const double side_offset_m = options_.side_offset_cells * grid_.cell_m();
+  const double floor_median_grey = internal::MedianGrey(bev, search_mask_);
   for (const LinePolarity polarity : {LinePolarity::kBright, LinePolarity::kDark}) {
     const bool bright = polarity == LinePolarity::kBright;
     if (bright ? !options_.bright : !options_.dark) continue;
@@ -199,7 +200,8 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       internal::MeasureSideContrast(bev_float, grid_, side_offset_m, &*candidate);
       candidates.push_back(std::move(*candidate));
     }
-    internal::SelectLines(std::move(candidates), polarity, options_, &result.lines);
+    internal::SelectLines(std::move(candidates), polarity, floor_median_grey, options_,
+                          &result.lines);
   }
   internal::MergeDuplicateLines(&result.lines);
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;

@@ -29,6 +29,27 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
   if (count == 0) return;
   candidate->contrast_plus = (centre - plus) / count;
   candidate->contrast_minus = (centre - minus) / count;
+  candidate->centre_grey = centre / count;
+}
+
+double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
+  int histogram[256] = {};
+  int total = 0;
+  for (int r = 0; r < bev.rows; ++r) {
+    const std::uint8_t* b = bev.ptr<std::uint8_t>(r);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < bev.cols; ++c) {
+      if (m[c] == 0) continue;
+      ++histogram[b[c]];
+      ++total;
+    }
+  }
+  int below = 0;
+  for (int g = 0; g < 256; ++g) {
+    below += histogram[g];
+    if (2 * below >= total) return g;
+  }
+  return 0.0;
 }
 
 namespace {
@@ -58,7 +79,8 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
 }  // namespace
 
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
-                 const LineExtractorOptions& options, std::vector<ExtractedLine>* out) {
+                 double floor_median_grey, const LineExtractorOptions& options,
+                 std::vector<ExtractedLine>* out) {
   const double sign = polarity == LinePolarity::kBright ? 1.0 : -1.0;
   const double min_contrast = polarity == LinePolarity::kBright ? options.min_side_contrast
                                                                 : options.min_dark_side_contrast;
@@ -66,6 +88,10 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
   for (size_t i = 0; i < candidates.size(); ++i) {
     const double plus = sign * candidates[i].contrast_plus;
     const double minus = sign * candidates[i].contrast_minus;
+    if (polarity == LinePolarity::kBright &&
+        candidates[i].centre_grey < floor_median_grey + options.min_side_contrast) {
+      continue;
+    }
     if (std::min(plus, minus) >= min_contrast) {
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {

@@ -21,6 +21,7 @@ struct CandidateLine {
   // (n: the line's normal in base_link).
   double contrast_plus = 0.0;
   double contrast_minus = 0.0;
+  double centre_grey = 0.0;  // mean BEV grey level at the centres
 };
 
 // Fills contrast_plus / contrast_minus from the BEV (CV_32FC1).
@@ -29,9 +30,16 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
 
 // The kept lines of one polarity: lines brighter (bright) or darker (dark)
 // than both sides by min_contrast; for bright, also the centre lines of
-// facing edge pairs (see line_extractor.h). Appends to *out.
+// facing edge pairs (see line_extractor.h). Bright lines must also be
+// brighter than the frame's median floor grey level by min_side_contrast
+// (concrete between two dark scuffs or oil stains is a ridge, but no tape).
+// Appends to *out.
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
-                 const LineExtractorOptions& options, std::vector<ExtractedLine>* out);
+                 double floor_median_grey, const LineExtractorOptions& options,
+                 std::vector<ExtractedLine>* out);
+
+// The median grey level of the BEV (CV_8U) over mask.
+double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
 
 // Lines of one polarity closer than these are one line (pieces of a marking
 // interrupted by a crossing one): the one with more samples is kept, spanning both.

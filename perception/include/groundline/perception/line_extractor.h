@@ -61,7 +61,7 @@ struct LineExtractorOptions {
   double max_width_variation = 0.35;  // std / mean of the peak width along the line
   double side_offset_cells = 7.0;
   double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
-  double min_dark_side_contrast = 12.0;  // dark lines (joints are darker than scuffs)
+  double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
   double bar_min_width_m = 0.08;         // two facing edges of a wide bar this far apart ..
   double bar_max_width_m = 0.70;         // .. up to this ..
   double bar_max_angle_rad = 0.035;      // .. and parallel within this
