@@ -58,7 +58,8 @@ Writes into --out:
                  [rho_m, alpha_rad (Hesse normal form in base_link, rho >= 0),
                  cov (2x2 row-major covariance of rho [m] and alpha [rad]), kind,
                  start_m, end_m, length_m, bar], junctions [point_m, cov, lines,
-                 shape L/T/X]
+                 shape L/T/X]; with ground truth also missed_marking_ids (visible
+                 markings 1.0-2.5 m ahead that no line matched)
   bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
@@ -221,9 +222,9 @@ int RunExtract(const ExtractFlags& flags) {
     const double frame_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     ms.push_back(frame_ms);
-    jsonl << FrameToJson(path.filename().string(), frame_ms, extraction).dump() << "\n";
 
     std::vector<perception::TrueLine> truths;
+    std::vector<std::int64_t> missed;
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
       if (pose) {
@@ -232,10 +233,18 @@ int RunExtract(const ExtractFlags& flags) {
         for (const perception::ExtractedLine& l : extraction.lines) {
           estimates.push_back({l.line, l.covariance, l.start_m, l.end_m});
         }
-        evaluation.AddFrame(extraction.lines, truths,
-                            perception::MatchLines(estimates, truths, {}));
+        const perception::LineMatches matches = perception::MatchLines(estimates, truths, {});
+        evaluation.AddFrame(extraction.lines, truths, matches);
+        for (size_t j = 0; j < truths.size(); ++j) {
+          if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
+            missed.push_back(truths[j].marking_id);
+          }
+        }
       }
     }
+    nlohmann::ordered_json frame = FrameToJson(path.filename().string(), frame_ms, extraction);
+    if (evaluate) frame["missed_marking_ids"] = missed;
+    jsonl << frame.dump() << "\n";
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
       char name[64];
       std::snprintf(name, sizeof(name), "bev_%06zu.png", i);

@@ -56,7 +56,7 @@ struct LineExtractorOptions {
   // Refinement accepts centres down to this fraction of the frame's threshold.
   double sample_energy_fraction = 0.5;
   double outlier_cells = 1.5;  // centres farther than this from the first fit are dropped
-  double min_line_length_m = 0.25;
+  double min_line_length_m = 0.2;
   double min_support = 0.3;           // accepted centres / positions along the segment
   double max_width_variation = 0.35;  // std / mean of the peak width along the line
   double side_offset_cells = 7.0;
