@@ -18,7 +18,8 @@
 //     ridge that is brighter on one side only is the edge of a wide bar (a
 //     stop bar, a crosswalk stripe), and two such edges facing each other are
 //     replaced by their centre line; dark one-sided ridges are the flanks of
-//     bright bars and are dropped.
+//     bright bars and are dropped. A bright line must also be brighter than
+//     the frame's median floor grey (not just concrete between dark scuffs).
 //  5. Rejection of glare and scuffs: anisotropy (eigen_ratio), the minimum
 //     length, the support (fraction of positions along the segment with an
 //     accepted centre) and the consistency of the ridge width along the line.
