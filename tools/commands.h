@@ -30,6 +30,8 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run);
 // `groundline dataset check DIR`: validates a dataset directory and prints a
 // summary (tools/dataset_command.cc).
 CLI::App* AddDatasetCommand(CLI::App& parent, CommandRunner* run);
+// `groundline extract`: floor lines of images or a dataset (tools/extract_command.cc).
+CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run);
 
 // `groundline targets`: printable calibration targets, SVG + PNG
 // (tools/targets_command.cc).

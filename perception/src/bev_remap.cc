@@ -30,6 +30,14 @@ core::Status BevGridOptions::Validate() const {
   return core::Status::Ok();
 }
 
+core::Status BevRemap::Options::Validate() const {
+  if (supersampling < 1 || supersampling > 4) {
+    return core::Status::Error("BevRemap::Options.supersampling must be in 1..4, got " +
+                               std::to_string(supersampling));
+  }
+  return grid.Validate();
+}
+
 BevGrid::BevGrid(const BevGridOptions& options) : options_(options) {
   assert(options.Validate().ok());
   rows_ = std::max(
@@ -105,6 +113,13 @@ void BevRemap::Rebuild(const calibration::CameraMount& mount) {
   if (options_.fixed_point) {
     cv::convertMaps(remap_map_, cv::noArray(), fixed_map_xy_, fixed_map_frac_, CV_16SC2);
   }
+  if (options_.supersampling > 1) {
+    // INTER_LINEAR resize samples the source at (dst + 0.5) / s - 0.5: the sub-cell centres.
+    cv::Mat fine;
+    cv::resize(remap_map_, fine, cv::Size(), options_.supersampling, options_.supersampling,
+               cv::INTER_LINEAR);
+    cv::convertMaps(fine, cv::noArray(), fine_map_xy_, fine_map_frac_, CV_16SC2);
+  }
 }
 
 void BevRemap::Apply(const cv::Mat& image, cv::Mat* bev) const {
@@ -112,7 +127,12 @@ void BevRemap::Apply(const cv::Mat& image, cv::Mat* bev) const {
   assert(image.cols == camera_.width_px() && image.rows == camera_.height_px());
   // Invalid cells read pixel (0, 0) and are zeroed afterwards: cv::remap takes
   // a per-pixel slow path for map entries outside the image (5x slower here).
-  if (options_.fixed_point) {
+  if (options_.supersampling > 1) {
+    cv::Mat fine;
+    cv::remap(image, fine, fine_map_xy_, fine_map_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+              cv::Scalar::all(0));
+    cv::resize(fine, *bev, cv::Size(grid_.cols(), grid_.rows()), 0.0, 0.0, cv::INTER_AREA);
+  } else if (options_.fixed_point) {
     cv::remap(image, *bev, fixed_map_xy_, fixed_map_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
               cv::Scalar::all(0));
   } else {

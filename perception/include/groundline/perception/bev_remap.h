@@ -97,7 +97,14 @@ class BevRemap {
   struct Options {
     BevGridOptions grid;
     bool fixed_point = true;  // Apply() on CV_16SC2 + CV_16UC1 maps (faster)
-    core::Status Validate() const { return grid.Validate(); }
+    // Anti-aliasing: each cell is the mean (cv::INTER_AREA) of supersampling^2
+    // bilinear samples at its sub-cell centres (1: one sample at the centre).
+    // Without it, a marking narrower than a cell (an 8 mm joint at 1 cm cells)
+    // falls between the samples wherever it runs along the grid. The sub-cell
+    // pixel positions are bilinear interpolations of the cell-centre table
+    // (the projection is smooth on the scale of a cell).
+    int supersampling = 1;
+    core::Status Validate() const;
   };
 
   // Builds the table for the camera on the mount; both options and mount must
@@ -140,6 +147,8 @@ class BevRemap {
   cv::Mat remap_map_;       // pixel_map_ with (0, 0) in invalid cells (fast cv::remap)
   cv::Mat fixed_map_xy_;    // CV_16SC2
   cv::Mat fixed_map_frac_;  // CV_16UC1
+  cv::Mat fine_map_xy_;     // supersampled fixed-point maps (supersampling > 1)
+  cv::Mat fine_map_frac_;
   int valid_cells_ = 0;
 };
 

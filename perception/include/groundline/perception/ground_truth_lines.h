@@ -1,0 +1,80 @@
+// Ground truth for line extraction: which floor-map markings a camera frame
+// sees, as Hesse lines in base_link, and the matching of extracted lines to
+// them (the rates and errors of `groundline extract`).
+//
+// Visible lines. For a frame taken at the vehicle's true pose T_map_base, each
+// straight piece of a marking's centre-line polyline (core/floor_map.h) is
+// transformed into base_link, sampled every sample_step_m, and clipped to the
+// footprint (a predicate on base_link points: the part of the floor where the
+// extractor can find lines) and, for dashed tape, to the dashes (the pattern
+// starts with a dash at the first vertex, along the arc length). A piece with
+// any seen sample is a TrueLine; it is `evaluated` when at least
+// min_evaluated_length_m of it lies eval_x_min_m..eval_x_max_m ahead. Wear is
+// not in the map, so a fully worn marking still counts.
+//
+// Matching. An extracted line matches a true one when LineDifference(extracted,
+// true) is within the gates (|d rho| <= rho_gate_m, |d alpha| <= alpha_gate_rad)
+// and their extents along the true line overlap by at least min_overlap_m.
+// Each extracted line takes the closest gated true line (Mahalanobis-free: by
+// |d rho| / rho_gate + |d alpha| / alpha_gate); a true line matched by several
+// extracted lines keeps the closest, the others count as unmatched
+// (duplicates). Pure and thread-safe.
+#ifndef GROUNDLINE_PERCEPTION_GROUND_TRUTH_LINES_H_
+#define GROUNDLINE_PERCEPTION_GROUND_TRUTH_LINES_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "groundline/core/floor_map.h"
+#include "groundline/core/se2.h"
+#include "groundline/perception/hesse_line.h"
+#include "groundline/perception/junctions.h"
+
+namespace groundline::perception {
+
+struct VisibleLineOptions {
+  double sample_step_m = 0.01;
+  double eval_x_min_m = 1.0;  // the range ahead where errors and rates count
+  double eval_x_max_m = 2.5;
+  double min_evaluated_length_m = 0.30;
+};
+
+struct TrueLine {
+  std::int64_t marking_id = 0;
+  int piece = 0;  // index of the polyline piece
+  core::MarkingKind kind = core::MarkingKind::kTapeSolid;
+  core::MarkingPolarity polarity = core::MarkingPolarity::kBright;
+  HesseLine line;                                     // base_link
+  Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  // first and last seen sample, base_link
+  Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
+  double seen_length_m = 0.0;       // in the footprint (and on dashes)
+  double evaluated_length_m = 0.0;  // of that, eval_x_min_m..eval_x_max_m ahead
+  bool evaluated = false;
+};
+
+using FootprintPredicate = std::function<bool(const Eigen::Vector2d& point_base_m)>;
+
+std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core::SE2& T_map_base,
+                                          const FootprintPredicate& footprint,
+                                          const VisibleLineOptions& options);
+
+struct MatchGates {
+  double rho_gate_m = 0.05;
+  double alpha_gate_rad = 0.0349066;  // 2 deg
+  double min_overlap_m = 0.05;
+};
+
+struct LineMatches {
+  std::vector<int> truth_of_extracted;  // index into truths, -1: unmatched
+  std::vector<int> extracted_of_truth;  // index into extracted, -1: missed
+};
+
+LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
+                       std::span<const TrueLine> truths, const MatchGates& gates);
+
+}  // namespace groundline::perception
+
+#endif  // GROUNDLINE_PERCEPTION_GROUND_TRUTH_LINES_H_

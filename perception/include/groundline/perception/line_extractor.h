@@ -1,0 +1,134 @@
+// Floor lines from one BEV image (bev_remap.h): the whole per-frame pipeline
+// of perception, in base_link.
+//
+//  1. Steerable ridge filter (steerable_ridge.h): Hessian, bright and dark
+//     ridge energy, normal angle, eigen_ratio. Cells within
+//     border_erosion_sigmas * sigma of the unseen area are ignored (the black
+//     outside of the footprint makes a step edge).
+//  2. Per polarity: Otsu threshold of the energy, ridge centres by
+//     non-maximum suppression, cv::HoughLinesP, collinear merging
+//     (ridge_segments.h).
+//  3. Sub-pixel ridge centres along each merged segment by parabolic peak
+//     interpolation (ridge_refinement.h), outliers removed, and a weighted
+//     total-least-squares fit in metric base_link coordinates whose
+//     covariance comes from pixel noise through the back-projection Jacobian
+//     of each centre (line_covariance.h).
+//  4. Side contrast on the BEV: a line is a line when its centre is brighter
+//     (bright) or darker (dark) than both sides at side_offset_cells; a bright
+//     ridge that is brighter on one side only is the edge of a wide bar (a
+//     stop bar, a crosswalk stripe), and two such edges facing each other are
+//     replaced by their centre line; dark one-sided ridges are the flanks of
+//     bright bars and are dropped. A bright line must also be brighter than
+//     the frame's median floor grey (not just concrete between dark scuffs).
+//  5. Rejection of glare and scuffs: anisotropy (eigen_ratio), the minimum
+//     length, the support (fraction of positions along the segment with an
+//     accepted centre) and the consistency of the ridge width along the line.
+//  6. Classification (line_classification.h) and junctions (junctions.h).
+//
+// Thread-safety: a LineExtractor is immutable after construction; Extract is
+// const and may run concurrently.
+#ifndef GROUNDLINE_PERCEPTION_LINE_EXTRACTOR_H_
+#define GROUNDLINE_PERCEPTION_LINE_EXTRACTOR_H_
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "groundline/calibration/floor_projection.h"
+#include "groundline/core/status.h"
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/hesse_line.h"
+#include "groundline/perception/junctions.h"
+#include "groundline/perception/line_classification.h"
+#include "groundline/perception/ridge_refinement.h"
+#include "groundline/perception/ridge_segments.h"
+#include "groundline/perception/steerable_ridge.h"
+
+namespace groundline::perception {
+
+struct LineExtractorOptions {
+  SteerableRidgeOptions ridge;
+  RidgeSegmentOptions segments;
+  RidgeRefinementOptions refinement;
+  JunctionOptions junctions;
+  bool bright = true;  // look for bright lines (tape)
+  bool dark = true;    // look for dark lines (joints)
+  double border_erosion_sigmas = 2.5;
+  // Refinement accepts centres down to this fraction of the frame's threshold.
+  double sample_energy_fraction = 0.5;
+  double outlier_cells = 1.5;  // centres farther than this from the first fit are dropped
+  double min_line_length_m = 0.2;
+  double min_support = 0.3;           // accepted centres / positions along the segment
+  double max_width_variation = 0.35;  // std / mean of the peak width along the line
+  double side_offset_cells = 7.0;
+  double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
+  double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
+  double bar_min_width_m = 0.08;         // two facing edges of a wide bar this far apart ..
+  double bar_max_width_m = 0.70;         // .. up to this ..
+  double bar_max_angle_rad = 0.035;      // .. and parallel within this
+  double orientation_tolerance_deg = 20.0;
+  // Covariance: pixel noise of a ridge centre in the camera image, and the
+  // samples per independent sample (<= 0: 2 sqrt(pi) sigma_cells).
+  double sigma_px = 1.2;  // fitted to the simulator datasets (docs/perception.md)
+  double correlation_samples = 0.0;
+
+  core::Status Validate() const;
+};
+
+struct ExtractedLine {
+  HesseLine line;                                        // base_link
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();  // (rho_m, alpha_rad)
+  Eigen::Vector2d start_m = Eigen::Vector2d::Zero();     // endpoints on the line, base_link
+  Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
+  LineKind kind;
+  bool from_bar_edges = false;  // the centre line of two facing bar edges
+  double energy = 0.0;          // mean peak ridge energy
+  double rms_residual_m = 0.0;  // of the centres about the fitted line
+  int samples = 0;              // ridge centres fitted
+
+  double LengthM() const { return (end_m - start_m).norm(); }
+};
+
+struct LineExtraction {
+  std::vector<ExtractedLine> lines;
+  std::vector<Junction> junctions;  // indices into lines
+  double bright_threshold = 0.0;    // energy thresholds used this frame
+  double dark_threshold = 0.0;
+};
+
+// J_floor_pixel (d(x, y)/d(u, v), m/px) at every valid BEV cell centre,
+// CV_64FC4 (row-major 2x2), zero where invalid: the analytic inverse of
+// FloorProjection::PixelOfFloorPoint's Jacobian.
+cv::Mat FloorFromPixelJacobians(const BevGrid& grid, const cv::Mat& valid_mask,
+                                const calibration::FloorProjection& projection);
+
+class LineExtractor {
+ public:
+  // For the BEV of `remap` (grid, valid cells, camera and mount). Options
+  // must be valid (asserted).
+  LineExtractor(const BevRemap& remap, const LineExtractorOptions& options);
+  // General form: grid, valid mask (CV_8U), Jacobians as from
+  // FloorFromPixelJacobians.
+  LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask, cv::Mat floor_from_pixel,
+                const LineExtractorOptions& options);
+
+  // The lines of one BEV (CV_8UC1, grid-sized; asserted).
+  LineExtraction Extract(const cv::Mat& bev) const;
+
+  const BevGrid& grid() const { return grid_; }
+  const LineExtractorOptions& options() const { return options_; }
+  // The valid mask eroded by the border margin: where ridges count.
+  const cv::Mat& search_mask() const { return search_mask_; }
+
+ private:
+  BevGrid grid_;
+  LineExtractorOptions options_;
+  SteerableRidgeFilter filter_;
+  cv::Mat search_mask_;
+  cv::Mat floor_from_pixel_;  // CV_64FC4
+  double correlation_samples_ = 1.0;
+};
+
+}  // namespace groundline::perception
+
+#endif  // GROUNDLINE_PERCEPTION_LINE_EXTRACTOR_H_

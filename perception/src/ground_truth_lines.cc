@@ -1,0 +1,108 @@
+// Visible map markings and line matching (ground_truth_lines.h).
+#include "groundline/perception/ground_truth_lines.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace groundline::perception {
+
+std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core::SE2& T_map_base,
+                                          const FootprintPredicate& footprint,
+                                          const VisibleLineOptions& options) {
+  const core::SE2 T_base_map = T_map_base.Inverse();
+  std::vector<TrueLine> lines;
+  for (const core::FloorMarking& marking : map.markings) {
+    const bool dashed =
+        marking.kind == core::MarkingKind::kTapeDashed && marking.dash_m && marking.gap_m;
+    double arc_m = 0.0;  // arc length at the start of the piece
+    for (size_t k = 0; k + 1 < marking.polyline_m.size(); ++k) {
+      const Eigen::Vector2d a = T_base_map * marking.polyline_m[k];
+      const Eigen::Vector2d b = T_base_map * marking.polyline_m[k + 1];
+      const double length = (b - a).norm();
+      const Eigen::Vector2d d = (b - a) / length;
+      TrueLine line;
+      bool any = false;
+      for (double s = 0.0; s <= length; s += options.sample_step_m) {
+        if (dashed && std::fmod(arc_m + s, *marking.dash_m + *marking.gap_m) > *marking.dash_m) {
+          continue;
+        }
+        const Eigen::Vector2d p = a + s * d;
+        if (!footprint(p)) continue;
+        if (!any) line.start_m = p;
+        line.end_m = p;
+        any = true;
+        line.seen_length_m += options.sample_step_m;
+        if (p.x() >= options.eval_x_min_m && p.x() <= options.eval_x_max_m) {
+          line.evaluated_length_m += options.sample_step_m;
+        }
+      }
+      arc_m += length;
+      if (!any) continue;
+      core::Result<HesseLine> hesse = LineFromPoints(a, b);
+      if (!hesse.ok()) continue;
+      line.marking_id = marking.id;
+      line.piece = static_cast<int>(k);
+      line.kind = marking.kind;
+      line.polarity = marking.polarity;
+      line.line = *hesse;
+      line.evaluated = line.evaluated_length_m >= options.min_evaluated_length_m - 1e-9;
+      lines.push_back(line);
+    }
+  }
+  return lines;
+}
+
+namespace {
+
+// Overlap of the extents of two segments along direction d.
+double OverlapAlong(const Eigen::Vector2d& d, const Eigen::Vector2d& a0, const Eigen::Vector2d& a1,
+                    const Eigen::Vector2d& b0, const Eigen::Vector2d& b1) {
+  const double lo = std::max(std::min(d.dot(a0), d.dot(a1)), std::min(d.dot(b0), d.dot(b1)));
+  const double hi = std::min(std::max(d.dot(a0), d.dot(a1)), std::max(d.dot(b0), d.dot(b1)));
+  return hi - lo;
+}
+
+}  // namespace
+
+LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
+                       std::span<const TrueLine> truths, const MatchGates& gates) {
+  LineMatches matches;
+  matches.truth_of_extracted.assign(extracted.size(), -1);
+  matches.extracted_of_truth.assign(truths.size(), -1);
+  std::vector<double> cost_of_extracted(extracted.size(), 0.0);
+  for (size_t i = 0; i < extracted.size(); ++i) {
+    double best = 3.0;
+    for (size_t j = 0; j < truths.size(); ++j) {
+      const Eigen::Vector2d r = LineDifference(extracted[i].line, truths[j].line);
+      if (std::abs(r(0)) > gates.rho_gate_m || std::abs(r(1)) > gates.alpha_gate_rad) continue;
+      const Eigen::Vector2d d = truths[j].line.Direction();
+      if (OverlapAlong(d, extracted[i].start_m, extracted[i].end_m, truths[j].start_m,
+                       truths[j].end_m) < gates.min_overlap_m) {
+        continue;
+      }
+      const double cost = std::abs(r(0)) / gates.rho_gate_m + std::abs(r(1)) / gates.alpha_gate_rad;
+      if (cost < best) {
+        best = cost;
+        matches.truth_of_extracted[i] = static_cast<int>(j);
+      }
+    }
+    cost_of_extracted[i] = best;
+  }
+  for (size_t i = 0; i < extracted.size(); ++i) {
+    const int j = matches.truth_of_extracted[i];
+    if (j < 0) continue;
+    const int other = matches.extracted_of_truth[j];
+    if (other < 0 || cost_of_extracted[i] < cost_of_extracted[other]) {
+      matches.extracted_of_truth[j] = static_cast<int>(i);
+    }
+  }
+  for (size_t i = 0; i < extracted.size(); ++i) {
+    const int j = matches.truth_of_extracted[i];
+    if (j >= 0 && matches.extracted_of_truth[j] != static_cast<int>(i)) {
+      matches.truth_of_extracted[i] = -1;
+    }
+  }
+  return matches;
+}
+
+}  // namespace groundline::perception

@@ -1,0 +1,78 @@
+// Pixel noise -> floor -> line covariance (line_covariance.h).
+#include "groundline/perception/line_covariance.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace groundline::perception {
+
+Eigen::Matrix2d FloorPointCovariance(const Eigen::Matrix2d& J_floor_pixel, double sigma_px) {
+  return sigma_px * sigma_px * J_floor_pixel * J_floor_pixel.transpose();
+}
+
+core::Result<LineEstimate> LineFromEndpoints(const Eigen::Vector2d& p1_m, const Eigen::Matrix2d& S1,
+                                             const Eigen::Vector2d& p2_m,
+                                             const Eigen::Matrix2d& S2) {
+  Eigen::Matrix2d J1, J2;
+  core::Result<HesseLine> line = LineFromPoints(p1_m, p2_m, &J1, &J2);
+  if (!line.ok()) return core::Status::Error(line.message());
+  LineEstimate estimate;
+  estimate.line = *line;
+  estimate.covariance = J1 * S1 * J1.transpose() + J2 * S2 * J2.transpose();
+  return estimate;
+}
+
+core::Result<HesseLine> LineFromPixels(const calibration::FloorProjection& projection,
+                                       const Eigen::Vector2d& pixel1, const Eigen::Vector2d& pixel2,
+                                       Eigen::Matrix2d* J_line_px1, Eigen::Matrix2d* J_line_px2) {
+  Eigen::Matrix2d J_floor_px1, J_floor_px2;
+  core::Result<Eigen::Vector2d> p1 = projection.FloorPointOfPixel(pixel1, &J_floor_px1);
+  if (!p1.ok()) return core::Status::Error(p1.message());
+  core::Result<Eigen::Vector2d> p2 = projection.FloorPointOfPixel(pixel2, &J_floor_px2);
+  if (!p2.ok()) return core::Status::Error(p2.message());
+  Eigen::Matrix2d J_line_p1, J_line_p2;
+  core::Result<HesseLine> line = LineFromPoints(*p1, *p2, &J_line_p1, &J_line_p2);
+  if (!line.ok()) return line;
+  if (J_line_px1 != nullptr) *J_line_px1 = J_line_p1 * J_floor_px1;
+  if (J_line_px2 != nullptr) *J_line_px2 = J_line_p2 * J_floor_px2;
+  return line;
+}
+
+core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> points_m,
+                                            std::span<const Eigen::Matrix2d> J_floor_pixel,
+                                            double sigma_px, double correlation_samples) {
+  if (J_floor_pixel.size() != points_m.size()) {
+    return core::Status::Error("FitLineWithPixelNoise: got " +
+                               std::to_string(J_floor_pixel.size()) + " Jacobians for " +
+                               std::to_string(points_m.size()) + " points");
+  }
+  if (!(correlation_samples >= 1.0) || !std::isfinite(correlation_samples)) {
+    return core::Status::Error("FitLineWithPixelNoise: correlation_samples must be >= 1, got " +
+                               std::to_string(correlation_samples));
+  }
+  core::Result<LineFit> first = FitLineTls(points_m, {}, 1.0);
+  if (!first.ok()) return first;
+  const Eigen::Vector2d n = first->line.Normal();
+  std::vector<double> perpendicular_variance(points_m.size());
+  double mean_variance = 0.0;
+  for (size_t i = 0; i < points_m.size(); ++i) {
+    const Eigen::Vector2d Jt_n = J_floor_pixel[i].transpose() * n;
+    perpendicular_variance[i] = sigma_px * sigma_px * Jt_n.squaredNorm();
+    if (!(perpendicular_variance[i] > 0.0)) {
+      return core::Status::Error("FitLineWithPixelNoise: point " + std::to_string(i) +
+                                 " has no noise across the line (singular Jacobian)");
+    }
+    mean_variance += perpendicular_variance[i];
+  }
+  mean_variance /= static_cast<double>(points_m.size());
+  std::vector<double> weights(points_m.size());
+  for (size_t i = 0; i < points_m.size(); ++i) {
+    weights[i] = mean_variance / perpendicular_variance[i];
+  }
+  core::Result<LineFit> fit = FitLineTls(points_m, weights, std::sqrt(mean_variance));
+  if (fit.ok()) fit->covariance *= correlation_samples;
+  return fit;
+}
+
+}  // namespace groundline::perception

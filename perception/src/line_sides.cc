@@ -1,0 +1,166 @@
+// Side contrast and wide-bar edge pairing (line_sides.h).
+#include "line_sides.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "groundline/perception/ridge_refinement.h"
+
+namespace groundline::perception::internal {
+
+void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
+                         CandidateLine* candidate) {
+  const Eigen::Vector2d n = candidate->line.line.Normal();
+  double centre = 0.0, plus = 0.0, minus = 0.0;
+  int count = 0;
+  auto sample = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    return SampleBilinear(bev_float, cell.x(), cell.y());
+  };
+  for (size_t i = 0; i < candidate->centres_m.size(); i += 2) {
+    const Eigen::Vector2d& p = candidate->centres_m[i];
+    const float c = sample(p), a = sample(p + offset_m * n), b = sample(p - offset_m * n);
+    if (c == 0.0f || a == 0.0f || b == 0.0f) continue;  // outside the seen floor
+    centre += c;
+    plus += a;
+    minus += b;
+    ++count;
+  }
+  if (count == 0) return;
+  candidate->contrast_plus = (centre - plus) / count;
+  candidate->contrast_minus = (centre - minus) / count;
+  candidate->centre_grey = centre / count;
+}
+
+double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
+  int histogram[256] = {};
+  int total = 0;
+  for (int r = 0; r < bev.rows; ++r) {
+    const std::uint8_t* b = bev.ptr<std::uint8_t>(r);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < bev.cols; ++c) {
+      if (m[c] == 0) continue;
+      ++histogram[b[c]];
+      ++total;
+    }
+  }
+  int below = 0;
+  for (int g = 0; g < 256; ++g) {
+    below += histogram[g];
+    if (2 * below >= total) return g;
+  }
+  return 0.0;
+}
+
+namespace {
+
+// Projections of both lines' endpoints onto `line` span the merged segment.
+void SpanEndpoints(const ExtractedLine& a, const ExtractedLine& b, ExtractedLine* merged) {
+  const Eigen::Vector2d d = merged->line.Direction();
+  const Eigen::Vector2d foot = merged->line.rho_m * merged->line.Normal();
+  double lo = d.dot(a.start_m), hi = lo;
+  for (const Eigen::Vector2d& p : {a.start_m, a.end_m, b.start_m, b.end_m}) {
+    lo = std::min(lo, d.dot(p));
+    hi = std::max(hi, d.dot(p));
+  }
+  merged->start_m = foot + lo * d;
+  merged->end_m = foot + hi * d;
+}
+
+double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
+  const Eigen::Vector2d d = a.line.Direction();
+  const double a0 = std::min(d.dot(a.start_m), d.dot(a.end_m));
+  const double a1 = std::max(d.dot(a.start_m), d.dot(a.end_m));
+  const double b0 = std::min(d.dot(b.start_m), d.dot(b.end_m));
+  const double b1 = std::max(d.dot(b.start_m), d.dot(b.end_m));
+  return std::min(a1, b1) - std::max(a0, b0);
+}
+
+}  // namespace
+
+void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
+                 double floor_median_grey, const LineExtractorOptions& options,
+                 std::vector<ExtractedLine>* out) {
+  const double sign = polarity == LinePolarity::kBright ? 1.0 : -1.0;
+  const double min_contrast = polarity == LinePolarity::kBright ? options.min_side_contrast
+                                                                : options.min_dark_side_contrast;
+  std::vector<int> edges;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const double plus = sign * candidates[i].contrast_plus;
+    const double minus = sign * candidates[i].contrast_minus;
+    if (polarity == LinePolarity::kBright &&
+        candidates[i].centre_grey < floor_median_grey + options.min_side_contrast) {
+      continue;
+    }
+    if (std::min(plus, minus) >= min_contrast) {
+      out->push_back(candidates[i].line);
+    } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {
+      edges.push_back(static_cast<int>(i));
+    }
+  }
+  // Facing edges: each one's bright side (the side as bright as its centre,
+  // the smaller contrast) points at the other.
+  std::vector<bool> used(candidates.size(), false);
+  for (size_t x = 0; x < edges.size(); ++x) {
+    const CandidateLine& a = candidates[edges[x]];
+    int best = -1;
+    double best_separation = options.bar_max_width_m;
+    for (size_t y = 0; y < edges.size(); ++y) {
+      if (x == y || used[edges[y]]) continue;
+      const CandidateLine& b = candidates[edges[y]];
+      const Eigen::Vector2d difference = LineDifference(b.line.line, a.line.line);
+      if (std::abs(difference(1)) > options.bar_max_angle_rad) continue;
+      const Eigen::Vector2d b_mid = 0.5 * (b.line.start_m + b.line.end_m);
+      const Eigen::Vector2d a_mid = 0.5 * (a.line.start_m + a.line.end_m);
+      const double a_to_b = SignedDistance(a.line.line, b_mid);
+      const double b_to_a = SignedDistance(b.line.line, a_mid);
+      const bool a_faces_b = (a.contrast_plus < a.contrast_minus) == (a_to_b > 0.0);
+      const bool b_faces_a = (b.contrast_plus < b.contrast_minus) == (b_to_a > 0.0);
+      const double separation = std::abs(a_to_b);
+      if (!a_faces_b || !b_faces_a || separation < options.bar_min_width_m ||
+          separation > best_separation) {
+        continue;
+      }
+      if (Overlap(a.line, b.line) < 0.5 * std::min(a.line.LengthM(), b.line.LengthM())) continue;
+      best = edges[y];
+      best_separation = separation;
+    }
+    if (best < 0 || used[edges[x]]) continue;
+    used[edges[x]] = used[best] = true;
+    const ExtractedLine& la = a.line;
+    const ExtractedLine& lb = candidates[best].line;
+    ExtractedLine merged = la;
+    const Eigen::Vector2d half = 0.5 * LineDifference(lb.line, la.line);
+    merged.line = NormalizeLine(la.line.rho_m + half(0), la.line.alpha_rad + half(1));
+    merged.covariance = 0.25 * (la.covariance + lb.covariance);
+    merged.from_bar_edges = true;
+    merged.energy = 0.5 * (la.energy + lb.energy);
+    merged.rms_residual_m = std::max(la.rms_residual_m, lb.rms_residual_m);
+    merged.samples = la.samples + lb.samples;
+    SpanEndpoints(la, lb, &merged);
+    out->push_back(merged);
+  }
+}
+
+void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {
+  std::stable_sort(
+      lines->begin(), lines->end(),
+      [](const ExtractedLine& a, const ExtractedLine& b) { return a.samples > b.samples; });
+  std::vector<ExtractedLine> kept;
+  for (const ExtractedLine& line : *lines) {
+    bool merged = false;
+    for (ExtractedLine& k : kept) {
+      if (k.kind.polarity != line.kind.polarity) continue;
+      const Eigen::Vector2d r = LineDifference(line.line, k.line);
+      if (std::abs(r(0)) > kDuplicateRhoM || std::abs(r(1)) > kDuplicateAlphaRad) continue;
+      const ExtractedLine keep = k;
+      SpanEndpoints(keep, line, &k);
+      merged = true;
+      break;
+    }
+    if (!merged) kept.push_back(line);
+  }
+  *lines = std::move(kept);
+}
+
+}  // namespace groundline::perception::internal

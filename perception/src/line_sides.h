@@ -1,0 +1,52 @@
+// Private to the line extractor: the side-contrast test on the BEV and the
+// pairing of wide-bar edges into centre lines (line_extractor.h, steps 4-5).
+#ifndef GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
+#define GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <span>
+#include <vector>
+
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::perception::internal {
+
+// A fitted line before the side test, with its floor centres.
+struct CandidateLine {
+  ExtractedLine line;
+  std::vector<Eigen::Vector2d> centres_m;
+  // Mean BEV grey level at the centres minus at side_offset along +n and -n
+  // (n: the line's normal in base_link).
+  double contrast_plus = 0.0;
+  double contrast_minus = 0.0;
+  double centre_grey = 0.0;  // mean BEV grey level at the centres
+};
+
+// Fills contrast_plus / contrast_minus from the BEV (CV_32FC1).
+void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
+                         CandidateLine* candidate);
+
+// The kept lines of one polarity: lines brighter (bright) or darker (dark)
+// than both sides by min_contrast; for bright, also the centre lines of
+// facing edge pairs (see line_extractor.h). Bright lines must also be
+// brighter than the frame's median floor grey level by min_side_contrast
+// (concrete between two dark scuffs or oil stains is a ridge, but no tape).
+// Appends to *out.
+void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
+                 double floor_median_grey, const LineExtractorOptions& options,
+                 std::vector<ExtractedLine>* out);
+
+// The median grey level of the BEV (CV_8U) over mask.
+double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
+
+// Lines of one polarity closer than these are one line (pieces of a marking
+// interrupted by a crossing one): the one with more samples is kept, spanning both.
+inline constexpr double kDuplicateRhoM = 0.01;
+inline constexpr double kDuplicateAlphaRad = 0.0175;
+void MergeDuplicateLines(std::vector<ExtractedLine>* lines);
+
+}  // namespace groundline::perception::internal
+
+#endif  // GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_

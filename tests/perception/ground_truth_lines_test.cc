@@ -1,0 +1,94 @@
+// Visible map markings as base_link lines, and the matching of extracted
+// lines to them.
+#include "groundline/perception/ground_truth_lines.h"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+namespace groundline::perception {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+core::FloorMap TestMap() {
+  core::FloorMap map;
+  core::FloorMarking tape;
+  tape.id = 1;
+  tape.width_m = 0.075;
+  tape.polyline_m = {core::Vector2(0.0, 1.0), core::Vector2(10.0, 1.0)};
+  map.markings.push_back(tape);
+  core::FloorMarking dashed = tape;
+  dashed.id = 2;
+  dashed.kind = core::MarkingKind::kTapeDashed;
+  dashed.dash_m = 0.5;
+  dashed.gap_m = 1.5;
+  dashed.polyline_m = {core::Vector2(0.0, 0.0), core::Vector2(10.0, 0.0)};
+  map.markings.push_back(dashed);
+  return map;
+}
+
+bool Footprint(const Eigen::Vector2d& p) {
+  return p.x() >= 0.6 && p.x() <= 2.4 && std::abs(p.y()) <= 1.0;
+}
+
+TEST(GroundTruthLines, VisibleMarkingsInBaseLink) {
+  const core::SE2 T_map_base(2.0, 0.7, 0.0);
+  const std::vector<TrueLine> lines =
+      VisibleMarkingLines(TestMap(), T_map_base, Footprint, VisibleLineOptions{});
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].marking_id, 1);
+  EXPECT_NEAR(lines[0].line.rho_m, 0.3, 1e-12);
+  EXPECT_NEAR(lines[0].line.alpha_rad, kPi / 2, 1e-12);
+  EXPECT_NEAR(lines[0].seen_length_m, 1.8, 0.02);
+  EXPECT_NEAR(lines[0].evaluated_length_m, 1.4, 0.02);  // x 1.0 .. 2.4
+  EXPECT_TRUE(lines[0].evaluated);
+  // Dashes at map x 0-0.5, 2-2.5, 4-4.5: base x 0-0.5 (unseen) and 0.6 .. 2.4
+  // holds only base x 2.0-2.4 (the dash at map 4.0-4.4).
+  EXPECT_EQ(lines[1].marking_id, 2);
+  EXPECT_NEAR(lines[1].line.rho_m, 0.7, 1e-12);
+  EXPECT_NEAR(lines[1].line.alpha_rad, -kPi / 2, 1e-12);
+  EXPECT_NEAR(lines[1].seen_length_m, 0.4, 0.02);
+  EXPECT_TRUE(lines[1].evaluated);
+  EXPECT_NEAR(lines[1].start_m.x(), 2.0, 0.011);
+
+  // Facing +y from (1.5, 0), the tape (map y = 1) runs across the vehicle at
+  // base x = 1; the dashed line (map y = 0) runs through base_link, unseen.
+  const std::vector<TrueLine> turned =
+      VisibleMarkingLines(TestMap(), core::SE2(1.5, 0.0, kPi / 2), Footprint, VisibleLineOptions{});
+  ASSERT_EQ(turned.size(), 1u);
+  EXPECT_NEAR(turned[0].line.rho_m, 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(std::cos(turned[0].line.alpha_rad)), 1.0, 1e-9);
+  EXPECT_TRUE(turned[0].evaluated);  // 2 m of it crosses the footprint at x = 1.0
+}
+
+TEST(GroundTruthLines, MatchGatesOverlapAndDuplicates) {
+  TrueLine truth;
+  truth.line = {0.3, kPi / 2};
+  truth.start_m = {1.0, 0.3};
+  truth.end_m = {2.0, 0.3};
+  truth.evaluated = true;
+  const std::vector<TrueLine> truths = {truth};
+  auto segment = [](double rho, double alpha, double x0, double x1) {
+    LineSegmentEstimate s;
+    s.line = NormalizeLine(rho, alpha);
+    const Eigen::Vector2d foot = s.line.rho_m * s.line.Normal();
+    const Eigen::Vector2d d = s.line.Direction();
+    s.start_m = foot + (x0 - foot.x()) / d.x() * d;
+    s.end_m = foot + (x1 - foot.x()) / d.x() * d;
+    return s;
+  };
+  const std::vector<LineSegmentEstimate> extracted = {
+      segment(0.32, kPi / 2, 1.2, 1.8),           // within 5 cm: match
+      segment(0.301, kPi / 2 + 0.001, 1.1, 1.9),  // closer: the match; the first is a duplicate
+      segment(0.36, kPi / 2, 1.2, 1.8),           // 6 cm off
+      segment(0.3, kPi / 2 + 0.06, 1.2, 1.8),     // 3.4 deg off
+      segment(0.3, kPi / 2, 2.2, 2.6),            // no overlap
+      segment(-0.3, -kPi / 2, 1.2, 1.8)};         // the same line, other description
+  const LineMatches m = MatchLines(extracted, truths, MatchGates{});
+  EXPECT_EQ(m.extracted_of_truth[0], 5);  // LineDifference is 0 in either description
+  EXPECT_EQ(m.truth_of_extracted, (std::vector<int>{-1, -1, -1, -1, -1, 0}));
+}
+
+}  // namespace
+}  // namespace groundline::perception

@@ -1,0 +1,155 @@
+// Line extraction on rendered BEV images (1 cm cells, the default grid):
+// accuracy of a tape's centre line, one centre line for a wide bar,
+// classification, merged dashes, junctions, and no lines from glare blobs or
+// short scuff streaks.
+#include "groundline/perception/line_extractor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <random>
+
+namespace groundline::perception {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A floor painter: reflectance (grey level) at a floor point in base_link.
+using Floor = std::function<double(const Eigen::Vector2d&)>;
+
+// Distance of p from the segment a-b.
+double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                       const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = b - a;
+  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * d)).norm();
+}
+
+// The BEV of a floor, 3x3 supersampled per cell, plus Gaussian noise.
+cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5) {
+  cv::Mat bev(grid.rows(), grid.cols(), CV_8U);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, noise_dn);
+  for (int r = 0; r < grid.rows(); ++r) {
+    for (int c = 0; c < grid.cols(); ++c) {
+      double sum = 0.0;
+      for (int i = -1; i <= 1; ++i) {
+        for (int j = -1; j <= 1; ++j) {
+          sum += floor(grid.FloorPointOfCell({c + i / 3.0, r + j / 3.0}));
+        }
+      }
+      bev.at<std::uint8_t>(r, c) = cv::saturate_cast<std::uint8_t>(sum / 9.0 + noise(rng));
+    }
+  }
+  return bev;
+}
+
+LineExtractor MakeExtractor(const BevGrid& grid) {
+  const cv::Mat valid(grid.rows(), grid.cols(), CV_8U, cv::Scalar(255));
+  const cv::Mat J(grid.rows(), grid.cols(), CV_64FC4, cv::Scalar(0.002, 0.0, 0.0, 0.002));
+  return LineExtractor(grid, valid, J, LineExtractorOptions{});
+}
+
+struct Tape {
+  Eigen::Vector2d a, b;
+  double width_m;
+  double grey;
+};
+
+Floor Paint(std::vector<Tape> tapes, double concrete = 80.0) {
+  return [tapes, concrete](const Eigen::Vector2d& p) {
+    for (const Tape& t : tapes) {
+      if (SegmentDistance(p, t.a, t.b) <= 0.5 * t.width_m) return t.grey;
+    }
+    return concrete;
+  };
+}
+
+TEST(LineExtractor, TapeCentreLineToTheMillimetre) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  // A slightly slanted longitudinal tape 7.5 cm wide, centre 0.3137 m to the left.
+  const HesseLine truth = NormalizeLine(0.3137, kPi / 2 - 0.02);
+  const Eigen::Vector2d foot = truth.rho_m * truth.Normal();
+  const Tape tape{foot - 2.6 * truth.Direction(), foot + 0.5 * truth.Direction(), 0.075, 170.0};
+  const LineExtraction out = extractor.Extract(RenderBev(grid, Paint({tape})));
+  ASSERT_EQ(out.lines.size(), 1u);
+  const ExtractedLine& line = out.lines[0];
+  const Eigen::Vector2d r = LineDifference(line.line, truth);
+  EXPECT_LT(std::abs(r(0)), 0.002);
+  EXPECT_LT(std::abs(r(1)), 0.1 * kPi / 180);
+  EXPECT_EQ(line.kind, (LineKind{LinePolarity::kBright, LineOrientation::kLongitudinal}));
+  EXPECT_GT(line.LengthM(), 1.2);
+  EXPECT_GT(line.covariance(0, 0), 0.0);
+}
+
+TEST(LineExtractor, DarkJointAndWideStopBarAndJunction) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  const Tape joint{{0.6, -0.25}, {2.4, -0.25}, 0.01, 25.0};    // longitudinal dark groove
+  const Tape stop_bar{{1.6, -0.25}, {1.6, 0.8}, 0.20, 200.0};  // transverse, 20 cm wide
+  const LineExtraction out = extractor.Extract(RenderBev(grid, Paint({stop_bar, joint})));
+  int joints = 0, bars = 0;
+  for (const ExtractedLine& l : out.lines) {
+    if (l.kind == LineKind{LinePolarity::kDark, LineOrientation::kLongitudinal}) {
+      ++joints;
+      EXPECT_NEAR(l.line.rho_m, 0.25, 0.003);
+    } else if (l.kind == LineKind{LinePolarity::kBright, LineOrientation::kTransverse}) {
+      ++bars;
+      EXPECT_TRUE(l.from_bar_edges);
+      EXPECT_NEAR(l.line.rho_m, 1.6, 0.003);
+    } else {
+      ADD_FAILURE() << "unexpected line " << LineKindName(l.kind) << " rho " << l.line.rho_m
+                    << " alpha " << l.line.alpha_rad;
+    }
+  }
+  EXPECT_EQ(joints, 1);
+  EXPECT_EQ(bars, 1);
+  ASSERT_EQ(out.junctions.size(), 1u);
+  EXPECT_NEAR(out.junctions[0].point_m.x(), 1.6, 0.005);
+  EXPECT_NEAR(out.junctions[0].point_m.y(), -0.25, 0.005);
+  EXPECT_EQ(out.junctions[0].shape, JunctionShape::kT);
+}
+
+TEST(LineExtractor, DashesMergeIntoOneLine) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  std::vector<Tape> dashes;
+  for (double x = 0.5; x < 2.5; x += 0.6) dashes.push_back({{x, 0.1}, {x + 0.3, 0.1}, 0.1, 180.0});
+  const LineExtraction out = extractor.Extract(RenderBev(grid, Paint(dashes)));
+  ASSERT_EQ(out.lines.size(), 1u);
+  EXPECT_NEAR(out.lines[0].line.rho_m, 0.1, 0.003);
+  EXPECT_GT(out.lines[0].LengthM(), 0.9);
+}
+
+TEST(LineExtractor, GlareBlobsAndShortScuffsGiveNoLines) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(1.0, 2.2), y(-0.5, 0.5), angle(0.0, kPi);
+  std::vector<Tape> scuffs;
+  for (int i = 0; i < 12; ++i) {  // short dark streaks, 3 cm wide, 5-12 cm long
+    const Eigen::Vector2d c(x(rng), y(rng));
+    const Eigen::Vector2d d(std::cos(angle(rng)), std::sin(angle(rng)));
+    scuffs.push_back({c - 0.04 * d, c + 0.04 * d, 0.03, 60.0});
+  }
+  const Floor painted = Paint(scuffs);
+  const Floor floor = [&](const Eigen::Vector2d& p) {
+    double v = painted(p);
+    for (const Eigen::Vector2d& g : {Eigen::Vector2d(1.5, 0.2), Eigen::Vector2d(2.0, -0.4)}) {
+      v += 110.0 * std::exp(-0.5 * (p - g).squaredNorm() / (0.12 * 0.12));  // glare
+    }
+    v += 60.0 * std::exp(-0.5 * (p - Eigen::Vector2d(1.2, -0.2)).squaredNorm() / (0.03 * 0.03));
+    return v;
+  };
+  const LineExtraction out = extractor.Extract(RenderBev(grid, floor));
+  for (const ExtractedLine& l : out.lines) {
+    ADD_FAILURE() << "line from glare or scuffs: " << LineKindName(l.kind) << " rho "
+                  << l.line.rho_m << " alpha " << l.line.alpha_rad << " length " << l.LengthM();
+  }
+}
+
+}  // namespace
+}  // namespace groundline::perception

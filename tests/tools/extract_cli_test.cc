@@ -1,0 +1,97 @@
+// `groundline extract` end to end through the executable: a folder of small
+// pinhole camera images of a floor with one tape line, plus one corrupt PNG
+// that must be reported by name and skipped.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+
+#include "cli_runner.h"
+#include "groundline/calibration/camera_model.h"
+#include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/floor_projection.h"
+#include "groundline/calibration/mrcal_cameramodel_io.h"
+#include "test_data.h"
+
+namespace groundline {
+namespace {
+
+using testing::Quoted;
+using testing::RunGroundline;
+
+TEST(ExtractCli, FolderWithACorruptImage) {
+  const std::filesystem::path dir = testing::ScratchDir("extract_cli");
+  const std::filesystem::path images = dir / "images";
+  std::filesystem::create_directories(images);
+  // A quarter-scale reference camera (same field of view), pinhole.
+  const calibration::CameraModel camera = *calibration::CameraModel::Create(
+      "LENSMODEL_PINHOLE", {283.0, 283.0, 159.5, 127.5}, 320, 256);
+  const calibration::CameraMount mount;
+  ASSERT_TRUE(calibration::WriteMrcalCameraModel(dir / "camera.cameramodel", camera).ok());
+  ASSERT_TRUE(calibration::WriteCameraMountYaml(mount, dir / "extrinsics.yaml").ok());
+  const calibration::FloorProjection projection(camera, mount);
+  for (int k = 0; k < 3; ++k) {
+    const double tape_y_m = 0.30 + 0.01 * k;  // 7.5 cm tape along x
+    cv::Mat image(256, 320, CV_8U);
+    for (int v = 0; v < 256; ++v) {
+      for (int u = 0; u < 320; ++u) {
+        double sum = 0.0;
+        for (int s = 0; s < 4; ++s) {
+          core::Result<Eigen::Vector2d> p =
+              projection.FloorPointOfPixel({u - 0.375 + 0.25 * s, v - 0.375 + 0.25 * (3 - s)});
+          sum += (p.ok() && std::abs(p->y() - tape_y_m) <= 0.0375) ? 190.0 : 70.0;
+        }
+        image.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(sum / 4.0);
+      }
+    }
+    ASSERT_TRUE(cv::imwrite((images / ("frame" + std::to_string(k) + ".png")).string(), image));
+  }
+  std::ofstream(images / "frame9_corrupt.png") << "\x89PNG\r\n\x1a\nnot really a png";
+
+  std::string out;
+  const std::filesystem::path result = dir / "out";
+  ASSERT_EQ(
+      RunGroundline("extract " + Quoted(images) + " --camera " +
+                        Quoted(dir / "camera.cameramodel") + " --extrinsics " +
+                        Quoted(dir / "extrinsics.yaml") + " --png-every 1 --out " + Quoted(result),
+                    dir, &out),
+      0)
+      << out;
+  EXPECT_NE(out.find("frame9_corrupt.png"), std::string::npos) << out;
+  std::ifstream jsonl(result / "lines.jsonl");
+  std::string line;
+  int frames = 0;
+  while (std::getline(jsonl, line)) {
+    const nlohmann::json frame = nlohmann::json::parse(line);
+    ASSERT_EQ(frame["lines"].size(), 1u) << line;
+    const nlohmann::json& l = frame["lines"][0];
+    EXPECT_NEAR(l["rho_m"].get<double>(), 0.30 + 0.01 * frames, 0.004) << line;
+    EXPECT_NEAR(l["alpha_rad"].get<double>(), std::numbers::pi / 2, 0.005) << line;
+    EXPECT_EQ(l["kind"], "tape_longitudinal");
+    EXPECT_EQ(l["cov"].size(), 4u);
+    EXPECT_TRUE(frame.contains("ms"));
+    EXPECT_TRUE(frame.contains("junctions"));
+    ++frames;
+  }
+  EXPECT_EQ(frames, 3);
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(result / "summary.json"));
+  EXPECT_EQ(summary["frames"], 3);
+  ASSERT_EQ(summary["skipped"].size(), 1u);
+  EXPECT_TRUE(summary["ms_per_frame_median"].is_number());
+  EXPECT_FALSE(summary.contains("tpr"));  // no ground truth
+  EXPECT_TRUE(std::filesystem::exists(result / "overlay_000000.png"));
+  EXPECT_TRUE(std::filesystem::exists(result / "bev_000000.png"));
+
+  EXPECT_EQ(RunGroundline("extract --out " + Quoted(result), dir, &out), 2) << out;
+  EXPECT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " + Quoted(dir / "nope.yaml") +
+                              " --out " + Quoted(result),
+                          dir, &out),
+            1)
+      << out;
+}
+
+}  // namespace
+}  // namespace groundline

@@ -1,0 +1,342 @@
+// `groundline extract`: floor lines, junctions and their covariances of every
+// image of a folder, a glob or a dataset (docs/perception.md).
+#include <fnmatch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "commands.h"
+#include "extract_output.h"
+#include "groundline/calibration/camera_file.h"
+#include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/core/atomic_file.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/trajectory_association.h"
+#include "progress.h"
+
+namespace groundline::tools {
+namespace {
+
+struct ExtractFlags {
+  std::string input;
+  std::string dataset;
+  std::string camera;
+  std::string extrinsics;
+  std::string out;
+  int png_every = 10;
+  int max_frames = 0;
+  double sigma_px = perception::LineExtractorOptions{}.sigma_px;
+  int supersampling = 2;
+  double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
+};
+
+constexpr char kHelp[] =
+    R"(Extracts floor lines from camera images (docs/perception.md): each image is
+mapped to a metric bird's-eye view (BEV, base_link x 0.6-2.4 m ahead, y +-1 m,
+1 cm cells) through the lens model and the mount, ridges are found with a
+steerable filter, lines fitted by total least squares with sub-pixel ridge
+centres, classified (tape = bright, joint = dark; longitudinal / transverse /
+oblique) and paired into junctions.
+
+Input: DIR (every .png/.jpg in it, sorted), a glob ('run/*.png', quoted), or
+--dataset DIR (camera, extrinsics, images, ground truth and floor map from a
+groundline dataset). Without --extrinsics the reference mount is used (0.58 m
+high, pitched 42.4 deg down, 0.42 m ahead of the axle).
+
+Writes into --out:
+  lines.jsonl    one object per image: image, ms (BEV + extraction time), lines
+                 [rho_m, alpha_rad (Hesse normal form in base_link, rho >= 0),
+                 cov (2x2 row-major covariance of rho [m] and alpha [rad]), kind,
+                 start_m, end_m, length_m, bar], junctions [point_m, cov, lines,
+                 shape L/T/X]; with ground truth also missed_marking_ids (visible
+                 markings 1.0-2.5 m ahead that no line matched)
+  bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
+  summary.json   frames, skipped (unreadable images, named on stderr),
+                 ms_per_frame_median; with ground truth and a floor map also tpr,
+                 fp_share, rho_err_median_m, alpha_err_median_deg and
+                 nees_inside_95_band_share for lines 1.0-2.5 m ahead, overall and
+                 per kind.
+
+Example:
+  groundline sim --zone B --length 89m --camera-rate 2 --no-lidar --out /tmp/b
+  groundline extract --dataset /tmp/b --out /tmp/b-lines
+  groundline extract 'frames/*.png' --camera cam.cameramodel --extrinsics mount.yaml --out x
+Exit codes: 0 ok (also when some images were skipped), 1 unreadable camera,
+extrinsics or dataset, or no image readable, 2 usage error.)";
+
+struct Input {
+  std::optional<calibration::CameraModel> camera;
+  calibration::CameraMount mount;
+  std::vector<std::filesystem::path> images;
+  std::vector<double> stamps_s;  // with a dataset
+  core::Trajectory ground_truth;
+  std::optional<core::FloorMap> floor_map;
+};
+
+std::vector<std::filesystem::path> ListImages(const std::string& spec) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  const fs::path path(spec);
+  auto is_image = [](const fs::path& p) {
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
+  };
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    for (const fs::directory_entry& e : fs::directory_iterator(path, ec)) {
+      if (e.is_regular_file() && is_image(e.path())) files.push_back(e.path());
+    }
+  } else if (spec.find_first_of("*?[") != std::string::npos) {
+    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+    const std::string pattern = path.filename().string();
+    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+      if (e.is_regular_file() && fnmatch(pattern.c_str(), e.path().filename().c_str(), 0) == 0) {
+        files.push_back(e.path());
+      }
+    }
+  } else if (fs::exists(path, ec)) {
+    files.push_back(path);
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+core::Result<Input> LoadInput(const ExtractFlags& flags) {
+  namespace fs = std::filesystem;
+  std::string camera_path = flags.camera, extrinsics_path = flags.extrinsics;
+  Input input;
+  if (!flags.dataset.empty()) {
+    core::DatasetReadOptions read;
+    read.load_wheel_encoders = read.load_scans = false;
+    read.check_image_files = false;
+    core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset, read);
+    if (!dataset.ok()) return core::Status::Error(dataset.message());
+    if (!dataset->manifest.camera) {
+      return core::Status::Error(flags.dataset + ": the dataset has no camera");
+    }
+    const fs::path dir(flags.dataset);
+    if (camera_path.empty())
+      camera_path = (dir / dataset->manifest.camera->intrinsics_file).string();
+    if (extrinsics_path.empty()) {
+      extrinsics_path = (dir / dataset->manifest.camera->extrinsics_file).string();
+    }
+    const fs::path index_dir = (dir / dataset->manifest.files.image_index).parent_path();
+    for (const core::ImageRecord& r : dataset->images) {
+      input.images.push_back(index_dir / r.file);
+      input.stamps_s.push_back(r.stamp_s);
+    }
+    input.ground_truth = std::move(dataset->ground_truth);
+    input.floor_map = std::move(dataset->floor_map);
+  } else {
+    input.images = ListImages(flags.input);
+    if (input.images.empty()) return core::Status::Error(flags.input + ": no images found");
+  }
+  if (camera_path.empty())
+    return core::Status::Error("--camera FILE is required without --dataset");
+  core::Result<calibration::CameraModel> camera = calibration::ReadCameraModel(camera_path);
+  if (!camera.ok()) return core::Status::Error(camera.message());
+  input.camera = std::move(*camera);
+  if (!extrinsics_path.empty()) {
+    core::Result<calibration::CameraMount> mount =
+        calibration::ReadCameraMountYaml(extrinsics_path);
+    if (!mount.ok()) return core::Status::Error(mount.message());
+    input.mount = *mount;
+  }
+  return input;
+}
+
+// T_map_base at stamp_s, interpolated; nullopt outside the trajectory.
+std::optional<core::SE2> PoseAt(const core::Trajectory& trajectory, double stamp_s) {
+  auto after = std::lower_bound(trajectory.begin(), trajectory.end(), stamp_s,
+                                [](const core::StampedPose& p, double t) { return p.stamp_s < t; });
+  if (after == trajectory.end() || (after == trajectory.begin() && after->stamp_s > stamp_s)) {
+    return std::nullopt;
+  }
+  if (after->stamp_s == stamp_s || after == trajectory.begin()) return after->pose;
+  const auto before = after - 1;
+  const double f = (stamp_s - before->stamp_s) / (after->stamp_s - before->stamp_s);
+  return core::InterpolateSE2(before->pose, after->pose, f);
+}
+
+int RunExtract(const ExtractFlags& flags) {
+  namespace fs = std::filesystem;
+  core::Result<Input> input = LoadInput(flags);
+  if (!input.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", input.message().c_str());
+    return 1;
+  }
+  perception::LineExtractorOptions options;
+  options.sigma_px = flags.sigma_px;
+  options.min_dark_side_contrast = flags.min_dark_contrast;
+  perception::BevRemap::Options remap_options;
+  remap_options.supersampling = flags.supersampling;
+  const perception::BevRemap remap(*input->camera, input->mount, remap_options);
+  const perception::LineExtractor extractor(remap, options);
+  const perception::BevGrid& grid = remap.grid();
+  const cv::Mat& mask = extractor.search_mask();
+  const perception::FootprintPredicate footprint = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d c = grid.CellOfFloorPoint(p);
+    const int col = static_cast<int>(std::lround(c.x())),
+              row = static_cast<int>(std::lround(c.y()));
+    return col >= 0 && row >= 0 && col < mask.cols && row < mask.rows &&
+           mask.at<std::uint8_t>(row, col) != 0;
+  };
+  const bool evaluate = input->floor_map && !input->ground_truth.empty();
+
+  std::error_code ec;
+  fs::create_directories(flags.out, ec);
+  std::ofstream jsonl(fs::path(flags.out) / "lines.jsonl.tmp");
+  perception::LineEvaluation evaluation;
+  std::vector<double> ms;
+  std::vector<std::string> skipped;
+  ProgressLine progress("[extract]");
+  size_t count = input->images.size();
+  if (flags.max_frames > 0) count = std::min(count, static_cast<size_t>(flags.max_frames));
+  for (size_t i = 0; i < count; ++i) {
+    progress.Update("images", static_cast<double>(i) / count);
+    const fs::path& path = input->images[i];
+    const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    if (image.empty() || image.cols != input->camera->width_px() ||
+        image.rows != input->camera->height_px()) {
+      const std::string why =
+          image.empty() ? "cannot be read or decoded" : "is not the camera's size";
+      std::fprintf(stderr, "groundline extract: skipping %s: it %s\n", path.c_str(), why.c_str());
+      skipped.push_back(path.string());
+      continue;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    cv::Mat bev;
+    remap.Apply(image, &bev);
+    const perception::LineExtraction extraction = extractor.Extract(bev);
+    const double frame_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ms.push_back(frame_ms);
+
+    std::vector<perception::TrueLine> truths;
+    std::vector<std::int64_t> missed;
+    if (evaluate) {
+      const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
+      if (pose) {
+        truths = perception::VisibleMarkingLines(*input->floor_map, *pose, footprint, {});
+        std::vector<perception::LineSegmentEstimate> estimates;
+        for (const perception::ExtractedLine& l : extraction.lines) {
+          estimates.push_back({l.line, l.covariance, l.start_m, l.end_m});
+        }
+        const perception::LineMatches matches = perception::MatchLines(estimates, truths, {});
+        evaluation.AddFrame(extraction.lines, truths, matches);
+        for (size_t j = 0; j < truths.size(); ++j) {
+          if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
+            missed.push_back(truths[j].marking_id);
+          }
+        }
+      }
+    }
+    nlohmann::ordered_json frame = FrameToJson(path.filename().string(), frame_ms, extraction);
+    if (evaluate) frame["missed_marking_ids"] = missed;
+    jsonl << frame.dump() << "\n";
+    if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "bev_%06zu.png", i);
+      cv::imwrite((fs::path(flags.out) / name).string(), bev);
+      std::snprintf(name, sizeof(name), "overlay_%06zu.png", i);
+      cv::imwrite((fs::path(flags.out) / name).string(),
+                  DrawOverlay(bev, grid, extraction, truths));
+    }
+  }
+  progress.Update("images", 1.0);
+  jsonl.close();
+  fs::rename(fs::path(flags.out) / "lines.jsonl.tmp", fs::path(flags.out) / "lines.jsonl", ec);
+  if (ec) {
+    std::fprintf(stderr, "groundline extract: cannot write %s/lines.jsonl: %s\n", flags.out.c_str(),
+                 ec.message().c_str());
+    return 1;
+  }
+
+  nlohmann::ordered_json summary;
+  summary["frames"] = ms.size();
+  summary["skipped"] = skipped;
+  summary["ms_per_frame_median"] =
+      ms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(perception::Median(ms));
+  if (evaluate) {
+    const nlohmann::ordered_json overall = ErrorSummaryToJson(evaluation.overall());
+    for (auto it = overall.begin(); it != overall.end(); ++it) summary[it.key()] = it.value();
+    nlohmann::ordered_json by_truth, by_extracted;
+    for (const auto& [kind, s] : evaluation.by_truth_kind()) by_truth[kind] = ErrorSummaryToJson(s);
+    for (const auto& [kind, s] : evaluation.by_extracted_kind()) {
+      by_extracted[kind] = {{"detections", s.detections},
+                            {"false_detections", s.false_detections},
+                            {"fp_share", s.detections > 0 ? s.FpShare() : 0.0}};
+    }
+    summary["by_marking_kind"] = by_truth;
+    summary["by_line_kind"] = by_extracted;
+  }
+  const fs::path summary_path = fs::path(flags.out) / "summary.json";
+  if (core::Status s = core::WriteFileAtomically(summary_path, summary.dump(2) + "\n"); !s.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
+    return 1;
+  }
+  std::printf("extracted %zu frames (%zu skipped), median %.2f ms/frame -> %s\n", ms.size(),
+              skipped.size(), ms.empty() ? 0.0 : perception::Median(ms), flags.out.c_str());
+  if (evaluate) {
+    const perception::LineErrorSummary& o = evaluation.overall();
+    std::printf(
+        "  tpr %.4f  fp_share %.4f  |rho err| median %.2f mm  |alpha err| median %.3f deg"
+        "  NEES in 95%% band %.3f\n",
+        o.Tpr(), o.FpShare(), 1e3 * o.MedianAbsRhoErrorM(),
+        o.MedianAbsAlphaErrorRad() * 180.0 / M_PI, o.NeesInsideBandShare());
+  }
+  return ms.empty() ? 1 : 0;
+}
+
+}  // namespace
+
+CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
+  auto flags = std::make_shared<ExtractFlags>();
+  CLI::App* cmd = parent.add_subcommand("extract", kHelp);
+  cmd->add_option("input", flags->input, "Image folder or quoted glob ('dir/*.png')");
+  cmd->add_option("--dataset", flags->dataset,
+                  "groundline dataset directory (camera, extrinsics, images, ground truth, map)");
+  cmd->add_option("--camera", flags->camera,
+                  "Intrinsics: .cameramodel, OpenCV YAML or ROS camera_info (default with "
+                  "--dataset: the dataset's)");
+  cmd->add_option("--extrinsics", flags->extrinsics,
+                  "groundline extrinsics YAML (T_base_cam; default: the dataset's, else the "
+                  "reference mount)");
+  cmd->add_option("-o,--out", flags->out, "Output directory (created)")->required();
+  cmd->add_option("--png-every", flags->png_every,
+                  "Write BEV + overlay PNGs every Nth frame (0: none)")
+      ->capture_default_str();
+  cmd->add_option("--max-frames", flags->max_frames, "Process at most this many images (0: all)")
+      ->capture_default_str();
+  cmd->add_option("--bev-supersampling", flags->supersampling,
+                  "BEV anti-aliasing: samples per cell side, averaged (1..4; 1: none)")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  cmd->add_option("--min-dark-contrast", flags->min_dark_contrast,
+                  "A dark line (joint) is darker than both sides by this many grey levels")
+      ->capture_default_str();
+  cmd->add_option("--sigma-px", flags->sigma_px,
+                  "Pixel noise of a ridge centre in the camera image [px] (line covariance)")
+      ->capture_default_str();
+  cmd->callback([cmd, flags, run]() {
+    if (flags->input.empty() == flags->dataset.empty()) {
+      throw CLI::ValidationError("give either an image folder/glob or --dataset DIR");
+    }
+    *run = [flags]() { return RunExtract(*flags); };
+    (void)cmd;
+  });
+  return cmd;
+}
+
+}  // namespace groundline::tools

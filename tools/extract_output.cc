@@ -1,0 +1,95 @@
+// JSON and overlay output of `groundline extract` (extract_output.h).
+#include "extract_output.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace groundline::tools {
+namespace {
+
+nlohmann::ordered_json Vec(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
+nlohmann::ordered_json Cov(const Eigen::Matrix2d& c) {
+  return {c(0, 0), c(0, 1), c(1, 0), c(1, 1)};
+}
+// JSON has no NaN: null instead.
+nlohmann::ordered_json Number(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
+
+}  // namespace
+
+nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
+                                   const perception::LineExtraction& extraction) {
+  nlohmann::ordered_json frame;
+  frame["image"] = image;
+  frame["ms"] = ms;
+  nlohmann::ordered_json lines = nlohmann::ordered_json::array();
+  for (const perception::ExtractedLine& l : extraction.lines) {
+    nlohmann::ordered_json line;
+    line["rho_m"] = l.line.rho_m;
+    line["alpha_rad"] = l.line.alpha_rad;
+    line["cov"] = Cov(l.covariance);
+    line["kind"] = std::string(perception::LineKindName(l.kind));
+    line["start_m"] = Vec(l.start_m);
+    line["end_m"] = Vec(l.end_m);
+    line["length_m"] = l.LengthM();
+    line["bar"] = l.from_bar_edges;
+    lines.push_back(line);
+  }
+  frame["lines"] = lines;
+  nlohmann::ordered_json junctions = nlohmann::ordered_json::array();
+  for (const perception::Junction& j : extraction.junctions) {
+    nlohmann::ordered_json junction;
+    junction["point_m"] = Vec(j.point_m);
+    junction["cov"] = Cov(j.covariance);
+    junction["lines"] = {j.line_a, j.line_b};
+    junction["shape"] = perception::JunctionShapeName(j.shape);
+    junctions.push_back(junction);
+  }
+  frame["junctions"] = junctions;
+  frame["energy_thresholds"] = {extraction.bright_threshold, extraction.dark_threshold};
+  return frame;
+}
+
+nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s) {
+  nlohmann::ordered_json out;
+  out["evaluated_truths"] = s.evaluated_truths;
+  out["detected_truths"] = s.detected_truths;
+  out["detections"] = s.detections;
+  out["false_detections"] = s.false_detections;
+  out["tpr"] = Number(s.Tpr());
+  out["fp_share"] = Number(s.FpShare());
+  out["rho_err_median_m"] = Number(s.MedianAbsRhoErrorM());
+  out["alpha_err_median_deg"] = Number(s.MedianAbsAlphaErrorRad() * 180.0 / M_PI);
+  out["nees_inside_95_band_share"] = Number(s.NeesInsideBandShare());
+  out["nees_median"] = Number(perception::Median(s.nees));
+  return out;
+}
+
+cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,
+                    const perception::LineExtraction& extraction,
+                    std::span<const perception::TrueLine> truths) {
+  constexpr int kScale = 3;  // upsampled so that 1 cm shows
+  cv::Mat grey, colour;
+  cv::resize(bev, grey, cv::Size(), kScale, kScale, cv::INTER_NEAREST);
+  cv::cvtColor(grey, colour, cv::COLOR_GRAY2BGR);
+  auto pixel = [&](const Eigen::Vector2d& floor) {
+    const Eigen::Vector2d c = grid.CellOfFloorPoint(floor);
+    return cv::Point(static_cast<int>(std::lround((c.x() + 0.5) * kScale - 0.5)),
+                     static_cast<int>(std::lround((c.y() + 0.5) * kScale - 0.5)));
+  };
+  for (const perception::TrueLine& t : truths) {
+    cv::line(colour, pixel(t.start_m), pixel(t.end_m), cv::Scalar(255, 120, 0), 1, cv::LINE_AA);
+  }
+  for (const perception::ExtractedLine& l : extraction.lines) {
+    const bool bright = l.kind.polarity == perception::LinePolarity::kBright;
+    const cv::Scalar c = bright ? cv::Scalar(0, 220, 0) : cv::Scalar(255, 0, 255);
+    cv::line(colour, pixel(l.start_m), pixel(l.end_m), c, l.from_bar_edges ? 3 : 1, cv::LINE_AA);
+  }
+  for (const perception::Junction& j : extraction.junctions) {
+    cv::circle(colour, pixel(j.point_m), 4 * kScale, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
+  }
+  return colour;
+}
+
+}  // namespace groundline::tools

@@ -1,0 +1,35 @@
+// Output of `groundline extract`: the JSON of one frame's lines, the summary,
+// and the BEV / overlay images (tools/extract_command.cc).
+#ifndef GROUNDLINE_TOOLS_EXTRACT_OUTPUT_H_
+#define GROUNDLINE_TOOLS_EXTRACT_OUTPUT_H_
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <span>
+#include <string>
+
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/ground_truth_lines.h"
+#include "groundline/perception/line_evaluation.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::tools {
+
+// {"image", "ms", "lines": [{rho_m, alpha_rad, cov, kind, start_m, end_m,
+// length_m, bar}], "junctions": [{point_m, cov, lines, shape}]}.
+nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
+                                   const perception::LineExtraction& extraction);
+
+// The summary's rate fields of one breakdown.
+nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);
+
+// The BEV in colour with the extracted lines (bright: green, dark: magenta;
+// bar centre lines thicker), junctions (red circles) and, if given, the true
+// lines (thin blue).
+cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,
+                    const perception::LineExtraction& extraction,
+                    std::span<const perception::TrueLine> truths);
+
+}  // namespace groundline::tools
+
+#endif  // GROUNDLINE_TOOLS_EXTRACT_OUTPUT_H_
