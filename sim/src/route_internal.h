@@ -26,9 +26,10 @@ struct TurnShape {
 TurnShape ComputeTurn(double angle_rad, double radius_m, double clothoid_length_m);
 
 // Road-graph node indices of a closed loop (first == last) whose smoothed
-// length is as near options.length_m as the walks found.
+// length is as near options.length_m as the walks found; an error when the
+// nearest differs from it by more than tolerance_m (infinity: any loop).
 core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptions& options,
-                                        std::mt19937_64* rng);
+                                        double tolerance_m, std::mt19937_64* rng);
 
 // The smooth loop through a closed polyline, densely sampled (about every
 // kPathStepM of arc length, and at every element boundary). The first sample is
@@ -45,6 +46,10 @@ struct PathSample {
 inline constexpr double kPathStepM = 0.01;
 core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& closed_polyline_m,
                                                  const RouteOptions& options, std::mt19937_64* rng);
+
+// An open path of exactly length_m: the loop driven lap after lap (arc length
+// and yaw continued) and cut at length_m, the last sample interpolated there.
+std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double length_m);
 
 }  // namespace groundline::sim::internal
 

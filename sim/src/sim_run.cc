@@ -40,7 +40,8 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
   core::DatasetManifest manifest;
   manifest.name =
       "sim_zone_" + std::string(ZoneLetter(options.zone)) + "_seed" + std::to_string(options.seed);
-  manifest.description = "groundline simulator: " + world.name + ", closed loop of " +
+  manifest.description = "groundline simulator: " + world.name + ", " +
+                         (options.route.closed_loop ? "closed loop of " : "route of ") +
                          std::to_string(static_cast<int>(std::lround(options.route.length_m))) +
                          " m";
   core::WheelEncoderSensor encoders;
@@ -69,6 +70,7 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
   manifest.provenance["zone"] = ZoneLetter(options.zone);
   manifest.provenance["seed"] = std::to_string(options.seed);
   manifest.provenance["route_length_m"] = std::to_string(options.route.length_m);
+  manifest.provenance["route_closed_loop"] = options.route.closed_loop ? "true" : "false";
   return manifest;
 }
 
