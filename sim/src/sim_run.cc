@@ -86,6 +86,9 @@ core::Status SimRunOptions::Validate() const {
   if (with_camera) {
     if (core::Status s = camera.Validate(); !s.ok()) return s.WithContext("camera");
     if (core::Status s = render.Validate(); !s.ok()) return s.WithContext("render");
+    if (core::Status s = mount_perturbations.Validate(); !s.ok()) {
+      return s.WithContext("mount_perturbations");
+    }
     if (!(camera_rate_hz > 0.0 && camera_rate_hz <= camera.sensor_rate_hz)) {
       return core::Status::Error("camera_rate_hz: expected a rate in (0, camera.sensor_rate_hz = " +
                                  std::to_string(camera.sensor_rate_hz) + "], got " +
@@ -193,6 +196,10 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
     render.seed = StreamSeed(options.seed, kCameraStream);
     run.camera = SimCamera{std::move(model).value(), options.camera.mount, render};
     const core::Trajectory& truth = run.route.T_map_base;
+    core::Result<std::vector<core::CameraExtrinsicsRecord>> mounts =
+        MountSchedule(options.camera.mount, options.mount_perturbations, truth);
+    if (!mounts.ok()) return mounts.status().WithContext("perturbing the camera mount");
+    dataset.ground_truth_extrinsics = std::move(mounts).value();
     const double t0 = truth.front().stamp_s;
     const double t1 = truth.back().stamp_s;
     char name[32];

@@ -29,6 +29,7 @@
 #include "groundline/localization/diff_drive_odometry.h"
 #include "groundline/sim/floor_camera.h"
 #include "groundline/sim/lidar.h"
+#include "groundline/sim/mount_perturbation.h"
 #include "groundline/sim/route.h"
 #include "groundline/sim/wheel_encoders.h"
 #include "groundline/sim/world.h"
@@ -64,6 +65,11 @@ struct SimRunOptions {
   double camera_rate_hz = 10.0;
   FloorCameraOptions camera;
   FloorRenderOptions render;
+  // Changes of the camera mount during the run (payload, tire wear, knocks):
+  // frames are rendered through the true mount of their moment, the dataset's
+  // extrinsics file keeps camera.mount (nominal) and its
+  // ground_truth_extrinsics the true mount over time.
+  MountPerturbationOptions mount_perturbations;
 
   core::Status Validate() const;
 };
@@ -71,8 +77,9 @@ struct SimRunOptions {
 // What WriteSimulatedImages needs to render the run's frames.
 struct SimCamera {
   calibration::CameraModel model;
-  calibration::CameraMount mount;
-  FloorRenderOptions render;  // seed already derived from the run's seed
+  calibration::CameraMount mount;  // nominal (the calibration file); the true
+                                   // mount over time: dataset.ground_truth_extrinsics
+  FloorRenderOptions render;       // seed already derived from the run's seed
 };
 
 struct SimRun {
@@ -93,7 +100,9 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
 
 // Renders every frame of run.dataset.images at its stamp (pose interpolated
 // from the ground truth, motion blur from its velocity, noise seeded by the
-// frame index) and writes DIR/images/<file> (PNG, atomically), then the
+// frame index, through the true mount in force at the stamp per
+// run.dataset.ground_truth_extrinsics, or the nominal mount when that is
+// empty) and writes DIR/images/<file> (PNG, atomically), then the
 // calibration files named by the manifest's camera: the intrinsics as an OpenCV
 // YAML (calibration::WriteOpenCvCalibration) and the mount as a groundline
 // extrinsics file (calibration::WriteCameraMountYaml). Frames are split over
