@@ -12,6 +12,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/text_parse.h"
 #include "groundline/sim/layout_png.h"
+#include "groundline/sim/scenario.h"
 #include "groundline/sim/sim_run.h"
 #include "progress.h"
 
@@ -19,6 +20,7 @@ namespace groundline::tools {
 namespace {
 
 struct SimFlags {
+  std::string scenario;
   std::string zone = "B";
   std::string length = "1200m";
   std::uint64_t seed = 1;
@@ -28,6 +30,14 @@ struct SimFlags {
   bool no_camera = false;
   double camera_rate_hz = 10.0;
   int threads = 2;
+  // Which flags were given (they override the scenario file).
+  std::vector<const CLI::Option*> given;
+  bool Given(const char* name) const {
+    for (const CLI::Option* o : given) {
+      if (o->check_name(name) && o->count() > 0) return true;
+    }
+    return false;
+  }
 };
 
 constexpr char kHelp[] =
@@ -59,8 +69,17 @@ at --camera-rate (default 10 Hz; the sensor runs at 60 fps), with the intrinsics
 Rendering costs a few frames per second per thread: --no-camera for quick runs.
 Also writes OUT/layout.png: the zone with the route in red.
 
+A scenario file (--scenario) sets everything else: the zone's layout, route
+speeds, sensor rates and noise, each photometric nuisance on/off with its
+intensity, and changes of the camera mount during the run (payload pitch,
+tire-wear height loss, knocks; the true mount goes to
+OUT/ground_truth_extrinsics.csv). Flags given on the command line override it.
+See samples/scenarios/*.yaml and sim/include/groundline/sim/scenario.h.
+
 Examples:
   groundline sim --zone B --length 1200m --seed 7 --out zone_b_seed7
+  groundline sim --scenario samples/scenarios/zone_b_payload_knock.yaml --out b_knock
+  groundline sim --scenario samples/scenarios/zone_d_shadows.yaml --seed 3 --out d_seed3
   groundline sim --zone D --length 300m --no-lidar --camera-rate 2 --out quick_d
   groundline sim --zone A --length 600m --no-camera --out zone_a_no_camera)";
 
@@ -79,29 +98,57 @@ std::optional<double> ParseLengthM(const std::string& text) {
   return *value * scale;
 }
 
+// The scenario file's options (or the defaults), then the flags given.
+// Returns an exit code on error.
+std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenario) {
+  if (!flags.scenario.empty()) {
+    core::Result<sim::Scenario> loaded = sim::LoadScenario(flags.scenario);
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "groundline sim: --scenario: %s\n", loaded.message().c_str());
+      return 1;
+    }
+    *scenario = std::move(loaded).value();
+  }
+  sim::SimRunOptions& options = scenario->options;
+  const bool from_file = !flags.scenario.empty();
+  if (!from_file || flags.Given("--zone")) {
+    core::Result<sim::Zone> zone = sim::ParseZone(flags.zone);
+    if (!zone.ok()) {
+      std::fprintf(stderr, "groundline sim: --zone: %s\n", zone.message().c_str());
+      return 2;
+    }
+    options.zone = *zone;
+  }
+  if (!from_file || flags.Given("--length")) {
+    const std::optional<double> length_m = ParseLengthM(flags.length);
+    if (!length_m) {
+      std::fprintf(stderr,
+                   "groundline sim: --length: expected a positive length such as 1200m or "
+                   "1.2km, got '%s'\n",
+                   flags.length.c_str());
+      return 2;
+    }
+    options.route.length_m = *length_m;
+  }
+  if (!from_file || flags.Given("--seed")) options.seed = flags.seed;
+  if (flags.closed_loop) options.route.closed_loop = true;
+  if (flags.no_lidar) options.with_lidar = false;
+  if (flags.no_camera) options.with_camera = false;
+  if (!from_file || flags.Given("--camera-rate")) options.camera_rate_hz = flags.camera_rate_hz;
+  return std::nullopt;
+}
+
 int RunSim(const SimFlags& flags) {
   const auto start = std::chrono::steady_clock::now();
-  sim::SimRunOptions options;
-  core::Result<sim::Zone> zone = sim::ParseZone(flags.zone);
-  if (!zone.ok()) {
-    std::fprintf(stderr, "groundline sim: --zone: %s\n", zone.message().c_str());
-    return 2;
-  }
-  options.zone = *zone;
-  const std::optional<double> length_m = ParseLengthM(flags.length);
-  if (!length_m) {
+  sim::Scenario scenario;
+  if (const std::optional<int> code = AssembleOptions(flags, &scenario)) return *code;
+  const sim::SimRunOptions& options = scenario.options;
+  if (scenario.robots != 1) {
     std::fprintf(stderr,
-                 "groundline sim: --length: expected a positive length such as 1200m or "
-                 "1.2km, got '%s'\n",
-                 flags.length.c_str());
-    return 2;
+                 "groundline sim: --scenario: robots: %d robots at once are not supported yet\n",
+                 scenario.robots);
+    return 1;
   }
-  options.route.length_m = *length_m;
-  options.route.closed_loop = flags.closed_loop;
-  options.seed = flags.seed;
-  options.with_lidar = !flags.no_lidar;
-  options.with_camera = !flags.no_camera;
-  options.camera_rate_hz = flags.camera_rate_hz;
 
   ProgressLine progress("[sim]");
   core::Result<sim::SimRun> run = sim::SimulateRun(
@@ -137,12 +184,12 @@ int RunSim(const SimFlags& flags) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
-      "%s: zone %s, seed %llu, %.0f m in %.0f s of driving; %zu encoder readings, "
+      "%s: zone %.1s, seed %llu, %.0f m in %.0f s of driving; %zu encoder readings, "
       "%zu LiDAR scans, %zu camera frames, %zu floor markings, %zu wheel slips; simulated in "
       "%.1f s\n",
-      flags.out_dir.c_str(), flags.zone.c_str(), static_cast<unsigned long long>(flags.seed),
-      run->route.length_m, run->route.duration_s, run->dataset.wheel_encoders.size(),
-      run->dataset.scans.size(), run->dataset.images.size(),
+      flags.out_dir.c_str(), "ABCD" + static_cast<int>(options.zone),
+      static_cast<unsigned long long>(options.seed), run->route.length_m, run->route.duration_s,
+      run->dataset.wheel_encoders.size(), run->dataset.scans.size(), run->dataset.images.size(),
       run->dataset.floor_map ? run->dataset.floor_map->markings.size() : 0,
       run->encoder_log.slips.size(), seconds);
   // A few sample frames (the dataset's own images, spread over the run).
@@ -161,10 +208,17 @@ CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<SimFlags>();
   CLI::App* cmd = parent.add_subcommand("sim", "Simulate a warehouse run (zones A-D) as a dataset");
   cmd->footer(kHelp);
-  cmd->add_option("--zone", flags->zone, "Zone preset: A, B, C or D")->capture_default_str();
-  cmd->add_option("--length", flags->length, "Route length (e.g. 1200m, 1.2km)")
-      ->capture_default_str();
-  cmd->add_option("--seed", flags->seed, "Seed of every random choice")->capture_default_str();
+  cmd->add_option("--scenario", flags->scenario,
+                  "Scenario YAML (samples/scenarios/*.yaml): layout, route, sensors, nuisances, "
+                  "mount perturbations; the flags given override it")
+      ->check(CLI::ExistingFile);
+  flags->given.push_back(
+      cmd->add_option("--zone", flags->zone, "Zone preset: A, B, C or D")->capture_default_str());
+  flags->given.push_back(
+      cmd->add_option("--length", flags->length, "Route length (e.g. 1200m, 1.2km)")
+          ->capture_default_str());
+  flags->given.push_back(
+      cmd->add_option("--seed", flags->seed, "Seed of every random choice")->capture_default_str());
   cmd->add_option("-o,--out", flags->out_dir, "Output dataset directory")->required();
   cmd->add_flag("--closed-loop", flags->closed_loop,
                 "Drive a closed loop back to the start (length as near --length as the lanes "
@@ -172,9 +226,10 @@ CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_flag("--no-lidar", flags->no_lidar, "Skip the LiDAR stream (faster, smaller)");
   cmd->add_flag("--no-camera", flags->no_camera,
                 "Skip the floor camera (no images; much faster, much smaller)");
-  cmd->add_option("--camera-rate", flags->camera_rate_hz,
-                  "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")
-      ->capture_default_str();
+  flags->given.push_back(
+      cmd->add_option("--camera-rate", flags->camera_rate_hz,
+                      "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")
+          ->capture_default_str());
   cmd->add_option("--threads", flags->threads, "Threads rendering camera frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -6,7 +6,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/text_parse.h"
-#include "yaml_fields.h"
+#include "groundline/core/yaml_fields.h"
 
 namespace groundline::core {
 namespace {

@@ -36,6 +36,24 @@ const char* ZoneLetter(Zone zone) {
   return "?";
 }
 
+core::Result<World> BuildRunZone(const SimRunOptions& options) {
+  const auto seeded = [&options](auto layout) {
+    layout.seed = options.seed;
+    return layout;
+  };
+  switch (options.zone) {
+    case Zone::kA:
+      return BuildZoneA(seeded(options.zone_a));
+    case Zone::kB:
+      return BuildZoneB(seeded(options.zone_b));
+    case Zone::kC:
+      return BuildZoneC(seeded(options.zone_c));
+    case Zone::kD:
+      return BuildZoneD(seeded(options.zone_d));
+  }
+  return core::Status::Error("unknown zone");
+}
+
 core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& world) {
   core::DatasetManifest manifest;
   manifest.name =
@@ -77,6 +95,11 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
 }  // namespace
 
 core::Status SimRunOptions::Validate() const {
+  const core::Status layout = zone == Zone::kA   ? zone_a.Validate()
+                              : zone == Zone::kB ? zone_b.Validate()
+                              : zone == Zone::kC ? zone_c.Validate()
+                                                 : zone_d.Validate();
+  if (!layout.ok()) return layout.WithContext("layout");
   if (core::Status s = route.Validate(); !s.ok()) return s.WithContext("route");
   if (core::Status s = drive.Validate(); !s.ok()) return s.WithContext("drive");
   if (core::Status s = encoders.Validate(); !s.ok()) return s.WithContext("encoders");
@@ -142,7 +165,7 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
   SimRun run;
 
   report("zone", 0.0);
-  core::Result<World> world = BuildZone(options.zone, options.seed);
+  core::Result<World> world = BuildRunZone(options);
   if (!world.ok()) return world.status().WithContext("building the zone");
   run.world = std::move(world).value();
   report("zone", 1.0);

@@ -39,6 +39,12 @@ namespace groundline::sim {
 
 struct SimRunOptions {
   Zone zone = Zone::kB;
+  // The layout of each zone (only the one of `zone` is used; its seed is
+  // replaced by `seed`).
+  ZoneAOptions zone_a;
+  ZoneBOptions zone_b;
+  ZoneCOptions zone_c;
+  ZoneDOptions zone_d;
   // Seeds the zone preset, the route, the encoders and the LiDAR (each with
   // its own derived seed), overriding the seeds inside the option structs.
   std::uint64_t seed = 1;
