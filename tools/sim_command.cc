@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -76,6 +77,10 @@ tire-wear height loss, knocks; the true mount goes to
 OUT/ground_truth_extrinsics.csv). Flags given on the command line override it.
 See samples/scenarios/*.yaml and sim/include/groundline/sim/scenario.h.
 
+With `robots: N` in the scenario, N vehicles drive the zone at once (own
+routes, same floor map), each LiDAR seeing the others as moving boxes; robot k's
+dataset goes to OUT/robot_<k>/ (see samples/scenarios/zone_a_fleet.yaml).
+
 Examples:
   groundline sim --zone B --length 1200m --seed 7 --out zone_b_seed7
   groundline sim --scenario samples/scenarios/zone_b_payload_knock.yaml --out b_knock
@@ -138,66 +143,82 @@ std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenari
   return std::nullopt;
 }
 
-int RunSim(const SimFlags& flags) {
-  const auto start = std::chrono::steady_clock::now();
-  sim::Scenario scenario;
-  if (const std::optional<int> code = AssembleOptions(flags, &scenario)) return *code;
-  const sim::SimRunOptions& options = scenario.options;
-  if (scenario.robots != 1) {
-    std::fprintf(stderr,
-                 "groundline sim: --scenario: robots: %d robots at once are not supported yet\n",
-                 scenario.robots);
-    return 1;
-  }
-
-  ProgressLine progress("[sim]");
-  core::Result<sim::SimRun> run = sim::SimulateRun(
-      options,
-      [&progress](std::string_view stage, double fraction) { progress.Update(stage, fraction); });
-  if (!run.ok()) {
-    std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
-    return 1;
-  }
-  const std::filesystem::path out(flags.out_dir);
-  // Images and calibration first: WriteDataset checks that they exist.
-  if (core::Status s = sim::WriteSimulatedImages(
-          out, *run,
-          [&progress](std::string_view stage, double fraction) {
-            progress.Update(stage, fraction);
-          },
-          flags.threads);
-      !s.ok()) {
+// Writes one run into `out` (images and calibration first: WriteDataset
+// checks that they exist) and prints its summary. Returns the exit code.
+int WriteRun(const std::filesystem::path& out, const sim::SimRun& run, int threads,
+             ProgressLine& progress, double started_s) {
+  const auto update = [&progress](std::string_view stage, double fraction) {
+    progress.Update(stage, fraction);
+  };
+  if (core::Status s = sim::WriteSimulatedImages(out, run, update, threads); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
   }
   progress.Update("writing", 0.0);
-  if (core::Status s = core::WriteDataset(out, run->dataset); !s.ok()) {
+  if (core::Status s = core::WriteDataset(out, run.dataset); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
   }
-  if (core::Status s = sim::WriteLayoutPng(run->world, &run->route.T_map_base, out / "layout.png");
+  if (core::Status s = sim::WriteLayoutPng(run.world, &run.route.T_map_base, out / "layout.png");
       !s.ok()) {
     std::fprintf(stderr, "groundline sim: layout picture: %s\n", s.message().c_str());
     return 1;
   }
   progress.Update("writing", 1.0);
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+      started_s;
+  const std::map<std::string, std::string>& provenance = run.dataset.manifest.provenance;
   std::printf(
-      "%s: zone %.1s, seed %llu, %.0f m in %.0f s of driving; %zu encoder readings, "
+      "%s: zone %s, seed %s, %.0f m in %.0f s of driving; %zu encoder readings, "
       "%zu LiDAR scans, %zu camera frames, %zu floor markings, %zu wheel slips; simulated in "
       "%.1f s\n",
-      flags.out_dir.c_str(), "ABCD" + static_cast<int>(options.zone),
-      static_cast<unsigned long long>(options.seed), run->route.length_m, run->route.duration_s,
-      run->dataset.wheel_encoders.size(), run->dataset.scans.size(), run->dataset.images.size(),
-      run->dataset.floor_map ? run->dataset.floor_map->markings.size() : 0,
-      run->encoder_log.slips.size(), seconds);
+      out.string().c_str(), provenance.at("zone").c_str(), provenance.at("seed").c_str(),
+      run.route.length_m, run.route.duration_s, run.dataset.wheel_encoders.size(),
+      run.dataset.scans.size(), run.dataset.images.size(),
+      run.dataset.floor_map ? run.dataset.floor_map->markings.size() : 0,
+      run.encoder_log.slips.size(), seconds);
   // A few sample frames (the dataset's own images, spread over the run).
-  const std::vector<core::ImageRecord>& images = run->dataset.images;
+  const std::vector<core::ImageRecord>& images = run.dataset.images;
   for (std::size_t i = 0; i < std::min<std::size_t>(4, images.size()); ++i) {
     const std::size_t k = i * (images.size() - 1) / std::max<std::size_t>(1, 3);
     std::printf("sample frame: %s (t = %.2f s)\n",
                 (out / "images" / images[k].file).string().c_str(), images[k].stamp_s);
+  }
+  return 0;
+}
+
+int RunSim(const SimFlags& flags) {
+  const double started_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  sim::Scenario scenario;
+  if (const std::optional<int> code = AssembleOptions(flags, &scenario)) return *code;
+  const sim::SimRunOptions& options = scenario.options;
+  ProgressLine progress("[sim]");
+  const auto update = [&progress](std::string_view stage, double fraction) {
+    progress.Update(stage, fraction);
+  };
+  const std::filesystem::path out(flags.out_dir);
+  if (scenario.robots == 1) {
+    core::Result<sim::SimRun> run = sim::SimulateRun(options, update);
+    if (!run.ok()) {
+      std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
+      return 1;
+    }
+    return WriteRun(out, *run, flags.threads, progress, started_s);
+  }
+  sim::FleetOptions fleet;
+  fleet.robots = scenario.robots;
+  core::Result<std::vector<sim::SimRun>> runs = sim::SimulateFleet(options, fleet, update);
+  if (!runs.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", runs.message().c_str());
+    return 1;
+  }
+  for (std::size_t k = 0; k < runs->size(); ++k) {
+    const std::filesystem::path robot_dir = out / ("robot_" + std::to_string(k));
+    if (const int code = WriteRun(robot_dir, (*runs)[k], flags.threads, progress, started_s)) {
+      return code;
+    }
   }
   return 0;
 }

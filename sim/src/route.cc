@@ -73,16 +73,25 @@ core::Status RouteOptions::Validate() const {
 core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   if (core::Status status = o.Validate(); !status.ok()) return status;
   std::mt19937_64 rng(o.seed);
+  // A closed loop searches for the nearest length; an open route is cut to
+  // length anyway, so the first walk within a quarter of it will do (and
+  // different seeds keep different starts and walks).
   const double tolerance_m = o.closed_loop ? o.length_tolerance_fraction * o.length_m
                                            : std::numeric_limits<double>::infinity();
-  core::Result<std::vector<int>> nodes = internal::PlanLoop(world.roads, o, tolerance_m, &rng);
+  const double good_enough_m =
+      o.closed_loop ? std::min(0.2 * tolerance_m, 0.002 * o.length_m) : 0.25 * o.length_m;
+  core::Result<std::vector<int>> nodes =
+      internal::PlanLoop(world.roads, o, tolerance_m, good_enough_m, &rng);
   if (!nodes.ok()) return nodes.status().WithContext(world.name);
   Route route;
   for (int node : *nodes) route.waypoints_m.push_back(world.roads.nodes_m[std::size_t(node)]);
   core::Result<std::vector<PathSample>> smoothed = internal::SmoothLoop(route.waypoints_m, o, &rng);
   if (!smoothed.ok()) return smoothed.status().WithContext(world.name);
-  const std::vector<PathSample> path =
-      o.closed_loop ? std::move(smoothed).value() : internal::OpenPath(*smoothed, o.length_m);
+  // An open route starts anywhere along the loop (seeded).
+  const double start_m = std::uniform_real_distribution<double>(0.0, smoothed->back().s_m)(rng);
+  const std::vector<PathSample> path = o.closed_loop
+                                           ? std::move(smoothed).value()
+                                           : internal::OpenPath(*smoothed, start_m, o.length_m);
   route.closed_loop = o.closed_loop;
   route.length_m = path.back().s_m;
 

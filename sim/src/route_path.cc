@@ -163,15 +163,19 @@ core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& pol
   return samples;
 }
 
-std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double length_m) {
+std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double start_m,
+                                 double length_m) {
   assert(loop.size() >= 2 && loop.back().s_m > 0.0 && length_m > 0.0);
   const double lap_m = loop.back().s_m;
   const double lap_yaw_rad = loop.back().yaw_rad - loop.front().yaw_rad;
+  std::size_t first = 0;
+  while (first + 2 < loop.size() && loop[first].s_m < start_m) ++first;
+  const double offset_m = loop[first].s_m;
   std::vector<PathSample> out;
   for (int lap = 0;; ++lap) {
-    for (std::size_t i = lap == 0 ? 0 : 1; i < loop.size(); ++i) {
+    for (std::size_t i = lap == 0 ? first : 1; i < loop.size(); ++i) {
       PathSample p = loop[i];
-      p.s_m += lap * lap_m;
+      p.s_m += lap * lap_m - offset_m;
       p.yaw_rad += lap * lap_yaw_rad;
       if (p.s_m >= length_m) {
         const PathSample& a = out.back();

@@ -34,7 +34,8 @@ struct Transition {
 }  // namespace
 
 core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptions& options,
-                                        double tolerance_m, std::mt19937_64* rng) {
+                                        double tolerance_m, double good_enough_m,
+                                        std::mt19937_64* rng) {
   std::vector<Directed> edges;
   for (std::size_t e = 0; e < roads.edges.size(); ++e) {
     const RoadGraph::Edge& edge = roads.edges[e];
@@ -140,7 +141,7 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
     for (int d : walk) best_nodes.push_back(edges[static_cast<std::size_t>(d)].to);
     best_error_m = prefix_error_m;
     best_length_m = prefix_length_m;
-    if (best_error_m <= std::min(0.2 * tolerance_m, 0.002 * target_m)) break;
+    if (best_error_m <= good_enough_m) break;
   }
   if (best_nodes.empty()) {
     return core::Status::Error(

@@ -64,6 +64,26 @@ TEST(SimCli, ScenarioRunWithFlagOverrides) {
   EXPECT_GE(d->images.size(), 4u);
 }
 
+TEST(SimCli, FleetScenarioWritesOneDatasetPerRobot) {
+  const std::filesystem::path dir = testing::ScratchDir("sim_cli_fleet");
+  const std::filesystem::path scenario = dir / "fleet.yaml";
+  std::ofstream(scenario) << "format: groundline-sim-scenario\nversion: 1.0\nzone: D\n"
+                             "robots: 2\nroute: {length_m: 30}\ncamera: {enabled: false}\n"
+                             "lidar: {rate_hz: 2}\n";
+  std::string output;
+  ASSERT_EQ(RunGroundline("sim --scenario " + Quoted(scenario) + " --out " + Quoted(dir / "out"),
+                          dir, &output),
+            0)
+      << output;
+  for (const char* robot : {"robot_0", "robot_1"}) {
+    const core::Result<core::Dataset> d = core::ReadDataset(dir / "out" / robot);
+    ASSERT_TRUE(d.ok()) << d.message();
+    EXPECT_EQ(d->manifest.provenance.at("robots"), "2");
+    EXPECT_FALSE(d->scans.empty());
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / robot / "layout.png"));
+  }
+}
+
 TEST(SimCli, BadScenarioNamesFileLineAndField) {
   const std::filesystem::path dir = testing::ScratchDir("sim_cli_bad");
   const std::filesystem::path scenario = dir / "bad.yaml";

@@ -27,10 +27,10 @@
 // 5. Length. A closed loop is the planned loop itself: its length is the
 //    nearest the road graph allows (within length_tolerance_fraction, else an
 //    error; zone B's loops come in steps of a few metres, zone D's corridor
-//    ring only in laps of ~250 m). An open route (closed_loop = false) drives
-//    the planned loop lap after lap and stops exactly at length_m (so any
-//    length >= 1 m in any zone); it starts and ends at rest, accelerating and
-//    braking at max_accel_mps2.
+//    ring only in laps of ~250 m). An open route (closed_loop = false) starts
+//    at a seeded point of the planned loop, drives it lap after lap and stops
+//    exactly at length_m (so any length >= 1 m in any zone); it starts and
+//    ends at rest, accelerating and braking at max_accel_mps2.
 //
 // The result is T_map_base (base_link: midpoint of the drive axle) sampled at
 // sample_rate_hz: over one loop, t in [0, duration_s) for a closed loop; over

@@ -21,6 +21,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/camera_model.h"
@@ -103,6 +104,30 @@ using SimProgress = std::function<void(std::string_view stage, double fraction)>
 // Errors: invalid options, a zone or route that cannot be built (the message
 // names the option to change).
 core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress = {});
+
+// Several robots in one zone at once (fleet runs). One world (built from
+// options.seed); robot k drives its own route (a different start and walk)
+// with its own encoder, LiDAR and camera noise, all seeded from its robot seed
+// (robot 0: options.seed, so a one-robot fleet is SimulateRun; robot k > 0:
+// derived from options.seed and k). Every robot's LiDAR sees every other robot
+// as a moving box (FleetOptions) that follows that robot's ground truth and is
+// parked at its first or last pose before or after its run. Each SimRun's
+// world holds the other robots as MovingKind::kRobot obstacles; the floor map
+// is the same for all. Robots do not avoid each other (no traffic rules):
+// their routes may cross, and a LiDAR inside another robot's box reports
+// too-close (no) returns there. Manifest names end in "_robot<k>".
+struct FleetOptions {
+  int robots = 2;  // >= 1
+  // The vehicle body seen by the others' LiDARs: a box centred on base_link.
+  Vector2 robot_half_extent_m = Vector2(0.85, 0.46);
+  double robot_height_m = 1.2;
+  double robot_reflectivity = 0.6;
+
+  core::Status Validate() const;
+};
+core::Result<std::vector<SimRun>> SimulateFleet(const SimRunOptions& options,
+                                                const FleetOptions& fleet,
+                                                const SimProgress& progress = {});
 
 // Renders every frame of run.dataset.images at its stamp (pose interpolated
 // from the ground truth, motion blur from its velocity, noise seeded by the
