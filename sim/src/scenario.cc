@@ -158,6 +158,7 @@ void ReadNuisances(YamlFields& y, const YAML::Node& map, FloorRenderOptions* r) 
         {"luminaire_spacing_x_m", &r->luminaire_spacing_x_m},
         {"luminaire_spacing_y_m", &r->luminaire_spacing_y_m}}},
       {"motion_blur", {{"enabled", &r->motion_blur}, {"exposure_s", &r->exposure_s}}},
+      {"occlusion", {{"enabled", &r->occlusion}}},
       {"noise",
        {{"enabled", &r->noise},
         {"read_noise_dn", &r->read_noise_dn},

@@ -15,6 +15,7 @@
 //     texture: {enabled: true, contrast: 0.25}
 //     scuffs: {enabled: true, darkness: 0.15}
 //     shadows: {enabled: true, factor: 0.4, cover: 0.3}
+//     occlusion: {enabled: true}   # forklifts, pedestrians, robots in view
 //     ...
 //   perturbations:           # the camera mount during the run (mount_perturbation.h)
 //     height_loss_mm_per_km: 2
