@@ -78,8 +78,7 @@ core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   // different seeds keep different starts and walks).
   const double tolerance_m = o.closed_loop ? o.length_tolerance_fraction * o.length_m
                                            : std::numeric_limits<double>::infinity();
-  const double good_enough_m =
-      o.closed_loop ? std::min(0.2 * tolerance_m, 0.002 * o.length_m) : 0.25 * o.length_m;
+  const double good_enough_m = o.closed_loop ? 0.5 * tolerance_m : 0.25 * o.length_m;
   core::Result<std::vector<int>> nodes =
       internal::PlanLoop(world.roads, o, tolerance_m, good_enough_m, &rng);
   if (!nodes.ok()) return nodes.status().WithContext(world.name);
