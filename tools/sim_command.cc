@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/text_parse.h"
 #include "groundline/sim/layout_png.h"
+#include "groundline/sim/scenario.h"
 #include "groundline/sim/sim_run.h"
 #include "progress.h"
 
@@ -19,14 +21,24 @@ namespace groundline::tools {
 namespace {
 
 struct SimFlags {
+  std::string scenario;
   std::string zone = "B";
   std::string length = "1200m";
   std::uint64_t seed = 1;
   std::string out_dir;
+  bool closed_loop = false;
   bool no_lidar = false;
   bool no_camera = false;
   double camera_rate_hz = 10.0;
   int threads = 2;
+  // Which flags were given (they override the scenario file).
+  std::vector<const CLI::Option*> given;
+  bool Given(const char* name) const {
+    for (const CLI::Option* o : given) {
+      if (o->check_name(name) && o->count() > 0) return true;
+    }
+    return false;
+  }
 };
 
 constexpr char kHelp[] =
@@ -41,7 +53,10 @@ Zones (presets modelled on a 24,000 m^2 logistics terminal):
   C  loading docks: 16 dock doors, apron and staging lanes
   D  inter-bay corridors: long smooth walls, saw-cut joints every 6.0 m, yellow
      boundary lines
-The vehicle drives a closed loop of --length along the zone's lanes at 1-2 m/s.
+The vehicle drives --length along the zone's lanes at 1-2 m/s, starting and
+stopping at rest; the route is exactly that long. With --closed-loop it drives a
+closed loop instead (back to its start at speed), as near --length as the lanes
+allow (within 1 %, else an error; zone D's corridor ring comes in ~250 m laps).
 
 Streams written: wheel encoders at 100 Hz (4096 ticks/rev, 0.1 % radius error per
 wheel, random wheel error, occasional slips), planar LiDAR at 15 Hz (270 deg,
@@ -55,8 +70,21 @@ at --camera-rate (default 10 Hz; the sensor runs at 60 fps), with the intrinsics
 Rendering costs a few frames per second per thread: --no-camera for quick runs.
 Also writes OUT/layout.png: the zone with the route in red.
 
+A scenario file (--scenario) sets everything else: the zone's layout, route
+speeds, sensor rates and noise, each photometric nuisance on/off with its
+intensity, and changes of the camera mount during the run (payload pitch,
+tire-wear height loss, knocks; the true mount goes to
+OUT/ground_truth_extrinsics.csv). Flags given on the command line override it.
+See samples/scenarios/*.yaml and sim/include/groundline/sim/scenario.h.
+
+With `robots: N` in the scenario, N vehicles drive the zone at once (own
+routes, same floor map), each LiDAR seeing the others as moving boxes; robot k's
+dataset goes to OUT/robot_<k>/ (see samples/scenarios/zone_a_fleet.yaml).
+
 Examples:
   groundline sim --zone B --length 1200m --seed 7 --out zone_b_seed7
+  groundline sim --scenario samples/scenarios/zone_b_payload_knock.yaml --out b_knock
+  groundline sim --scenario samples/scenarios/zone_d_shadows.yaml --seed 3 --out d_seed3
   groundline sim --zone D --length 300m --no-lidar --camera-rate 2 --out quick_d
   groundline sim --zone A --length 600m --no-camera --out zone_a_no_camera)";
 
@@ -75,77 +103,122 @@ std::optional<double> ParseLengthM(const std::string& text) {
   return *value * scale;
 }
 
-int RunSim(const SimFlags& flags) {
-  const auto start = std::chrono::steady_clock::now();
-  sim::SimRunOptions options;
-  core::Result<sim::Zone> zone = sim::ParseZone(flags.zone);
-  if (!zone.ok()) {
-    std::fprintf(stderr, "groundline sim: --zone: %s\n", zone.message().c_str());
-    return 2;
+// The scenario file's options (or the defaults), then the flags given.
+// Returns an exit code on error.
+std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenario) {
+  if (!flags.scenario.empty()) {
+    core::Result<sim::Scenario> loaded = sim::LoadScenario(flags.scenario);
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "groundline sim: --scenario: %s\n", loaded.message().c_str());
+      return 1;
+    }
+    *scenario = std::move(loaded).value();
   }
-  options.zone = *zone;
-  const std::optional<double> length_m = ParseLengthM(flags.length);
-  if (!length_m) {
-    std::fprintf(stderr,
-                 "groundline sim: --length: expected a positive length such as 1200m or "
-                 "1.2km, got '%s'\n",
-                 flags.length.c_str());
-    return 2;
+  sim::SimRunOptions& options = scenario->options;
+  const bool from_file = !flags.scenario.empty();
+  if (!from_file || flags.Given("--zone")) {
+    core::Result<sim::Zone> zone = sim::ParseZone(flags.zone);
+    if (!zone.ok()) {
+      std::fprintf(stderr, "groundline sim: --zone: %s\n", zone.message().c_str());
+      return 2;
+    }
+    options.zone = *zone;
   }
-  options.route.length_m = *length_m;
-  options.seed = flags.seed;
-  options.with_lidar = !flags.no_lidar;
-  options.with_camera = !flags.no_camera;
-  options.camera_rate_hz = flags.camera_rate_hz;
+  if (!from_file || flags.Given("--length")) {
+    const std::optional<double> length_m = ParseLengthM(flags.length);
+    if (!length_m) {
+      std::fprintf(stderr,
+                   "groundline sim: --length: expected a positive length such as 1200m or "
+                   "1.2km, got '%s'\n",
+                   flags.length.c_str());
+      return 2;
+    }
+    options.route.length_m = *length_m;
+  }
+  if (!from_file || flags.Given("--seed")) options.seed = flags.seed;
+  if (flags.closed_loop) options.route.closed_loop = true;
+  if (flags.no_lidar) options.with_lidar = false;
+  if (flags.no_camera) options.with_camera = false;
+  if (!from_file || flags.Given("--camera-rate")) options.camera_rate_hz = flags.camera_rate_hz;
+  return std::nullopt;
+}
 
-  ProgressLine progress("[sim]");
-  core::Result<sim::SimRun> run = sim::SimulateRun(
-      options,
-      [&progress](std::string_view stage, double fraction) { progress.Update(stage, fraction); });
-  if (!run.ok()) {
-    std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
-    return 1;
-  }
-  const std::filesystem::path out(flags.out_dir);
-  // Images and calibration first: WriteDataset checks that they exist.
-  if (core::Status s = sim::WriteSimulatedImages(
-          out, *run,
-          [&progress](std::string_view stage, double fraction) {
-            progress.Update(stage, fraction);
-          },
-          flags.threads);
-      !s.ok()) {
+// Writes one run into `out` (images and calibration first: WriteDataset
+// checks that they exist) and prints its summary. Returns the exit code.
+int WriteRun(const std::filesystem::path& out, const sim::SimRun& run, int threads,
+             ProgressLine& progress, double started_s) {
+  const auto update = [&progress](std::string_view stage, double fraction) {
+    progress.Update(stage, fraction);
+  };
+  if (core::Status s = sim::WriteSimulatedImages(out, run, update, threads); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
   }
   progress.Update("writing", 0.0);
-  if (core::Status s = core::WriteDataset(out, run->dataset); !s.ok()) {
+  if (core::Status s = core::WriteDataset(out, run.dataset); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
   }
-  if (core::Status s = sim::WriteLayoutPng(run->world, &run->route.T_map_base, out / "layout.png");
+  if (core::Status s = sim::WriteLayoutPng(run.world, &run.route.T_map_base, out / "layout.png");
       !s.ok()) {
     std::fprintf(stderr, "groundline sim: layout picture: %s\n", s.message().c_str());
     return 1;
   }
   progress.Update("writing", 1.0);
   const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+      started_s;
+  const std::map<std::string, std::string>& provenance = run.dataset.manifest.provenance;
   std::printf(
-      "%s: zone %s, seed %llu, %.0f m in %.0f s of driving; %zu encoder readings, "
+      "%s: zone %s, seed %s, %.0f m in %.0f s of driving; %zu encoder readings, "
       "%zu LiDAR scans, %zu camera frames, %zu floor markings, %zu wheel slips; simulated in "
       "%.1f s\n",
-      flags.out_dir.c_str(), flags.zone.c_str(), static_cast<unsigned long long>(flags.seed),
-      run->route.length_m, run->route.duration_s, run->dataset.wheel_encoders.size(),
-      run->dataset.scans.size(), run->dataset.images.size(),
-      run->dataset.floor_map ? run->dataset.floor_map->markings.size() : 0,
-      run->encoder_log.slips.size(), seconds);
+      out.string().c_str(), provenance.at("zone").c_str(), provenance.at("seed").c_str(),
+      run.route.length_m, run.route.duration_s, run.dataset.wheel_encoders.size(),
+      run.dataset.scans.size(), run.dataset.images.size(),
+      run.dataset.floor_map ? run.dataset.floor_map->markings.size() : 0,
+      run.encoder_log.slips.size(), seconds);
   // A few sample frames (the dataset's own images, spread over the run).
-  const std::vector<core::ImageRecord>& images = run->dataset.images;
+  const std::vector<core::ImageRecord>& images = run.dataset.images;
   for (std::size_t i = 0; i < std::min<std::size_t>(4, images.size()); ++i) {
     const std::size_t k = i * (images.size() - 1) / std::max<std::size_t>(1, 3);
     std::printf("sample frame: %s (t = %.2f s)\n",
                 (out / "images" / images[k].file).string().c_str(), images[k].stamp_s);
+  }
+  return 0;
+}
+
+int RunSim(const SimFlags& flags) {
+  const double started_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  sim::Scenario scenario;
+  if (const std::optional<int> code = AssembleOptions(flags, &scenario)) return *code;
+  const sim::SimRunOptions& options = scenario.options;
+  ProgressLine progress("[sim]");
+  const auto update = [&progress](std::string_view stage, double fraction) {
+    progress.Update(stage, fraction);
+  };
+  const std::filesystem::path out(flags.out_dir);
+  if (scenario.robots == 1) {
+    core::Result<sim::SimRun> run = sim::SimulateRun(options, update);
+    if (!run.ok()) {
+      std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
+      return 1;
+    }
+    return WriteRun(out, *run, flags.threads, progress, started_s);
+  }
+  sim::FleetOptions fleet;
+  fleet.robots = scenario.robots;
+  core::Result<std::vector<sim::SimRun>> runs = sim::SimulateFleet(options, fleet, update);
+  if (!runs.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", runs.message().c_str());
+    return 1;
+  }
+  for (std::size_t k = 0; k < runs->size(); ++k) {
+    const std::filesystem::path robot_dir = out / ("robot_" + std::to_string(k));
+    if (const int code = WriteRun(robot_dir, (*runs)[k], flags.threads, progress, started_s)) {
+      return code;
+    }
   }
   return 0;
 }
@@ -156,17 +229,28 @@ CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<SimFlags>();
   CLI::App* cmd = parent.add_subcommand("sim", "Simulate a warehouse run (zones A-D) as a dataset");
   cmd->footer(kHelp);
-  cmd->add_option("--zone", flags->zone, "Zone preset: A, B, C or D")->capture_default_str();
-  cmd->add_option("--length", flags->length, "Route length (e.g. 1200m, 1.2km)")
-      ->capture_default_str();
-  cmd->add_option("--seed", flags->seed, "Seed of every random choice")->capture_default_str();
+  cmd->add_option("--scenario", flags->scenario,
+                  "Scenario YAML (samples/scenarios/*.yaml): layout, route, sensors, nuisances, "
+                  "mount perturbations; the flags given override it")
+      ->check(CLI::ExistingFile);
+  flags->given.push_back(
+      cmd->add_option("--zone", flags->zone, "Zone preset: A, B, C or D")->capture_default_str());
+  flags->given.push_back(
+      cmd->add_option("--length", flags->length, "Route length (e.g. 1200m, 1.2km)")
+          ->capture_default_str());
+  flags->given.push_back(
+      cmd->add_option("--seed", flags->seed, "Seed of every random choice")->capture_default_str());
   cmd->add_option("-o,--out", flags->out_dir, "Output dataset directory")->required();
+  cmd->add_flag("--closed-loop", flags->closed_loop,
+                "Drive a closed loop back to the start (length as near --length as the lanes "
+                "allow, within 1 %)");
   cmd->add_flag("--no-lidar", flags->no_lidar, "Skip the LiDAR stream (faster, smaller)");
   cmd->add_flag("--no-camera", flags->no_camera,
                 "Skip the floor camera (no images; much faster, much smaller)");
-  cmd->add_option("--camera-rate", flags->camera_rate_hz,
-                  "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")
-      ->capture_default_str();
+  flags->given.push_back(
+      cmd->add_option("--camera-rate", flags->camera_rate_hz,
+                      "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")
+          ->capture_default_str());
   cmd->add_option("--threads", flags->threads, "Threads rendering camera frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

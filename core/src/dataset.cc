@@ -70,7 +70,9 @@ Status CheckPartsMatchFiles(const Dataset& d) {
       {d.wheel_encoders.size(), f.wheel_encoders, "wheel encoder readings", "wheel_encoders"},
       {d.scans.size(), f.lidar_scans, "scans", "lidar_scans"},
       {d.ground_truth.size(), f.ground_truth, "ground-truth poses", "ground_truth"},
-      {d.floor_map ? 1u : 0u, f.floor_map, "floor map(s)", "floor_map"}};
+      {d.floor_map ? 1u : 0u, f.floor_map, "floor map(s)", "floor_map"},
+      {d.ground_truth_extrinsics.size(), f.ground_truth_extrinsics, "ground-truth extrinsics",
+       "ground_truth_extrinsics"}};
   for (const auto& part : parts) {
     if (part.count > 0 && part.file.empty()) {
       return Status::Error("dataset has " + std::to_string(part.count) + " " + part.what +
@@ -101,6 +103,8 @@ void Dataset::UseDefaultFileNames() {
   f.lidar_scans = manifest.lidar ? kDefaultLidarScansFile : "";
   f.ground_truth = ground_truth.empty() ? "" : kDefaultGroundTruthFile;
   f.floor_map = floor_map ? kDefaultFloorMapFile : "";
+  f.ground_truth_extrinsics =
+      ground_truth_extrinsics.empty() ? "" : kDefaultGroundTruthExtrinsicsFile;
 }
 
 Result<Dataset> ReadDataset(const std::filesystem::path& dir, const DatasetReadOptions& options) {
@@ -129,6 +133,11 @@ Result<Dataset> ReadDataset(const std::filesystem::path& dir, const DatasetReadO
   }
   if (!f.ground_truth.empty() && options.load_ground_truth) {
     if (Status s = ReadGroundTruth(dir / f.ground_truth, &d.ground_truth); !s.ok()) return s;
+  }
+  if (!f.ground_truth_extrinsics.empty() && options.load_ground_truth) {
+    auto records = ReadGroundTruthExtrinsics(dir / f.ground_truth_extrinsics);
+    if (!records.ok()) return records.status();
+    d.ground_truth_extrinsics = std::move(records).value();
   }
   if (!f.floor_map.empty() && options.load_floor_map) {
     auto map = internal::ReadFloorMapInFrame(dir / f.floor_map, d.manifest.frames.map);
@@ -165,6 +174,11 @@ Status WriteDataset(const std::filesystem::path& dir, const Dataset& d) {
   if (!f.ground_truth.empty()) {
     parts.push_back(
         {f.ground_truth, [&d](const auto& p) { return WriteTumTrajectory(p, d.ground_truth); }});
+  }
+  if (!f.ground_truth_extrinsics.empty()) {
+    parts.push_back({f.ground_truth_extrinsics, [&d](const auto& p) {
+                       return WriteGroundTruthExtrinsics(p, d.ground_truth_extrinsics);
+                     }});
   }
   if (!f.floor_map.empty()) {
     parts.push_back({f.floor_map, [&d](const auto& p) { return WriteFloorMap(p, *d.floor_map); }});

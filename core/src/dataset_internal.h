@@ -9,7 +9,7 @@
 
 #include "groundline/core/dataset.h"
 #include "groundline/core/floor_map.h"
-#include "yaml_fields.h"
+#include "groundline/core/yaml_fields.h"
 
 namespace groundline::core::internal {
 

@@ -6,7 +6,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/text_parse.h"
-#include "yaml_fields.h"
+#include "groundline/core/yaml_fields.h"
 
 namespace groundline::core {
 namespace {
@@ -86,13 +86,15 @@ void ParseFiles(YamlFields& y, const YAML::Node& root, DatasetFiles* files) {
   const YAML::Node node = y.Child(root, "", "files");
   if (!node || !y.ExpectMap(node, "files")) return;
   y.CheckKeys(node, "files",
-              {"image_index", "wheel_encoders", "lidar_scans", "ground_truth", "floor_map"});
+              {"image_index", "wheel_encoders", "lidar_scans", "ground_truth", "floor_map",
+               "ground_truth_extrinsics"});
   const std::pair<const char*, std::string*> entries[] = {
       {"image_index", &files->image_index},
       {"wheel_encoders", &files->wheel_encoders},
       {"lidar_scans", &files->lidar_scans},
       {"ground_truth", &files->ground_truth},
-      {"floor_map", &files->floor_map}};
+      {"floor_map", &files->floor_map},
+      {"ground_truth_extrinsics", &files->ground_truth_extrinsics}};
   for (const auto& [key, target] : entries) {
     if (y.Child(node, "files", key, false)) *target = y.Text(node, "files", key);
   }
@@ -127,7 +129,8 @@ void CheckReferencedFiles(YamlFields& y, const YAML::Node& root, const DatasetMa
         {"wheel_encoders", f.wheel_encoders},
         {"lidar_scans", f.lidar_scans},
         {"ground_truth", f.ground_truth},
-        {"floor_map", f.floor_map}}) {
+        {"floor_map", f.floor_map},
+        {"ground_truth_extrinsics", f.ground_truth_extrinsics}}) {
     if (!file.empty()) references.emplace_back(std::string("files.") + key, file);
   }
   for (const auto& [field, file] : references) {

@@ -124,12 +124,23 @@ std::optional<FieldProblem> CheckManifest(const DatasetManifest& m) {
   if (!files.floor_map.empty()) {
     if (Problem e = RelativePath("files.floor_map", files.floor_map)) return e;
   }
+  if (!files.ground_truth_extrinsics.empty()) {
+    if (Problem e = RelativePath("files.ground_truth_extrinsics", files.ground_truth_extrinsics)) {
+      return e;
+    }
+    if (!m.camera) {
+      return FieldProblem{"files.ground_truth_extrinsics",
+                          "no ground-truth extrinsics without a sensors.camera",
+                          files.ground_truth_extrinsics};
+    }
+  }
   const std::pair<const char*, const std::string*> listed[] = {
       {"image_index", &files.image_index},
       {"wheel_encoders", &files.wheel_encoders},
       {"lidar_scans", &files.lidar_scans},
       {"ground_truth", &files.ground_truth},
-      {"floor_map", &files.floor_map}};
+      {"floor_map", &files.floor_map},
+      {"ground_truth_extrinsics", &files.ground_truth_extrinsics}};
   for (std::size_t i = 0; i < std::size(listed); ++i) {
     const std::string& file = *listed[i].second;
     if (file == kManifestFileName) {

@@ -1,6 +1,8 @@
-// images/index.csv and wheel_encoders.csv.
+// images/index.csv, wheel_encoders.csv and ground_truth_extrinsics.csv.
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,11 @@ namespace {
 
 constexpr char kImageIndexHeader[] = "stamp_s,file";
 constexpr char kWheelEncodersHeader[] = "stamp_s,left_delta_rad,right_delta_rad";
+constexpr char kExtrinsicsHeader[] =
+    "stamp_s,height_m,pitch_rad,roll_rad,yaw_rad,forward_m,lateral_m";
+constexpr const char* kExtrinsicsFields[] = {"stamp_s", "height_m",  "pitch_rad", "roll_rad",
+                                             "yaw_rad", "forward_m", "lateral_m"};
+constexpr int kExtrinsicsFieldCount = 7;
 
 // Splits a CSV record and checks its field count against the header's.
 Status SplitRecord(std::string_view text, std::size_t expected_fields, const std::string& file,
@@ -60,6 +67,32 @@ Status CheckWheelReading(const WheelEncoderReading& r, const std::string& file, 
       return Status::Error(FieldError(file, line, name, "a finite number", "non-finite"));
     }
   }
+  return Status::Ok();
+}
+
+std::array<double, kExtrinsicsFieldCount> Values(const CameraExtrinsicsRecord& r) {
+  return {r.stamp_s, r.height_m, r.pitch_rad, r.roll_rad, r.yaw_rad, r.forward_m, r.lateral_m};
+}
+
+Status CheckExtrinsicsRecord(const CameraExtrinsicsRecord& r, const std::string& file,
+                             std::size_t line) {
+  const std::array<double, kExtrinsicsFieldCount> values = Values(r);
+  for (int k = 0; k < kExtrinsicsFieldCount; ++k) {
+    if (!std::isfinite(values[k])) {
+      return Status::Error(
+          FieldError(file, line, kExtrinsicsFields[k], "a finite number", "non-finite"));
+    }
+  }
+  const auto fail = [&](const char* field, const char* expected, double got) {
+    return Status::Error(FieldError(file, line, field, expected, internal::FormatShortest(got)));
+  };
+  constexpr double kPi = std::numbers::pi;
+  if (!(r.height_m > 0.0)) return fail("height_m", "a height above the floor, > 0", r.height_m);
+  if (!(std::abs(r.pitch_rad) < 0.5 * kPi)) {
+    return fail("pitch_rad", "a pitch in (-pi/2, pi/2)", r.pitch_rad);
+  }
+  if (!(std::abs(r.roll_rad) <= kPi)) return fail("roll_rad", "a roll in [-pi, pi]", r.roll_rad);
+  if (!(std::abs(r.yaw_rad) <= kPi)) return fail("yaw_rad", "a yaw in [-pi, pi]", r.yaw_rad);
   return Status::Ok();
 }
 
@@ -185,6 +218,74 @@ Status WriteWheelEncoders(const std::filesystem::path& path,
       internal::AppendFixed(r.left_delta_rad, 9, &text);
       text += ',';
       internal::AppendFixed(r.right_delta_rad, 9, &text);
+      text += '\n';
+    }
+    out << text;
+    return Status::Ok();
+  });
+}
+
+Result<std::vector<CameraExtrinsicsRecord>> ReadGroundTruthExtrinsics(
+    const std::filesystem::path& path) {
+  internal::LineReader reader(path);
+  if (Status s = internal::ExpectHeader(&reader, kExtrinsicsHeader, /*csv=*/true); !s.ok()) {
+    return s;
+  }
+  std::vector<CameraExtrinsicsRecord> records;
+  std::vector<std::string_view> fields;
+  std::string_view text;
+  while (reader.Next(&text)) {
+    const std::size_t line = reader.line();
+    if (Status s = SplitRecord(text, kExtrinsicsFieldCount, reader.file(), line, kExtrinsicsHeader,
+                               &fields);
+        !s.ok()) {
+      return s;
+    }
+    std::array<double, kExtrinsicsFieldCount> v{};
+    for (int k = 0; k < kExtrinsicsFieldCount; ++k) {
+      if (Status s =
+              internal::ParseFinite(fields[k], reader.file(), line, kExtrinsicsFields[k], &v[k]);
+          !s.ok()) {
+        return s;
+      }
+    }
+    const CameraExtrinsicsRecord r{v[0], v[1], v[2], v[3], v[4], v[5], v[6]};
+    if (Status s = CheckExtrinsicsRecord(r, reader.file(), line); !s.ok()) return s;
+    if (!records.empty()) {
+      if (Status s =
+              internal::CheckIncreasing(reader.file(), line, records.back().stamp_s, r.stamp_s);
+          !s.ok()) {
+        return s;
+      }
+    }
+    records.push_back(r);
+  }
+  if (!reader.status().ok()) return reader.status();
+  return records;
+}
+
+Status WriteGroundTruthExtrinsics(const std::filesystem::path& path,
+                                  const std::vector<CameraExtrinsicsRecord>& records) {
+  const std::string file = path.string();
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const std::size_t line = i + 2;
+    if (Status s = CheckExtrinsicsRecord(records[i], file, line); !s.ok()) return s;
+    if (i > 0) {
+      if (Status s = internal::CheckIncreasingWritten(file, line, records[i - 1].stamp_s,
+                                                      records[i].stamp_s);
+          !s.ok()) {
+        return s;
+      }
+    }
+  }
+  return WriteFileAtomically(path, [&records](std::ostream& out) {
+    std::string text = std::string(kExtrinsicsHeader) + "\n";
+    for (const CameraExtrinsicsRecord& r : records) {
+      const std::array<double, kExtrinsicsFieldCount> values = Values(r);
+      for (int k = 0; k < kExtrinsicsFieldCount; ++k) {
+        if (k > 0) text += ',';
+        internal::AppendFixed(values[k], 9, &text);
+      }
       text += '\n';
     }
     out << text;

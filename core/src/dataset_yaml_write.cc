@@ -80,11 +80,9 @@ void EmitSensors(YAML::Emitter& out, const DatasetManifest& m) {
 void EmitFiles(YAML::Emitter& out, const DatasetFiles& f) {
   out << YAML::Key << "files" << YAML::Value << YAML::BeginMap;
   const std::pair<const char*, const std::string*> entries[] = {
-      {"image_index", &f.image_index},
-      {"wheel_encoders", &f.wheel_encoders},
-      {"lidar_scans", &f.lidar_scans},
-      {"ground_truth", &f.ground_truth},
-      {"floor_map", &f.floor_map}};
+      {"image_index", &f.image_index}, {"wheel_encoders", &f.wheel_encoders},
+      {"lidar_scans", &f.lidar_scans}, {"ground_truth", &f.ground_truth},
+      {"floor_map", &f.floor_map},     {"ground_truth_extrinsics", &f.ground_truth_extrinsics}};
   for (const auto& [key, value] : entries) {
     if (!value->empty()) Quoted(out, key, *value);
   }

@@ -8,7 +8,7 @@
 #include "dataset_internal.h"
 #include "groundline/core/atomic_file.h"
 #include "text_lines.h"
-#include "yaml_fields.h"
+#include "groundline/core/yaml_fields.h"
 
 namespace groundline::core {
 namespace {

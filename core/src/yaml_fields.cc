@@ -1,4 +1,4 @@
-#include "yaml_fields.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <cmath>
 #include <set>
@@ -101,6 +101,11 @@ bool YamlFields::ExpectSequence(const YAML::Node& node, std::string_view path) {
 
 void YamlFields::CheckKeys(const YAML::Node& map, std::string_view path,
                            std::initializer_list<std::string_view> allowed) {
+  CheckKeys(map, path, std::vector<std::string_view>(allowed));
+}
+
+void YamlFields::CheckKeys(const YAML::Node& map, std::string_view path,
+                           const std::vector<std::string_view>& allowed) {
   std::set<std::string> seen;
   for (const auto& entry : map) {
     const std::string key = entry.first.Scalar();
@@ -157,6 +162,14 @@ std::int64_t YamlFields::IntegerAt(const YAML::Node& node, std::string_view path
     return 0;
   }
   return *value;
+}
+
+bool YamlFields::BoolAt(const YAML::Node& node, std::string_view path) {
+  if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false")) {
+    return node.Scalar() == "true";
+  }
+  Fail(node, path, "true or false", Describe(node));
+  return false;
 }
 
 double YamlFields::Number(const YAML::Node& map, std::string_view path, const char* key) {

@@ -42,6 +42,7 @@ FloorRenderOptions FloorRenderOptions::Ideal() {
   FloorRenderOptions o;
   o.texture = o.wear = o.scuffs = o.oil = false;
   o.illumination_gradient = o.shadows = o.glare = o.motion_blur = o.noise = false;
+  o.occlusion = false;
   return o;
 }
 
@@ -232,7 +233,8 @@ class FastNormal {
 }  // namespace
 
 GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity& velocity,
-                                std::uint64_t frame_index) const {
+                                std::uint64_t frame_index,
+                                const std::vector<Occluder>& occluders) const {
   const Impl& im = *impl_;
   const internal::PixelFloorTable& t = im.table;
   const FloorRenderOptions& o = im.fields.options;
@@ -302,6 +304,9 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
     }
   }
   if (o.motion_blur && o.exposure_s > 0.0) dn = MotionBlur(t, dn, velocity, o.exposure_s);
+  if (o.occlusion && !occluders.empty()) {
+    internal::DrawOccluders(im.camera, im.mount, T_map_base, occluders, gain, w, h, &dn);
+  }
 
   GreyImage image;
   image.width_px = w;

@@ -129,6 +129,12 @@ struct FloorFields {
   float Glare(const Vector2& p_m) const;
 };
 
+// Draws the occluders over the image `dn` (w x h floats) by forward projection
+// (floor_camera.h, step 4); gain is DN per unit reflectance.
+void DrawOccluders(const calibration::CameraModel& camera, const calibration::CameraMount& mount,
+                   const core::SE2& T_map_base, const std::vector<Occluder>& occluders, double gain,
+                   int w, int h, std::vector<float>* dn);
+
 }  // namespace groundline::sim::internal
 
 #endif  // GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_

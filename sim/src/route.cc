@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "groundline/sim/obstacle_index.h"
 #include "options_check.h"
@@ -18,26 +19,33 @@ using internal::PathSample;
 constexpr const char* kOwner = "RouteOptions";
 constexpr double kClearanceCheckStepM = 0.05;
 
-// Periodic speed profile: the speed limits, reduced so that speeding up and
-// slowing down respect max_accel_mps2 all around the loop (the last sample is
-// the first one again).
-std::vector<double> SpeedProfile(const std::vector<PathSample>& path, double max_accel_mps2) {
+// Speed profile: the speed limits, reduced so that speeding up and slowing
+// down respect max_accel_mps2. A closed loop is periodic (the last sample is
+// the first one again); an open route starts and ends at rest.
+std::vector<double> SpeedProfile(const std::vector<PathSample>& path, double max_accel_mps2,
+                                 bool periodic) {
   const std::size_t n = path.size();
   std::vector<double> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = path[i].speed_limit_mps;
-  v[0] = v[n - 1] = std::min(v[0], v[n - 1]);
+  const auto tie_ends = [&] {
+    if (periodic) {
+      v[0] = v[n - 1] = std::min(v[0], v[n - 1]);
+    } else {
+      v[0] = v[n - 1] = 0.0;
+    }
+  };
+  tie_ends();
   auto reachable = [&](double from_v, std::size_t a, std::size_t b) {
     return std::sqrt(from_v * from_v + 2.0 * max_accel_mps2 * std::abs(path[b].s_m - path[a].s_m));
   };
   for (int round = 0; round < 2; ++round) {
     for (std::size_t i = 1; i < n; ++i) v[i] = std::min(v[i], reachable(v[i - 1], i - 1, i));
-    v[0] = std::min(v[0], v[n - 1]);
+    tie_ends();
   }
   for (int round = 0; round < 2; ++round) {
     for (std::size_t i = n - 1; i-- > 0;) v[i] = std::min(v[i], reachable(v[i + 1], i + 1, i));
-    v[n - 1] = std::min(v[n - 1], v[0]);
+    tie_ends();
   }
-  v[0] = v[n - 1] = std::min(v[0], v[n - 1]);
   return v;
 }
 
@@ -45,7 +53,7 @@ std::vector<double> SpeedProfile(const std::vector<PathSample>& path, double max
 
 core::Status RouteOptions::Validate() const {
   return internal::FirstError({
-      CheckRange(kOwner, "length_m", length_m, 10.0, 1e6),
+      CheckRange(kOwner, "length_m", length_m, 1.0, 1e6),
       CheckRange(kOwner, "length_tolerance_fraction", length_tolerance_fraction, 1e-4, 1.0),
       CheckRange(kOwner, "max_walk_attempts", max_walk_attempts, 1, 100000),
       CheckRange(kOwner, "min_speed_mps", min_speed_mps, 0.05, 10.0),
@@ -65,13 +73,25 @@ core::Status RouteOptions::Validate() const {
 core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   if (core::Status status = o.Validate(); !status.ok()) return status;
   std::mt19937_64 rng(o.seed);
-  core::Result<std::vector<int>> nodes = internal::PlanLoop(world.roads, o, &rng);
+  // A closed loop searches for the nearest length; an open route is cut to
+  // length anyway, so the first walk within a quarter of it will do (and
+  // different seeds keep different starts and walks).
+  const double tolerance_m = o.closed_loop ? o.length_tolerance_fraction * o.length_m
+                                           : std::numeric_limits<double>::infinity();
+  const double good_enough_m = o.closed_loop ? 0.5 * tolerance_m : 0.25 * o.length_m;
+  core::Result<std::vector<int>> nodes =
+      internal::PlanLoop(world.roads, o, tolerance_m, good_enough_m, &rng);
   if (!nodes.ok()) return nodes.status().WithContext(world.name);
   Route route;
   for (int node : *nodes) route.waypoints_m.push_back(world.roads.nodes_m[std::size_t(node)]);
   core::Result<std::vector<PathSample>> smoothed = internal::SmoothLoop(route.waypoints_m, o, &rng);
   if (!smoothed.ok()) return smoothed.status().WithContext(world.name);
-  const std::vector<PathSample>& path = *smoothed;
+  // An open route starts anywhere along the loop (seeded).
+  const double start_m = std::uniform_real_distribution<double>(0.0, smoothed->back().s_m)(rng);
+  const std::vector<PathSample> path = o.closed_loop
+                                           ? std::move(smoothed).value()
+                                           : internal::OpenPath(*smoothed, start_m, o.length_m);
+  route.closed_loop = o.closed_loop;
   route.length_m = path.back().s_m;
 
   // Clearance of the vehicle disc from every static obstacle, at any height.
@@ -96,7 +116,7 @@ core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   }
 
   // Time along the path, then uniform sampling.
-  const std::vector<double> v = SpeedProfile(path, o.max_accel_mps2);
+  const std::vector<double> v = SpeedProfile(path, o.max_accel_mps2, o.closed_loop);
   std::vector<double> t(path.size(), 0.0);
   for (std::size_t i = 1; i < path.size(); ++i) {
     t[i] = t[i - 1] + 2.0 * (path[i].s_m - path[i - 1].s_m) / (v[i - 1] + v[i]);
@@ -105,7 +125,8 @@ core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   std::size_t i = 0;
   for (std::size_t k = 0;; ++k) {
     const double tk = static_cast<double>(k) / o.sample_rate_hz;
-    if (tk >= route.duration_s) break;
+    // A loop's last sample would repeat its first; an open route ends there.
+    if (o.closed_loop ? tk >= route.duration_s : tk > route.duration_s + 1e-9) break;
     while (i + 2 < path.size() && t[i + 1] <= tk) ++i;
     const double f = std::clamp((tk - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0);
     const PathSample& a = path[i];

@@ -26,8 +26,12 @@ struct TurnShape {
 TurnShape ComputeTurn(double angle_rad, double radius_m, double clothoid_length_m);
 
 // Road-graph node indices of a closed loop (first == last) whose smoothed
-// length is as near options.length_m as the walks found.
+// length is as near options.length_m as the walks found; an error when the
+// nearest differs from it by more than tolerance_m (infinity: any loop). The
+// search stops at the first loop within good_enough_m of the length (a large
+// value keeps the seed's first walk, so that seeds give different routes).
 core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptions& options,
+                                        double tolerance_m, double good_enough_m,
                                         std::mt19937_64* rng);
 
 // The smooth loop through a closed polyline, densely sampled (about every
@@ -45,6 +49,12 @@ struct PathSample {
 inline constexpr double kPathStepM = 0.01;
 core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& closed_polyline_m,
                                                  const RouteOptions& options, std::mt19937_64* rng);
+
+// An open path of exactly length_m: the loop driven from its first sample at
+// or beyond arc length start_m (in [0, loop length)), lap after lap (arc
+// length and yaw continued), cut at length_m (the last sample interpolated).
+std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double start_m,
+                                 double length_m);
 
 }  // namespace groundline::sim::internal
 

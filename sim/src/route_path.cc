@@ -163,4 +163,32 @@ core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& pol
   return samples;
 }
 
+std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double start_m,
+                                 double length_m) {
+  assert(loop.size() >= 2 && loop.back().s_m > 0.0 && length_m > 0.0);
+  const double lap_m = loop.back().s_m;
+  const double lap_yaw_rad = loop.back().yaw_rad - loop.front().yaw_rad;
+  std::size_t first = 0;
+  while (first + 2 < loop.size() && loop[first].s_m < start_m) ++first;
+  const double offset_m = loop[first].s_m;
+  std::vector<PathSample> out;
+  for (int lap = 0;; ++lap) {
+    for (std::size_t i = lap == 0 ? first : 1; i < loop.size(); ++i) {
+      PathSample p = loop[i];
+      p.s_m += lap * lap_m - offset_m;
+      p.yaw_rad += lap * lap_yaw_rad;
+      if (p.s_m >= length_m) {
+        const PathSample& a = out.back();
+        const double f = (length_m - a.s_m) / (p.s_m - a.s_m);
+        auto lerp = [f](double x, double y) { return x + f * (y - x); };
+        out.push_back({length_m, lerp(a.x_m, p.x_m), lerp(a.y_m, p.y_m), lerp(a.yaw_rad, p.yaw_rad),
+                       lerp(a.curvature_1pm, p.curvature_1pm),
+                       lerp(a.speed_limit_mps, p.speed_limit_mps)});
+        return out;
+      }
+      out.push_back(p);
+    }
+  }
+}
+
 }  // namespace groundline::sim::internal

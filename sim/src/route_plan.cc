@@ -2,6 +2,7 @@
 // closed by a shortest admissible path (Dijkstra over directed edges, so that
 // the closing path never needs a U-turn or a too-sharp turn, including the
 // final turn back into the first edge).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -33,6 +34,7 @@ struct Transition {
 }  // namespace
 
 core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptions& options,
+                                        double tolerance_m, double good_enough_m,
                                         std::mt19937_64* rng) {
   std::vector<Directed> edges;
   for (std::size_t e = 0; e < roads.edges.size(); ++e) {
@@ -139,18 +141,19 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
     for (int d : walk) best_nodes.push_back(edges[static_cast<std::size_t>(d)].to);
     best_error_m = prefix_error_m;
     best_length_m = prefix_length_m;
-    if (best_error_m <= 0.2 * options.length_tolerance_fraction * target_m) break;
+    if (best_error_m <= good_enough_m) break;
   }
   if (best_nodes.empty()) {
     return core::Status::Error(
         "route: the road graph has no closed loop without U-turns or turns sharper than "
         "max_turn_angle_rad");
   }
-  if (best_error_m > options.length_tolerance_fraction * target_m) {
+  if (best_error_m > tolerance_m) {
     std::ostringstream message;
     message << "route: the nearest closed loop found is " << best_length_m
             << " m long for a requested length_m of " << target_m
-            << " m; change length_m or raise length_tolerance_fraction";
+            << " m; change length_m, raise length_tolerance_fraction or drive an open route "
+               "(closed_loop: false), which has exactly length_m";
     return core::Status::Error(message.str());
   }
   return best_nodes;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -41,6 +42,42 @@ core::Status WritePng(const std::filesystem::path& path, const GreyImage& image)
       path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
+// Renders frames [begin, end) on `threads` threads (with the world's moving
+// obstacles as occluders when `occlusion`) and writes them into
+// image_dir; progress(n) after every 20 frames written.
+core::Status RenderFrames(const FloorRenderer& renderer, const World& world, bool occlusion,
+                          const core::Trajectory& truth,
+                          const std::vector<core::ImageRecord>& frames, std::size_t begin,
+                          std::size_t end, const std::filesystem::path& image_dir, int threads,
+                          const std::function<void(std::size_t)>& progress) {
+  std::atomic<std::size_t> next{begin};
+  std::size_t written = 0;
+  std::mutex mutex;  // guards first_error, written and progress
+  core::Status first_error = core::Status::Ok();
+  const auto worker = [&] {
+    for (std::size_t k = next++; k < end; k = next++) {
+      const core::ImageRecord& frame = frames[k];
+      const core::SE2 pose = InterpolatePose(truth, frame.stamp_s);
+      const GreyImage image =
+          renderer.Render(pose, VelocityAt(truth, frame.stamp_s), k,
+                          occlusion ? OccludersAt(world, frame.stamp_s) : std::vector<Occluder>{});
+      core::Status s = WritePng(image_dir / frame.file, image);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!s.ok() && first_error.ok()) first_error = s;
+      if (!first_error.ok()) {
+        next = end;
+        return;
+      }
+      if (++written % 20 == 0) progress(20);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < std::max(1, threads); ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  return first_error;
+}
+
 }  // namespace
 
 core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun& run,
@@ -52,39 +89,37 @@ core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun
     if (progress) progress("camera", fraction);
   };
   report(0.0);
-  core::Result<FloorRenderer> renderer =
-      FloorRenderer::Create(run.world, cam.model, cam.mount, cam.render);
-  if (!renderer.ok()) return renderer.status().WithContext("floor camera");
-
   const std::filesystem::path image_dir =
       (dir / run.dataset.manifest.files.image_index).parent_path();
   const std::vector<core::ImageRecord>& frames = run.dataset.images;
-  std::atomic<std::size_t> next{0};
+  const std::vector<core::CameraExtrinsicsRecord>& mounts = run.dataset.ground_truth_extrinsics;
   std::atomic<std::size_t> done{0};
-  std::mutex mutex;  // guards first_error and progress
-  core::Status first_error = core::Status::Ok();
-  const auto worker = [&] {
-    for (std::size_t k = next++; k < frames.size(); k = next++) {
-      const core::ImageRecord& frame = frames[k];
-      const core::SE2 pose = InterpolatePose(run.route.T_map_base, frame.stamp_s);
-      const GreyImage image =
-          renderer->Render(pose, VelocityAt(run.route.T_map_base, frame.stamp_s), k);
-      core::Status s = WritePng(image_dir / frame.file, image);
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!s.ok() && first_error.ok()) first_error = s;
-      if (!first_error.ok()) {
-        next = frames.size();
-        return;
-      }
-      const std::size_t n = ++done;
-      if (n % 20 == 0) report(static_cast<double>(n) / static_cast<double>(frames.size()));
+  // Frames are in stamp order, so each mount renders a contiguous range of
+  // them, with its own renderer (the pixel table depends on the mount).
+  for (std::size_t begin = 0; begin < frames.size();) {
+    const std::size_t segment = mounts.empty() ? 0 : RecordAt(mounts, frames[begin].stamp_s);
+    std::size_t end = begin + 1;
+    while (end < frames.size() && !mounts.empty() &&
+           RecordAt(mounts, frames[end].stamp_s) == segment) {
+      ++end;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < std::max(1, threads); ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (!first_error.ok()) return first_error.WithContext("writing the camera images");
+    if (mounts.empty()) end = frames.size();
+    const calibration::CameraMount mount = mounts.empty() ? cam.mount : ToMount(mounts[segment]);
+    core::Result<FloorRenderer> renderer =
+        FloorRenderer::Create(run.world, cam.model, mount, cam.render);
+    if (!renderer.ok()) return renderer.status().WithContext("floor camera");
+    if (core::Status s =
+            RenderFrames(*renderer, run.world, cam.render.occlusion, run.route.T_map_base, frames,
+                         begin, end, image_dir, threads,
+                         [&](std::size_t n) {
+                           const std::size_t total = done += n;
+                           report(static_cast<double>(total) / static_cast<double>(frames.size()));
+                         });
+        !s.ok()) {
+      return s.WithContext("writing the camera images");
+    }
+    begin = end;
+  }
 
   if (core::Status s = calibration::WriteOpenCvCalibration(dir / sensor.intrinsics_file, cam.model);
       !s.ok()) {

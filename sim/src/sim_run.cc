@@ -4,18 +4,23 @@
 #include <cstdio>
 #include <string>
 
+#include "sim_run_internal.h"
+
 namespace groundline::sim {
-namespace {
 
 // Independent seeds for the random streams of one run (splitmix64 of the run
 // seed and a stream number), so that changing one stream's options does not
 // change the others.
-std::uint64_t StreamSeed(std::uint64_t seed, std::uint64_t stream) {
+std::uint64_t internal::StreamSeed(std::uint64_t seed, std::uint64_t stream) {
   std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (stream + 1);
   z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
   z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
   return z ^ (z >> 31);
 }
+
+namespace {
+
+using internal::StreamSeed;
 
 constexpr std::uint64_t kRouteStream = 1;
 constexpr std::uint64_t kEncoderStream = 2;
@@ -36,11 +41,34 @@ const char* ZoneLetter(Zone zone) {
   return "?";
 }
 
+}  // namespace
+
+core::Result<World> internal::BuildRunZone(const SimRunOptions& options) {
+  const auto seeded = [&options](auto layout) {
+    layout.seed = options.seed;
+    return layout;
+  };
+  switch (options.zone) {
+    case Zone::kA:
+      return BuildZoneA(seeded(options.zone_a));
+    case Zone::kB:
+      return BuildZoneB(seeded(options.zone_b));
+    case Zone::kC:
+      return BuildZoneC(seeded(options.zone_c));
+    case Zone::kD:
+      return BuildZoneD(seeded(options.zone_d));
+  }
+  return core::Status::Error("unknown zone");
+}
+
+namespace {
+
 core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& world) {
   core::DatasetManifest manifest;
   manifest.name =
       "sim_zone_" + std::string(ZoneLetter(options.zone)) + "_seed" + std::to_string(options.seed);
-  manifest.description = "groundline simulator: " + world.name + ", closed loop of " +
+  manifest.description = "groundline simulator: " + world.name + ", " +
+                         (options.route.closed_loop ? "closed loop of " : "route of ") +
                          std::to_string(static_cast<int>(std::lround(options.route.length_m))) +
                          " m";
   core::WheelEncoderSensor encoders;
@@ -69,12 +97,18 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
   manifest.provenance["zone"] = ZoneLetter(options.zone);
   manifest.provenance["seed"] = std::to_string(options.seed);
   manifest.provenance["route_length_m"] = std::to_string(options.route.length_m);
+  manifest.provenance["route_closed_loop"] = options.route.closed_loop ? "true" : "false";
   return manifest;
 }
 
 }  // namespace
 
 core::Status SimRunOptions::Validate() const {
+  const core::Status layout = zone == Zone::kA   ? zone_a.Validate()
+                              : zone == Zone::kB ? zone_b.Validate()
+                              : zone == Zone::kC ? zone_c.Validate()
+                                                 : zone_d.Validate();
+  if (!layout.ok()) return layout.WithContext("layout");
   if (core::Status s = route.Validate(); !s.ok()) return s.WithContext("route");
   if (core::Status s = drive.Validate(); !s.ok()) return s.WithContext("drive");
   if (core::Status s = encoders.Validate(); !s.ok()) return s.WithContext("encoders");
@@ -84,6 +118,9 @@ core::Status SimRunOptions::Validate() const {
   if (with_camera) {
     if (core::Status s = camera.Validate(); !s.ok()) return s.WithContext("camera");
     if (core::Status s = render.Validate(); !s.ok()) return s.WithContext("render");
+    if (core::Status s = mount_perturbations.Validate(); !s.ok()) {
+      return s.WithContext("mount_perturbations");
+    }
     if (!(camera_rate_hz > 0.0 && camera_rate_hz <= camera.sensor_rate_hz)) {
       return core::Status::Error("camera_rate_hz: expected a rate in (0, camera.sensor_rate_hz = " +
                                  std::to_string(camera.sensor_rate_hz) + "], got " +
@@ -129,30 +166,29 @@ core::LaserScan ToDatasetScan(const LaserScan& scan) {
   return out;
 }
 
-core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress) {
-  if (core::Status s = options.Validate(); !s.ok()) return s.WithContext("sim options");
+namespace internal {
+
+core::Result<Route> PlanRobotRoute(const World& world, const SimRunOptions& options,
+                                   std::uint64_t robot_seed) {
+  RouteOptions route_options = options.route;
+  route_options.seed = StreamSeed(robot_seed, kRouteStream);
+  core::Result<Route> route = GenerateRoute(world, route_options);
+  if (!route.ok()) return route.status().WithContext("generating the route");
+  return route;
+}
+
+core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions& options,
+                                   std::uint64_t robot_seed, const SimProgress& progress) {
   const auto report = [&progress](std::string_view stage, double fraction) {
     if (progress) progress(stage, fraction);
   };
   SimRun run;
-
-  report("zone", 0.0);
-  core::Result<World> world = BuildZone(options.zone, options.seed);
-  if (!world.ok()) return world.status().WithContext("building the zone");
-  run.world = std::move(world).value();
-  report("zone", 1.0);
-
-  report("route", 0.0);
-  RouteOptions route_options = options.route;
-  route_options.seed = StreamSeed(options.seed, kRouteStream);
-  core::Result<Route> route = GenerateRoute(run.world, route_options);
-  if (!route.ok()) return route.status().WithContext("generating the route");
-  run.route = std::move(route).value();
-  report("route", 1.0);
+  run.world = std::move(world);
+  run.route = std::move(route);
 
   report("encoders", 0.0);
   WheelEncoderOptions encoder_options = options.encoders;
-  encoder_options.seed = StreamSeed(options.seed, kEncoderStream);
+  encoder_options.seed = StreamSeed(robot_seed, kEncoderStream);
   core::Result<WheelEncoderLog> encoders =
       SimulateWheelEncoders(run.route.T_map_base, options.drive, encoder_options);
   if (!encoders.ok()) return encoders.status().WithContext("simulating the wheel encoders");
@@ -170,7 +206,7 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
 
   if (options.with_lidar) {
     LidarOptions lidar_options = options.lidar;
-    lidar_options.seed = StreamSeed(options.seed, kLidarStream);
+    lidar_options.seed = StreamSeed(robot_seed, kLidarStream);
     const PlanarLidar lidar(run.world, lidar_options);
     const core::Trajectory& truth = run.route.T_map_base;
     const double t0 = truth.front().stamp_s;
@@ -188,9 +224,13 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
     core::Result<calibration::CameraModel> model = options.camera.MakeCameraModel();
     if (!model.ok()) return model.status().WithContext("building the floor camera");
     FloorRenderOptions render = options.render;
-    render.seed = StreamSeed(options.seed, kCameraStream);
+    render.seed = StreamSeed(robot_seed, kCameraStream);
     run.camera = SimCamera{std::move(model).value(), options.camera.mount, render};
     const core::Trajectory& truth = run.route.T_map_base;
+    core::Result<std::vector<core::CameraExtrinsicsRecord>> mounts =
+        MountSchedule(options.camera.mount, options.mount_perturbations, truth);
+    if (!mounts.ok()) return mounts.status().WithContext("perturbing the camera mount");
+    dataset.ground_truth_extrinsics = std::move(mounts).value();
     const double t0 = truth.front().stamp_s;
     const double t1 = truth.back().stamp_s;
     char name[32];
@@ -203,6 +243,22 @@ core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress
   }
   dataset.UseDefaultFileNames();
   return run;
+}
+
+}  // namespace internal
+
+core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress) {
+  if (core::Status s = options.Validate(); !s.ok()) return s.WithContext("sim options");
+  if (progress) progress("zone", 0.0);
+  core::Result<World> world = internal::BuildRunZone(options);
+  if (!world.ok()) return world.status().WithContext("building the zone");
+  if (progress) progress("zone", 1.0);
+  if (progress) progress("route", 0.0);
+  core::Result<Route> route = internal::PlanRobotRoute(*world, options, options.seed);
+  if (!route.ok()) return route.status();
+  if (progress) progress("route", 1.0);
+  return internal::SimulateRobot(std::move(world).value(), std::move(route).value(), options,
+                                 options.seed, progress);
 }
 
 }  // namespace groundline::sim

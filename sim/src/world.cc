@@ -103,6 +103,7 @@ double PolylineLength(const std::vector<Vector2>& polyline_m) {
 }
 
 core::SE2 MovingObstacle::PoseAt(double stamp_s) const {
+  if (trajectory) return InterpolatePose(*trajectory, stamp_s);
   assert(path_m.size() >= 2);
   const double length_m = PolylineLength(path_m);
   assert(length_m > 0.0);
@@ -133,6 +134,20 @@ OrientedBox MovingObstacle::FootprintAt(double stamp_s) const {
   box.yaw_rad = pose.yaw();
   box.half_extent_m = IsCircle() ? Vector2(radius_m, radius_m) : half_extent_m;
   return box;
+}
+
+core::SE2 InterpolatePose(const core::Trajectory& trajectory, double stamp_s) {
+  assert(!trajectory.empty());
+  if (stamp_s <= trajectory.front().stamp_s) return trajectory.front().pose;
+  if (stamp_s >= trajectory.back().stamp_s) return trajectory.back().pose;
+  const auto it =
+      std::upper_bound(trajectory.begin(), trajectory.end(), stamp_s,
+                       [](double t, const core::StampedPose& p) { return t < p.stamp_s; });
+  const core::StampedPose& b = *it;
+  const core::StampedPose& a = *(it - 1);
+  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  const Vector2 p = a.pose.translation() + f * (b.pose.translation() - a.pose.translation());
+  return core::SE2(p, a.pose.yaw() + f * core::WrapAngle(b.pose.yaw() - a.pose.yaw()));
 }
 
 }  // namespace groundline::sim

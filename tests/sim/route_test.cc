@@ -34,8 +34,10 @@ TEST_P(RouteInZone, StaysInFreeSpaceWithTheRequestedLengthSpeedsAndCurvature) {
   ASSERT_TRUE(world.ok()) << world.message();
   RouteOptions options;
   options.seed = seed;
+  options.closed_loop = true;
   const core::Result<Route> route = GenerateRoute(*world, options);
   ASSERT_TRUE(route.ok()) << route.message();
+  EXPECT_TRUE(route->closed_loop);
   const core::Trajectory& traj = route->T_map_base;
   ASSERT_GT(traj.size(), 1000u);
   ASSERT_EQ(route->speed_mps.size(), traj.size());

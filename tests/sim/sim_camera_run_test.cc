@@ -57,6 +57,9 @@ TEST(SimCameraRun, WritesImagesAndCalibrationThatReadBack) {
       calibration::ReadCameraMountYaml(dir / read->manifest.camera->extrinsics_file);
   ASSERT_TRUE(mount.ok()) << mount.message();
   EXPECT_NEAR(mount->pitch_rad, options.camera.mount.pitch_rad, 1e-12);
+  // Without perturbations the true mount is the nominal one, all run long.
+  ASSERT_EQ(read->ground_truth_extrinsics.size(), 1u);
+  EXPECT_NEAR(read->ground_truth_extrinsics[0].pitch_rad, options.camera.mount.pitch_rad, 1e-9);
 
   // Every image decodes as 8-bit grey 1280x1024 and is not blank; frames differ.
   cv::Mat previous;

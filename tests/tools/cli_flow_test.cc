@@ -30,7 +30,7 @@ class CliFlow : public ::testing::Test {
     dir_ = testing::ScratchDir("flow");
     dataset_ = dir_ / "zone_c";
     std::string out;
-    // Zone C with a 150 m loop is the shortest preset route; no LiDAR and no camera
+    // Zone C with a 150 m route is a short preset route; no LiDAR and no camera
     // keep it small (both streams have their own tests).
     ASSERT_EQ(RunGroundline("sim --zone C --length 150m --seed 3 --no-lidar --no-camera --out " +
                                 Quoted(dataset_),
@@ -61,8 +61,9 @@ TEST_F(CliFlow, SimulateCheckLocalizeEvaluate) {
   const core::Result<core::Trajectory> keyframes = core::ReadTumTrajectory(run / "trajectory.tum");
   ASSERT_TRUE(keyframes.ok()) << keyframes.message();
   EXPECT_EQ(summary["n_keyframes"].get<std::size_t>(), keyframes->size());
-  // A 150 m loop at one keyframe per 0.20 m (or 5 deg) gives at least 750 keyframes.
-  EXPECT_GE(keyframes->size(), 750u);
+  // A 150 m route at one keyframe per 0.20 m (or 5 deg), taken at the first
+  // 100 Hz sample beyond it (up to 2 cm later), gives at least 680 keyframes.
+  EXPECT_GE(keyframes->size(), 680u);
   // Dead reckoning with the simulator's wheel errors drifts, but stays bounded
   // on 150 m: well above a centimetre, well below the loop's size.
   const double ate = summary["accuracy"]["ate_rmse_m"].get<double>();

@@ -9,6 +9,7 @@
 //   lidar_scans.txt      one scan per line
 //   ground_truth.tum     T_map_base (TUM, see trajectory_io.h)
 //   floor_map.yaml       optional ground-truth floor markings (floor_map.h)
+//   ground_truth_extrinsics.csv  optional (1.1): the camera's true mount over time
 //   calibration/...      camera intrinsics and extrinsics, referenced only
 //
 // Units are SI (m, rad, s, Hz), frames follow REP-105 (map, odom, base_link),
@@ -39,7 +40,8 @@ namespace groundline::core {
 
 inline constexpr char kDatasetFormatName[] = "groundline-dataset";
 inline constexpr int kDatasetFormatMajor = 1;
-inline constexpr int kDatasetFormatMinor = 0;
+// 1.1 added files.ground_truth_extrinsics (ground_truth_extrinsics.csv).
+inline constexpr int kDatasetFormatMinor = 1;
 inline constexpr char kManifestFileName[] = "manifest.yaml";
 
 // Default file names, relative to the dataset directory.
@@ -48,6 +50,7 @@ inline constexpr char kDefaultWheelEncodersFile[] = "wheel_encoders.csv";
 inline constexpr char kDefaultLidarScansFile[] = "lidar_scans.txt";
 inline constexpr char kDefaultGroundTruthFile[] = "ground_truth.tum";
 inline constexpr char kDefaultFloorMapFile[] = "floor_map.yaml";
+inline constexpr char kDefaultGroundTruthExtrinsicsFile[] = "ground_truth_extrinsics.csv";
 
 struct CameraSensor {
   int image_width_px = 0;   // > 0
@@ -90,6 +93,9 @@ struct DatasetFiles {
   std::string lidar_scans;
   std::string ground_truth;
   std::string floor_map;
+  // Since 1.1, optional: the camera's true mount over time (simulated data;
+  // requires sensors.camera).
+  std::string ground_truth_extrinsics;
 };
 
 struct DatasetManifest {
@@ -118,6 +124,8 @@ struct Dataset {
   std::vector<LaserScan> scans;
   Trajectory ground_truth;  // T_map_base
   std::optional<FloorMap> floor_map;
+  // The camera's true mount over time (dataset_records.h); empty when absent.
+  std::vector<CameraExtrinsicsRecord> ground_truth_extrinsics;
 
   // Sets manifest.files to the default name of every part present (a sensor
   // in the manifest, non-empty ground truth, a floor map) and empties the rest.
@@ -131,7 +139,7 @@ struct DatasetReadOptions {
   bool check_image_files = true;  // stat every image listed in the index
   bool load_wheel_encoders = true;
   bool load_scans = true;
-  bool load_ground_truth = true;
+  bool load_ground_truth = true;  // also the ground-truth extrinsics
   bool load_floor_map = true;
 };
 

@@ -75,6 +75,26 @@ struct LaserScan {
   bool IsReturn(std::size_t i) const { return ranges_m[i] != kNoReturnRange_m; }
 };
 
+// The camera's true mount over time, for simulated datasets (format >= 1.1):
+// ground_truth_extrinsics.csv, header
+// "stamp_s,height_m,pitch_rad,roll_rad,yaw_rad,forward_m,lateral_m".
+// The fields are those of the calibration module's CameraMount (the groundline
+// extrinsics of docs/conventions.md: optical centre height_m above the floor,
+// forward_m ahead and lateral_m left of base_link, pitch down, roll about the
+// optical axis, yaw left). The mount is piecewise constant: a record holds from
+// its stamp until the next record's stamp (the first record from the start of
+// the dataset). Checks: finite fields, height_m > 0, |pitch_rad| < pi/2, roll
+// and yaw in [-pi, pi]. Written with 9 decimals.
+struct CameraExtrinsicsRecord {
+  double stamp_s = 0.0;
+  double height_m = 0.0;
+  double pitch_rad = 0.0;
+  double roll_rad = 0.0;
+  double yaw_rad = 0.0;
+  double forward_m = 0.0;
+  double lateral_m = 0.0;
+};
+
 // Whole-file readers and writers. ReadImageIndex also checks that every
 // listed image file exists when `check_files` is set (it never decodes them).
 Result<std::vector<ImageRecord>> ReadImageIndex(const std::filesystem::path& path,
@@ -84,6 +104,11 @@ Status WriteImageIndex(const std::filesystem::path& path, const std::vector<Imag
 Result<std::vector<WheelEncoderReading>> ReadWheelEncoders(const std::filesystem::path& path);
 Status WriteWheelEncoders(const std::filesystem::path& path,
                           const std::vector<WheelEncoderReading>& readings);
+
+Result<std::vector<CameraExtrinsicsRecord>> ReadGroundTruthExtrinsics(
+    const std::filesystem::path& path);
+Status WriteGroundTruthExtrinsics(const std::filesystem::path& path,
+                                  const std::vector<CameraExtrinsicsRecord>& records);
 
 // lidar_scans.txt: a header comment line (kLaserScanFileHeader), then one scan
 // per line, whitespace separated:

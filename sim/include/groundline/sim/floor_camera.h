@@ -23,8 +23,18 @@
 //    averaged along (d floor/d pixel)^-1 times the floor's displacement in
 //    base_link over exposure_s), and sensor noise (read + shot, Gaussian).
 //
-// Not modelled: occlusion of the floor by passing objects, lens vignetting,
-// rolling shutter (the sensor is global shutter).
+// 4. Occluders (forklifts, pedestrians, other robots passing in front of the
+//    camera; options.occlusion): solid boxes drawn over the floor by forward
+//    projection. Each face turned towards the camera is cut into 16 x 16 quads
+//    whose corners go through CameraModel::Project (so edges follow the lens
+//    distortion), filled hard-edged with a flat shade (top 1, sides 0.6 of
+//    the box's reflectance under options.lux), farthest box first. Drawn
+//    after the motion blur, before the noise. Quads with a corner less than
+//    2 cm in front of the camera or more than ~72 deg off its axis are
+//    skipped (a box touching the lens).
+//
+// Not modelled: lens vignetting, rolling shutter (the sensor is global
+// shutter), shadows cast by occluders, their own motion blur.
 //
 // Throughput (benchmarks/sim/floor_camera_benchmark.cc): about 3 frames/s on
 // one core of the development machine with every default nuisance on; the
@@ -117,6 +127,8 @@ struct FloorRenderOptions {
   bool motion_blur = true;
   double exposure_s = 0.004;
 
+  bool occlusion = true;  // draw the occluders passed to Render
+
   bool noise = true;
   double read_noise_dn = 1.5;
   double electrons_per_dn = 40.0;  // shot noise: variance DN / electrons_per_dn
@@ -135,6 +147,19 @@ struct GreyImage {
   std::uint8_t at(int u, int v) const { return pixels[static_cast<std::size_t>(v) * width_px + u]; }
 };
 
+// A solid object in front of the floor: its footprint in the map frame,
+// extruded from z_min_m to z_max_m above the floor, with a diffuse reflectance.
+struct Occluder {
+  OrientedBox footprint_m;
+  double z_min_m = 0.0;
+  double z_max_m = 2.0;
+  double reflectance = 0.12;
+};
+
+// The occluders of the world's moving obstacles at a stamp (circles become
+// squares of their radius).
+std::vector<Occluder> OccludersAt(const World& world, double stamp_s);
+
 // The vehicle's velocity in base_link during the exposure (motion blur).
 struct BaseVelocity {
   double forward_mps = 0.0;
@@ -150,9 +175,11 @@ class FloorRenderer {
                                             const FloorRenderOptions& options);
 
   // The image at T_map_base. frame_index seeds the sensor noise (the floor's
-  // fields depend on options.seed alone).
+  // fields depend on options.seed alone). Occluders are drawn when
+  // options.occlusion is set.
   GreyImage Render(const core::SE2& T_map_base, const BaseVelocity& velocity = {},
-                   std::uint64_t frame_index = 0) const;
+                   std::uint64_t frame_index = 0,
+                   const std::vector<Occluder>& occluders = {}) const;
 
   const calibration::CameraModel& camera() const;
   const calibration::CameraMount& mount() const;

@@ -110,9 +110,7 @@ class PlanarLidar {
 // cast with ScanAlong; scan k has scan_index k.
 std::vector<LaserScan> SimulateScans(const PlanarLidar& lidar, const core::Trajectory& T_map_base);
 
-// The pose at a stamp, interpolated linearly in x, y and (shortest-way) yaw;
-// clamped to the first and last pose outside the trajectory's time span.
-core::SE2 InterpolatePose(const core::Trajectory& trajectory, double stamp_s);
+// InterpolatePose (world.h) samples trajectories at ray and frame stamps.
 
 }  // namespace groundline::sim
 

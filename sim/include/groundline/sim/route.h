@@ -1,5 +1,6 @@
-// Ground-truth trajectories: closed loops along a zone's natural paths (its
-// RoadGraph), driven smoothly at warehouse speeds.
+// Ground-truth trajectories along a zone's natural paths (its RoadGraph),
+// driven smoothly at warehouse speeds: an open route of exactly length_m
+// (default), or a closed loop that returns to its start (closed_loop).
 //
 // How a route is made:
 // 1. A seeded random walk over the road graph (no U-turns, no turn sharper than
@@ -23,8 +24,17 @@
 //    vehicle, a disc of vehicle_half_width_m around base_link, must keep
 //    min_clearance_m. A violation is an error, not a silently bad route.
 //
+// 5. Length. A closed loop is the planned loop itself: its length is the
+//    nearest the road graph allows (within length_tolerance_fraction, else an
+//    error; zone B's loops come in steps of a few metres, zone D's corridor
+//    ring only in laps of ~250 m). An open route (closed_loop = false) starts
+//    at a seeded point of the planned loop, drives it lap after lap and stops
+//    exactly at length_m (so any length >= 1 m in any zone); it starts and
+//    ends at rest, accelerating and braking at max_accel_mps2.
+//
 // The result is T_map_base (base_link: midpoint of the drive axle) sampled at
-// sample_rate_hz over one loop, t in [0, duration_s).
+// sample_rate_hz: over one loop, t in [0, duration_s) for a closed loop; over
+// t in [0, duration_s] for an open route (the last sample is its end).
 #ifndef GROUNDLINE_SIM_ROUTE_H_
 #define GROUNDLINE_SIM_ROUTE_H_
 
@@ -41,9 +51,12 @@ namespace groundline::sim {
 struct RouteOptions {
   std::uint64_t seed = 1;
   double length_m = 1200.0;
-  // Accept a loop whose length differs from length_m by at most this fraction.
-  double length_tolerance_fraction = 0.05;
-  int max_walk_attempts = 64;
+  // false: an open route of exactly length_m; true: a closed loop (below).
+  bool closed_loop = false;
+  // Closed loops: accept a loop whose length differs from length_m by at most
+  // this fraction.
+  double length_tolerance_fraction = 0.01;
+  int max_walk_attempts = 512;
 
   double min_speed_mps = 1.0;
   double max_speed_mps = 2.0;
@@ -65,14 +78,16 @@ struct RouteOptions {
 };
 
 struct Route {
-  core::Trajectory T_map_base;  // one loop at sample_rate_hz
+  core::Trajectory T_map_base;  // at sample_rate_hz (see the file comment)
+  bool closed_loop = false;
   // Per sample of T_map_base: forward speed and yaw rate (curvature * speed).
   std::vector<double> speed_mps;
   std::vector<double> yaw_rate_radps;
-  // The road-graph polyline the loop follows; closed (first == last).
+  // The road-graph polyline of the (planned) loop; closed (first == last).
+  // An open route drives it from the middle of its first segment, lap after lap.
   std::vector<Vector2> waypoints_m;
-  double length_m = 0.0;    // arc length of the smooth loop
-  double duration_s = 0.0;  // time for one loop
+  double length_m = 0.0;    // arc length of the smooth path
+  double duration_s = 0.0;  // time to drive it
   double max_curvature_1pm = 0.0;
   // Smallest distance between the vehicle disc and a static obstacle.
   double min_clearance_m = 0.0;

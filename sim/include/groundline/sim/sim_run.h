@@ -21,6 +21,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/camera_model.h"
@@ -29,6 +30,7 @@
 #include "groundline/localization/diff_drive_odometry.h"
 #include "groundline/sim/floor_camera.h"
 #include "groundline/sim/lidar.h"
+#include "groundline/sim/mount_perturbation.h"
 #include "groundline/sim/route.h"
 #include "groundline/sim/wheel_encoders.h"
 #include "groundline/sim/world.h"
@@ -38,6 +40,12 @@ namespace groundline::sim {
 
 struct SimRunOptions {
   Zone zone = Zone::kB;
+  // The layout of each zone (only the one of `zone` is used; its seed is
+  // replaced by `seed`).
+  ZoneAOptions zone_a;
+  ZoneBOptions zone_b;
+  ZoneCOptions zone_c;
+  ZoneDOptions zone_d;
   // Seeds the zone preset, the route, the encoders and the LiDAR (each with
   // its own derived seed), overriding the seeds inside the option structs.
   std::uint64_t seed = 1;
@@ -64,6 +72,11 @@ struct SimRunOptions {
   double camera_rate_hz = 10.0;
   FloorCameraOptions camera;
   FloorRenderOptions render;
+  // Changes of the camera mount during the run (payload, tire wear, knocks):
+  // frames are rendered through the true mount of their moment, the dataset's
+  // extrinsics file keeps camera.mount (nominal) and its
+  // ground_truth_extrinsics the true mount over time.
+  MountPerturbationOptions mount_perturbations;
 
   core::Status Validate() const;
 };
@@ -71,8 +84,9 @@ struct SimRunOptions {
 // What WriteSimulatedImages needs to render the run's frames.
 struct SimCamera {
   calibration::CameraModel model;
-  calibration::CameraMount mount;
-  FloorRenderOptions render;  // seed already derived from the run's seed
+  calibration::CameraMount mount;  // nominal (the calibration file); the true
+                                   // mount over time: dataset.ground_truth_extrinsics
+  FloorRenderOptions render;       // seed already derived from the run's seed
 };
 
 struct SimRun {
@@ -91,9 +105,35 @@ using SimProgress = std::function<void(std::string_view stage, double fraction)>
 // names the option to change).
 core::Result<SimRun> SimulateRun(const SimRunOptions& options, const SimProgress& progress = {});
 
+// Several robots in one zone at once (fleet runs). One world (built from
+// options.seed); robot k drives its own route (a different start and walk)
+// with its own encoder, LiDAR and camera noise, all seeded from its robot seed
+// (robot 0: options.seed, so a one-robot fleet is SimulateRun; robot k > 0:
+// derived from options.seed and k). Every robot's LiDAR sees every other robot
+// as a moving box (FleetOptions) that follows that robot's ground truth and is
+// parked at its first or last pose before or after its run. Each SimRun's
+// world holds the other robots as MovingKind::kRobot obstacles; the floor map
+// is the same for all. Robots do not avoid each other (no traffic rules):
+// their routes may cross, and a LiDAR inside another robot's box reports
+// too-close (no) returns there. Manifest names end in "_robot<k>".
+struct FleetOptions {
+  int robots = 2;  // >= 1
+  // The vehicle body seen by the others' LiDARs: a box centred on base_link.
+  Vector2 robot_half_extent_m = Vector2(0.85, 0.46);
+  double robot_height_m = 1.2;
+  double robot_reflectivity = 0.6;
+
+  core::Status Validate() const;
+};
+core::Result<std::vector<SimRun>> SimulateFleet(const SimRunOptions& options,
+                                                const FleetOptions& fleet,
+                                                const SimProgress& progress = {});
+
 // Renders every frame of run.dataset.images at its stamp (pose interpolated
 // from the ground truth, motion blur from its velocity, noise seeded by the
-// frame index) and writes DIR/images/<file> (PNG, atomically), then the
+// frame index, through the true mount in force at the stamp per
+// run.dataset.ground_truth_extrinsics, or the nominal mount when that is
+// empty) and writes DIR/images/<file> (PNG, atomically), then the
 // calibration files named by the manifest's camera: the intrinsics as an OpenCV
 // YAML (calibration::WriteOpenCvCalibration) and the mount as a groundline
 // extrinsics file (calibration::WriteCameraMountYaml). Frames are split over

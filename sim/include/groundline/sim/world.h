@@ -16,11 +16,13 @@
 #define GROUNDLINE_SIM_WORLD_H_
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "groundline/core/floor_map.h"
 #include "groundline/core/se2.h"
+#include "groundline/core/trajectory.h"
 
 namespace groundline::sim {
 
@@ -109,12 +111,15 @@ struct RoadGraph {
   std::vector<Edge> edges;
 };
 
-enum class MovingKind { kForklift, kPedestrian };
+enum class MovingKind { kForklift, kPedestrian, kRobot };
 
 // A moving obstacle: a box (forklift) or a circle (a pedestrian's legs at
 // LiDAR height) that goes back and forth along a polyline at constant speed.
 // At stamp t it is at arc length s = (phase_m + speed_mps * t) folded into
-// [0, L] ping-pong fashion, facing its direction of travel.
+// [0, L] ping-pong fashion, facing its direction of travel. Or, when
+// `trajectory` is set (another robot of a fleet run), a box that follows that
+// trajectory (T_map_obstacle, interpolated; parked at its first and last pose
+// outside its time span); path_m, speed and phase are then unused.
 struct MovingObstacle {
   MovingKind kind = MovingKind::kForklift;
   Vector2 half_extent_m = Vector2(1.2, 0.6);  // boxes: along / across travel
@@ -125,6 +130,7 @@ struct MovingObstacle {
   std::vector<Vector2> path_m;  // at least two distinct points
   double speed_mps = 1.0;
   double phase_m = 0.0;
+  std::shared_ptr<const core::Trajectory> trajectory;
 
   bool IsCircle() const { return radius_m > 0.0; }
   // T_map_obstacle at the stamp (x along the direction of travel).
@@ -146,6 +152,10 @@ struct World {
 
 // Length of a polyline in metres.
 double PolylineLength(const std::vector<Vector2>& polyline_m);
+
+// The pose at a stamp, interpolated linearly in x, y and (shortest-way) yaw;
+// clamped to the first and last pose outside the trajectory's time span.
+core::SE2 InterpolatePose(const core::Trajectory& trajectory, double stamp_s);
 
 }  // namespace groundline::sim
 

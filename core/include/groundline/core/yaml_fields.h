@@ -1,8 +1,10 @@
-// Private helpers for the dataset's YAML files (manifest, floor map): typed,
-// validated field access whose errors name the file, the line and the dotted
-// field path, and the shared format/version header.
-#ifndef GROUNDLINE_CORE_SRC_YAML_FIELDS_H_
-#define GROUNDLINE_CORE_SRC_YAML_FIELDS_H_
+// Helpers for groundline's YAML files (the dataset's manifest and floor map,
+// the simulator's scenarios): typed, validated field access whose errors name
+// the file, the line and the dotted field path, and the shared format/version
+// header. Users link yaml-cpp themselves (core keeps it a private dependency);
+// namespace internal: for groundline's own readers, not a stable API.
+#ifndef GROUNDLINE_CORE_YAML_FIELDS_H_
+#define GROUNDLINE_CORE_YAML_FIELDS_H_
 
 #include <cstddef>
 #include <cstdint>
@@ -10,6 +12,7 @@
 #include <initializer_list>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -59,6 +62,8 @@ class YamlFields {
   // Duplicate keys are always errors; unknown ones in strict mode.
   void CheckKeys(const YAML::Node& map, std::string_view path,
                  std::initializer_list<std::string_view> allowed);
+  void CheckKeys(const YAML::Node& map, std::string_view path,
+                 const std::vector<std::string_view>& allowed);
 
   // The child `key` of the mapping `map` found at `path`. An absent child is
   // returned as an undefined node, and is an error if `required`.
@@ -73,6 +78,8 @@ class YamlFields {
   // A scalar node itself (a sequence element).
   double NumberAt(const YAML::Node& node, std::string_view path);
   std::int64_t IntegerAt(const YAML::Node& node, std::string_view path);
+  // true/false (YAML 1.2 spelling).
+  bool BoolAt(const YAML::Node& node, std::string_view path);
 
   // Checks `format: <name>` and `version: MAJOR[.MINOR]` at the top of `root`:
   // another name, or a major version other than `major`, is an error; a minor
@@ -88,4 +95,4 @@ class YamlFields {
 
 }  // namespace groundline::core::internal
 
-#endif  // GROUNDLINE_CORE_SRC_YAML_FIELDS_H_
+#endif  // GROUNDLINE_CORE_YAML_FIELDS_H_
