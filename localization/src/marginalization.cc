@@ -45,6 +45,7 @@ core::Result<LinearSystem> MarginalizeSchur(const LinearSystem& system, std::spa
     return core::Status::Error("marginalization: the linear system has a non-finite entry");
   }
   const Eigen::MatrixXd H_kk = Select(system.H, keep, keep);
+  if (marginalize.empty()) return LinearSystem{H_kk, Select(system.b, keep)};
   const Eigen::MatrixXd H_km = Select(system.H, keep, marginalize);
   Eigen::MatrixXd H_mm = Select(system.H, marginalize, marginalize);
   H_mm = 0.5 * (H_mm + H_mm.transpose());
