@@ -197,14 +197,14 @@ core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
   root["frame"] = atlas.frame;
   root["lines"] = json::array();
   for (const AtlasLine& line : atlas.lines) {
-    root["lines"].push_back({{"id", line.id},
-                             {"rho_m", line.line_map.rho_m},
-                             {"alpha_rad", line.line_map.alpha_rad},
-                             {"covariance", ToJson(line.covariance)},
-                             {"kind", std::string(core::MarkingKindName(line.kind))},
-                             {"endpoints_m",
-                              json::array({line.endpoint_a_m.x(), line.endpoint_a_m.y(),
-                                           line.endpoint_b_m.x(), line.endpoint_b_m.y()})}});
+    root["lines"].push_back(
+        {{"id", line.id},
+         {"rho_m", line.line_map.rho_m},
+         {"alpha_rad", line.line_map.alpha_rad},
+         {"covariance", ToJson(line.covariance)},
+         {"kind", std::string(core::MarkingKindName(line.kind))},
+         {"endpoints_m", json::array({line.endpoint_a_m.x(), line.endpoint_a_m.y(),
+                                      line.endpoint_b_m.x(), line.endpoint_b_m.y()})}});
   }
   root["junctions"] = json::array();
   for (const AtlasJunction& junction : atlas.junctions) {

@@ -30,8 +30,8 @@ AtlasLine LineInMap(const LineObservation& observation, const core::SE2& T_map_b
   Eigen::Matrix2d J_l;
   AtlasLine out;
   out.line_map = perception::TransformLine(T_map_base, observation.line_base, &J_T, &J_l);
-  out.covariance = J_l * observation.covariance * J_l.transpose() +
-                   J_T * pose_covariance * J_T.transpose();
+  out.covariance =
+      J_l * observation.covariance * J_l.transpose() + J_T * pose_covariance * J_T.transpose();
   out.kind = observation.kind;
   out.endpoint_a_m = T_map_base * observation.endpoint_a_base_m;
   out.endpoint_b_m = T_map_base * observation.endpoint_b_base_m;

@@ -122,12 +122,11 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
     const auto sqrt_information = SqrtInformationFromCovariance2(observation.covariance);
     if (!sqrt_information.ok()) return false;
     keyframe->junctions.push_back(
-        {landmark,
-         std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
+        {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
     return true;
   };
-  for (const Match& match : AssociateLines(observations.lines, atlas_, T_pred, covariance_pred,
-                                           options_.association)) {
+  for (const Match& match :
+       AssociateLines(observations.lines, atlas_, T_pred, covariance_pred, options_.association)) {
     const LineObservation& observation = observations.lines[match.observation];
     if (match.landmark >= 0 && add_line(observation, match.landmark)) {
       ++health->lines_used;
@@ -171,8 +170,7 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
     landmark.id = atlas_.junctions.empty() ? 0 : atlas_.junctions.back().id + 1;
     atlas_.junctions.push_back(landmark);
     junction_blocks_.push_back({landmark.point_m.x(), landmark.point_m.y()});
-    add_junction(*unmatched_junctions[observation],
-                 static_cast<int>(atlas_.junctions.size()) - 1);
+    add_junction(*unmatched_junctions[observation], static_cast<int>(atlas_.junctions.size()) - 1);
     ++health->landmarks_added;
   }
 }
@@ -184,21 +182,19 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   KeyframeHealth health;
   health.stamp_s = stamp_s;
   const PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
-  const auto odometry_sqrt = SqrtInformationFromCovariance(
-      0.5 * (motion.covariance + motion.covariance.transpose()) +
-      core::Matrix3::Identity() * 1e-12);
+  const auto odometry_sqrt =
+      SqrtInformationFromCovariance(0.5 * (motion.covariance + motion.covariance.transpose()) +
+                                    core::Matrix3::Identity() * 1e-12);
   if (!odometry_sqrt.ok()) {
     return odometry_sqrt.status().WithContext("keyframe at " + std::to_string(stamp_s) +
                                               " s: odometry covariance");
   }
   Keyframe keyframe;
   keyframe.stamp_s = stamp_s;
-  keyframe.pose = {predicted.T_map_base.x(), predicted.T_map_base.y(),
-                   predicted.T_map_base.yaw()};
+  keyframe.pose = {predicted.T_map_base.x(), predicted.T_map_base.y(), predicted.T_map_base.yaw()};
   keyframe.odometry = std::make_unique<RelativePoseFactor>(motion.T_start_end, *odometry_sqrt);
   ++keyframe_count_;
-  AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance, &keyframe,
-                     &health);
+  AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance, &keyframe, &health);
   window_.push_back(std::move(keyframe));
   latest_ = predicted;
 
@@ -263,13 +259,13 @@ std::vector<LinearizationFactor> SlidingWindowSmoother::UnaryFactors(
   std::vector<LinearizationFactor> factors;
   for (const LandmarkFactor& factor : keyframe.lines) {
     variables->push_back({line_blocks_[factor.landmark].data(), 2, false});
-    factors.push_back({factor.cost.get(), line_loss_.get(),
-                       {0, static_cast<int>(variables->size()) - 1}});
+    factors.push_back(
+        {factor.cost.get(), line_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
   }
   for (const LandmarkFactor& factor : keyframe.junctions) {
     variables->push_back({junction_blocks_[factor.landmark].data(), 2, false});
-    factors.push_back({factor.cost.get(), junction_loss_.get(),
-                       {0, static_cast<int>(variables->size()) - 1}});
+    factors.push_back(
+        {factor.cost.get(), junction_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
   }
   return factors;
 }
@@ -281,7 +277,13 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   // in neither set, so their coupling is dropped).
   std::vector<LinearizationVariable> variables = {{front.pose.data(), 3, true},
                                                   {second.pose.data(), 3, true}};
-  std::vector<LinearizationFactor> factors = UnaryFactors(front, &variables);
+  // Localization mode: the landmarks are fixed, so their factors are unary
+  // on the pose and belong in the prior. Mapping mode: the landmarks are
+  // estimates still moving; linearizing their factors with the landmarks held
+  // fixed would count them as exact and anchor the prior to their current
+  // values, so they are left out (information dropped, not invented).
+  std::vector<LinearizationFactor> factors;
+  if (options_.mode == SmootherMode::kLocalization) factors = UnaryFactors(front, &variables);
   factors.push_back({prior_.get(), nullptr, {0}});
   factors.push_back({second.odometry.get(), nullptr, {0, 1}});
   const auto system = LinearizeFactors(variables, factors);

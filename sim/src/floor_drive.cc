@@ -9,11 +9,12 @@ FloorDrive::FloorDrive(const core::FloorMap& map, core::Trajectory trajectory,
                        const FloorDriveOptions& options)
     : options_(options),
       trajectory_(std::move(trajectory)),
-      observer_(map, [&] {
-        FloorObservationOptions o = options.observations;
-        o.seed = options.seed * 2654435761u + 17u;
-        return o;
-      }()),
+      observer_(map,
+                [&] {
+                  FloorObservationOptions o = options.observations;
+                  o.seed = options.seed * 2654435761u + 17u;
+                  return o;
+                }()),
       integrator_(localization::DiffDriveParams(), options.noise),
       selector_(options.keyframes),
       rng_(options.seed) {
@@ -22,9 +23,9 @@ FloorDrive::FloorDrive(const core::FloorMap& map, core::Trajectory trajectory,
   loop_duration_s_ = trajectory_.back().stamp_s - trajectory_.front().stamp_s + step_s;
 }
 
-bool FloorDrive::Next(DriveKeyframe* keyframe,
-                      const std::function<void(double, const localization::RelativeMotion&)>&
-                          on_step) {
+bool FloorDrive::Next(
+    DriveKeyframe* keyframe,
+    const std::function<void(double, const localization::RelativeMotion&)>& on_step) {
   std::normal_distribution<double> normal(0.0, 1.0);
   while (true) {
     const size_t next = index_ + 1 == trajectory_.size() ? 0 : index_ + 1;
@@ -40,8 +41,8 @@ bool FloorDrive::Next(DriveKeyframe* keyframe,
                                 std::sqrt(increment.covariance(1, 1)) * normal(rng_),
                                 std::sqrt(increment.covariance(2, 2)) * normal(rng_));
     // The odometry reports the nominal arc; the truth differs from it by the noise.
-    increment.T_prev_curr = core::SE2::Exp(Eigen::Vector3d(ds, 0.0, dtheta)) *
-                            core::SE2::Exp(-noise);
+    increment.T_prev_curr =
+        core::SE2::Exp(Eigen::Vector3d(ds, 0.0, dtheta)) * core::SE2::Exp(-noise);
     increment.distance_m = ds;
     increment.rotation_rad = dtheta;
     integrator_.Integrate(increment);

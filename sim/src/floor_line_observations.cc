@@ -9,9 +9,8 @@ namespace {
 
 // Clips the segment a-b to the box [x0, x1] x [y0, y1] (Liang-Barsky).
 std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> Clip(const Eigen::Vector2d& a,
-                                                                const Eigen::Vector2d& b,
-                                                                double x0, double x1, double y0,
-                                                                double y1) {
+                                                                const Eigen::Vector2d& b, double x0,
+                                                                double x1, double y0, double y1) {
   const Eigen::Vector2d d = b - a;
   double t0 = 0.0;
   double t1 = 1.0;

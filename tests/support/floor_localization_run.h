@@ -95,8 +95,8 @@ inline RunErrors RunSmoother(const ZoneDrive& drive, const sim::FloorDriveOption
   RunErrors errors;
   sim::DriveKeyframe keyframe;
   while (floor_drive.Next(&keyframe)) {
-    const auto health = smoother->AddKeyframe(keyframe.stamp_s, keyframe.motion,
-                                              keyframe.observations);
+    const auto health =
+        smoother->AddKeyframe(keyframe.stamp_s, keyframe.motion, keyframe.observations);
     if (!health.ok()) {
       ADD_FAILURE() << health.message();
       break;

@@ -59,7 +59,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path);
 core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas);
 
 struct AtlasFromFloorMapOptions {
-  double line_rho_sigma_m = 0.005;       // survey accuracy of a marking line
+  double line_rho_sigma_m = 0.005;  // survey accuracy of a marking line
   double line_alpha_sigma_rad = 0.002;
   double junction_sigma_m = 0.01;
   // A polyline vertex that turns by at least this much is a junction (a corner).

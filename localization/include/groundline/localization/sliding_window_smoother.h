@@ -19,12 +19,14 @@
 //
 // Landmarks stay in the atlas permanently: fixed in localization mode,
 // variables in mapping mode while a window keyframe observes them. When a
-// keyframe is marginalized in mapping mode its landmark factors are
-// linearized with the landmarks held at their estimates (their information is
-// not carried in the prior, which keeps the prior on one pose and the memory
-// bounded; the atlas covariances come from the tracker's fusion and each
-// matched sighting). There are no loop-closure factors yet, so no keyframe is
-// held back from marginalization.
+// keyframe is marginalized in mapping mode its landmark factors are dropped
+// (not folded into the prior as if the landmarks were exact, which would
+// anchor the prior to their current estimates); this keeps the prior on one
+// pose and the memory bounded at the price of the information those factors
+// carried about the pose chain. Mapped landmark covariances are the tracker's
+// first-order fusion, and the newest-pose covariance in mapping mode treats
+// the landmarks as known (optimistic). There are no loop-closure factors
+// yet, so no keyframe is held back from marginalization.
 //
 // Memory: the window holds at most window_s of keyframes; everything else is
 // the atlas. Not thread-safe.
@@ -126,7 +128,8 @@ class SlidingWindowSmoother {
   struct Keyframe {
     double stamp_s = 0.0;
     std::array<double, 3> pose{};
-    std::unique_ptr<ceres::CostFunction> odometry;  // from the previous keyframe; null for the first
+    std::unique_ptr<ceres::CostFunction>
+        odometry;  // from the previous keyframe; null for the first
     std::vector<LandmarkFactor> lines;
     std::vector<LandmarkFactor> junctions;
   };
