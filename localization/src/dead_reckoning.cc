@@ -14,9 +14,9 @@ core::Status DeadReckoningOptions::Validate() const {
   return core::Status::Ok();
 }
 
-core::Result<DeadReckoningResult> DeadReckon(
-    const std::vector<core::WheelEncoderReading>& readings, const core::StampedPose& initial,
-    const DeadReckoningOptions& options) {
+core::Result<DeadReckoningResult> DeadReckon(const std::vector<core::WheelEncoderReading>& readings,
+                                             const core::StampedPose& initial,
+                                             const DeadReckoningOptions& options) {
   if (core::Status s = options.Validate(); !s.ok()) return s.WithContext("dead reckoning options");
   const core::Matrix3 initial_covariance = initial.covariance.value_or(core::Matrix3::Zero());
   OdometryIntegrator integrator(options.drive, options.noise);

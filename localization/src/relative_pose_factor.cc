@@ -55,6 +55,11 @@ core::Result<Eigen::Matrix3d> SqrtInformationFromCovariance(const Eigen::Matrix3
 }
 
 Eigen::Matrix3d AmbientFromTangentJacobian(const Eigen::Matrix3d& J_tangent, double yaw_rad) {
+  return AmbientFromTangentJacobianRows(J_tangent, yaw_rad);
+}
+
+Eigen::MatrixX3d AmbientFromTangentJacobianRows(const Eigen::Ref<const Eigen::MatrixX3d>& J_tangent,
+                                                double yaw_rad) {
   const double c = std::cos(yaw_rad);
   const double s = std::sin(yaw_rad);
   Eigen::Matrix3d lift = Eigen::Matrix3d::Identity();

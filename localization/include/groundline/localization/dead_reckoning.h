@@ -44,9 +44,9 @@ struct DeadReckoningResult {
 // start after initial.stamp_s; readings at or before it are skipped (the
 // reading that covers the interval ending at the initial stamp is not applied).
 // Errors: invalid options, unsorted or non-finite readings (naming the index).
-core::Result<DeadReckoningResult> DeadReckon(
-    const std::vector<core::WheelEncoderReading>& readings, const core::StampedPose& initial,
-    const DeadReckoningOptions& options);
+core::Result<DeadReckoningResult> DeadReckon(const std::vector<core::WheelEncoderReading>& readings,
+                                             const core::StampedPose& initial,
+                                             const DeadReckoningOptions& options);
 
 }  // namespace groundline::localization
 

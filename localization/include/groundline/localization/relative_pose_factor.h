@@ -43,6 +43,10 @@ core::Result<Eigen::Matrix3d> SqrtInformationFromCovariance(const Eigen::Matrix3
 // Ambient (x, y, yaw) Jacobian of a residual from its right-perturbation
 // (tangent) Jacobian at a pose with the given yaw: J_tangent * [R^T 0; 0 1].
 Eigen::Matrix3d AmbientFromTangentJacobian(const Eigen::Matrix3d& J_tangent, double yaw_rad);
+// The same for a residual of any size (rows), e.g. the 2x3 pose Jacobians of
+// the floor factors.
+Eigen::MatrixX3d AmbientFromTangentJacobianRows(const Eigen::Ref<const Eigen::MatrixX3d>& J_tangent,
+                                                double yaw_rad);
 
 class RelativePoseFactor final : public ceres::SizedCostFunction<3, 3, 3> {
  public:

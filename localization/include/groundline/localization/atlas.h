@@ -1,0 +1,93 @@
+// The semantic atlas: the map of floor-marking landmarks the localizer
+// matches against. Lines (Hesse normal form in the map frame, with their
+// 2x2 covariance, marking kind and the extent seen so far) and junctions
+// (points where markings meet or turn). Built by mapping mode from a drive
+// or from a surveyed floor map (AtlasFromFloorMap); saved as JSON
+// (docs/atlas.md).
+//
+// Lines are stored normalized (perception::NormalizeLine); their covariance
+// is of (rho_m, alpha_rad) in that description. Ids are unique per kind.
+#ifndef GROUNDLINE_LOCALIZATION_ATLAS_H_
+#define GROUNDLINE_LOCALIZATION_ATLAS_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "groundline/core/floor_map.h"
+#include "groundline/core/status.h"
+#include "groundline/perception/hesse_line.h"
+
+namespace groundline::localization {
+
+inline constexpr char kAtlasFormatName[] = "groundline-atlas";
+inline constexpr int kAtlasFormatMajor = 1;
+
+struct AtlasLine {
+  std::int64_t id = 0;
+  perception::HesseLine line_map;
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // (rho_m, alpha_rad)
+  core::MarkingKind kind = core::MarkingKind::kTapeSolid;
+  // The marked extent along the line (metres, map frame).
+  Eigen::Vector2d endpoint_a_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d endpoint_b_m = Eigen::Vector2d::Zero();
+};
+
+struct AtlasJunction {
+  std::int64_t id = 0;
+  Eigen::Vector2d point_m = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();
+};
+
+struct Atlas {
+  std::string frame = "map";
+  std::vector<AtlasLine> lines;
+  std::vector<AtlasJunction> junctions;
+
+  // Finite values, normalized lines, symmetric positive definite
+  // covariances, unique ids; the message names the entry ("lines[3].covariance").
+  core::Status Validate() const;
+};
+
+// Reads and validates an atlas file. Errors name the file and the field
+// ("atlas.json: field 'lines[2].rho_m': expected a number, got \"x\"").
+core::Result<Atlas> ReadAtlas(const std::filesystem::path& path);
+// Validates, then writes atomically (FILE.tmp, then rename).
+core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas);
+
+struct AtlasFromFloorMapOptions {
+  double line_rho_sigma_m = 0.005;  // survey accuracy of a marking line
+  double line_alpha_sigma_rad = 0.002;
+  double junction_sigma_m = 0.01;
+  // A polyline vertex that turns by at least this much is a junction (a corner).
+  double min_corner_angle_rad = 30.0 * std::numbers::pi / 180.0;
+  // Junctions closer than this are merged.
+  double junction_merge_distance_m = 0.05;
+
+  core::Status Validate() const;
+};
+
+// A surveyed atlas from ground-truth markings: one line per centre-line
+// segment of every marking (dashed tape as its full segments), junctions at
+// polyline corners and where segments of different markings cross or meet
+// (a segment end within junction_merge_distance_m of another segment).
+Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options);
+
+// The centre-line segments of the map's markings with their kinds, and the
+// junction points, as AtlasFromFloorMap finds them (shared with the
+// observation simulator).
+struct MarkingSegment {
+  Eigen::Vector2d a_m;
+  Eigen::Vector2d b_m;
+  core::MarkingKind kind = core::MarkingKind::kTapeSolid;
+};
+std::vector<MarkingSegment> MarkingSegments(const core::FloorMap& map);
+std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
+                                              const AtlasFromFloorMapOptions& options);
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_ATLAS_H_

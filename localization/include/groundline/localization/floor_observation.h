@@ -1,0 +1,44 @@
+// What the floor-line extractor hands to localization for one camera frame:
+// ground lines and junctions measured in base_link, each with its covariance.
+// The extractor (perception/) produces its own types; the tools adapt them to
+// these, so localization depends only on perception's HesseLine maths.
+//
+// Frames and units: base_link (x forward, y left), metres and radians.
+// Line covariances are of (rho_m, alpha_rad) in the description given by
+// line_base (m^2, m rad, rad^2); junction covariances of (x_m, y_m) (m^2).
+#ifndef GROUNDLINE_LOCALIZATION_FLOOR_OBSERVATION_H_
+#define GROUNDLINE_LOCALIZATION_FLOOR_OBSERVATION_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "groundline/core/floor_map.h"
+#include "groundline/perception/hesse_line.h"
+
+namespace groundline::localization {
+
+struct LineObservation {
+  perception::HesseLine line_base;
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // symmetric positive definite
+  core::MarkingKind kind = core::MarkingKind::kTapeSolid;
+  // The observed extent of the marking: two points on (near) the line.
+  Eigen::Vector2d endpoint_a_base_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d endpoint_b_base_m = Eigen::Vector2d::Zero();
+};
+
+// A point where markings meet or a marking turns (a corner, a T, a crossing).
+struct JunctionObservation {
+  Eigen::Vector2d point_base_m = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // symmetric positive definite
+};
+
+// Everything extracted from one frame at stamp_s.
+struct FloorObservations {
+  double stamp_s = 0.0;
+  std::vector<LineObservation> lines;
+  std::vector<JunctionObservation> junctions;
+};
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_FLOOR_OBSERVATION_H_

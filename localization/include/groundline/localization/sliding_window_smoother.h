@@ -1,0 +1,162 @@
+// Sliding-window SE(2) smoother over keyframes: odometry between-factors,
+// ground-line and junction factors against the atlas, and a marginal prior
+// that summarizes every keyframe that left the window.
+//
+// Each keyframe (chosen by the caller, e.g. KeyframeSelector: 0.20 m / 5 deg)
+// is a pose block T_map_base (core::SE2Manifold). AddKeyframe:
+//  1. predicts the pose from the previous keyframe and the odometry motion
+//     (PropagateFromKeyframe), with covariance;
+//  2. associates the observations with the atlas (floor_association.h);
+//     in mapping mode unmatched ones feed the LandmarkTracker and become
+//     landmarks after min_track_keyframes sightings;
+//  3. solves the window with Ceres (pseudo-Huber = ceres::SoftLOneLoss on line
+//     and junction factors, scales in whitened units);
+//  4. marginalizes keyframes older than window_s (Schur complement,
+//     marginalization.h) into the prior on the oldest kept keyframe;
+//  5. computes the newest pose's covariance by eliminating the window's
+//     poses in order (exact for the window's chain structure in localization
+//     mode, where landmarks are fixed).
+//
+// Landmarks stay in the atlas permanently: fixed in localization mode,
+// variables in mapping mode while a window keyframe observes them. When a
+// keyframe is marginalized in mapping mode its landmark factors are dropped
+// (not folded into the prior as if the landmarks were exact, which would
+// anchor the prior to their current estimates); this keeps the prior on one
+// pose and the memory bounded at the price of the information those factors
+// carried about the pose chain. Mapped landmark covariances are the tracker's
+// first-order fusion, and the newest-pose covariance in mapping mode treats
+// the landmarks as known (optimistic). There are no loop-closure factors
+// yet, so no keyframe is held back from marginalization.
+//
+// Memory: the window holds at most window_s of keyframes; everything else is
+// the atlas. Not thread-safe.
+#ifndef GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
+#define GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
+
+#include <array>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "groundline/core/se2.h"
+#include "groundline/core/status.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/floor_association.h"
+#include "groundline/localization/floor_observation.h"
+#include "groundline/localization/landmark_tracker.h"
+#include "groundline/localization/marginalization.h"
+#include "groundline/localization/odometry_integrator.h"
+
+namespace ceres {
+class CostFunction;
+class LossFunction;
+}  // namespace ceres
+
+namespace groundline::localization {
+
+enum class SmootherMode { kLocalization, kMapping };
+
+struct SmootherOptions {
+  SmootherMode mode = SmootherMode::kLocalization;
+  double window_s = 120.0;  // keyframes older than this (vs the newest) are marginalized
+  // Pseudo-Huber (SoftLOne) scale in whitened units (sigmas).
+  double line_loss_scale = 2.0;
+  double junction_loss_scale = 2.0;
+  int max_iterations = 10;
+  AssociationOptions association;
+  LandmarkTrackerOptions tracker;  // mapping mode
+
+  core::Status Validate() const;
+};
+
+struct PoseEstimate {
+  double stamp_s = 0.0;
+  core::SE2 T_map_base;
+  core::Matrix3 covariance = core::Matrix3::Zero();  // tangent space (x, y, yaw)
+};
+
+// The pose at the end of `motion` (relative to the keyframe), with the
+// first-order covariance Ad(D^-1) Sigma_kf Ad(D^-1)^T + Sigma_D: the
+// odometry-rate output between keyframes.
+PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeMotion& motion,
+                                   double stamp_s);
+
+struct KeyframeHealth {
+  double stamp_s = 0.0;
+  int lines_observed = 0;
+  int lines_used = 0;
+  int lines_rejected = 0;  // outside every gate or ambiguous
+  int lines_ambiguous = 0;
+  int junctions_observed = 0;
+  int junctions_used = 0;
+  int landmarks_added = 0;  // mapping mode
+  int window_size = 0;      // keyframes in the window after this update
+  int iterations = 0;
+  double solve_time_s = 0.0;   // Ceres solve
+  double update_time_s = 0.0;  // the whole AddKeyframe
+};
+
+class SlidingWindowSmoother {
+ public:
+  // options must be valid (asserted); the atlas must be valid (asserted).
+  SlidingWindowSmoother(const SmootherOptions& options, Atlas atlas);
+  ~SlidingWindowSmoother();
+
+  // The first keyframe, with a prior of the given covariance (tangent space).
+  void Initialize(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
+
+  // A new keyframe at stamp_s, `motion` since the previous keyframe
+  // (OdometryIntegrator::StartKeyframe()), observations taken at stamp_s.
+  // Errors: a failed solve or marginalization (the keyframe is kept, the
+  // estimate is the prediction).
+  core::Result<KeyframeHealth> AddKeyframe(double stamp_s, const RelativeMotion& motion,
+                                           const FloorObservations& observations);
+
+  bool initialized() const { return !window_.empty(); }
+  // The newest keyframe's estimate (requires initialized()).
+  const PoseEstimate& Latest() const { return latest_; }
+  // The atlas with the current landmark estimates (mapping mode: normalized).
+  Atlas CurrentAtlas() const;
+  int WindowSize() const { return static_cast<int>(window_.size()); }
+
+ private:
+  struct LandmarkFactor {
+    int landmark = 0;  // index into atlas lines or junctions
+    std::unique_ptr<ceres::CostFunction> cost;
+  };
+  struct Keyframe {
+    double stamp_s = 0.0;
+    std::array<double, 3> pose{};
+    std::unique_ptr<ceres::CostFunction>
+        odometry;  // from the previous keyframe; null for the first
+    std::vector<LandmarkFactor> lines;
+    std::vector<LandmarkFactor> junctions;
+  };
+
+  core::Status Solve(KeyframeHealth* health);
+  core::Status MarginalizeOldest();
+  core::Matrix3 NewestCovariance() const;
+  std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
+                                                std::vector<LinearizationVariable>* variables);
+  void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
+                          const core::Matrix3& covariance_pred, Keyframe* keyframe,
+                          KeyframeHealth* health);
+
+  SmootherOptions options_;
+  Atlas atlas_;
+  // Parameter blocks of the landmarks (rho, alpha) / (x, y), parallel to the atlas.
+  std::deque<std::array<double, 2>> line_blocks_;
+  std::deque<std::array<double, 2>> junction_blocks_;
+  std::deque<Keyframe> window_;
+  std::unique_ptr<MarginalPriorFactor> prior_;  // on window_.front()
+  std::unique_ptr<ceres::LossFunction> line_loss_;
+  std::unique_ptr<ceres::LossFunction> junction_loss_;
+  LandmarkTracker tracker_;
+  PoseEstimate latest_;
+  long keyframe_count_ = 0;
+};
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_

@@ -1,0 +1,218 @@
+#include <Eigen/LU>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "groundline/core/atomic_file.h"
+#include "groundline/localization/atlas.h"
+
+namespace groundline::localization {
+namespace {
+
+using nlohmann::json;
+
+// Reads fields of one JSON object, remembering the first error with its path.
+class FieldReader {
+ public:
+  FieldReader(std::string file) : file_(std::move(file)) {}
+
+  const json* Get(const json& object, const std::string& path, const char* key) {
+    if (!object.is_object() || !object.contains(key)) {
+      Fail(path + key, "a value", "nothing (missing)");
+      return nullptr;
+    }
+    return &object.at(key);
+  }
+  double Number(const json& object, const std::string& path, const char* key) {
+    const json* value = Get(object, path, key);
+    if (value == nullptr) return 0.0;
+    if (!value->is_number()) {
+      Fail(path + key, "a number", value->dump());
+      return 0.0;
+    }
+    return value->get<double>();
+  }
+  std::vector<double> Numbers(const json& object, const std::string& path, const char* key,
+                              size_t count) {
+    const json* value = Get(object, path, key);
+    std::vector<double> out(count, 0.0);
+    if (value == nullptr) return out;
+    if (!value->is_array() || value->size() != count) {
+      Fail(path + key, "an array of " + std::to_string(count) + " numbers", value->dump());
+      return out;
+    }
+    for (size_t i = 0; i < count; ++i) {
+      if (!(*value)[i].is_number()) {
+        Fail(path + key, "an array of numbers", value->dump());
+        return out;
+      }
+      out[i] = (*value)[i].get<double>();
+    }
+    return out;
+  }
+  std::string String(const json& object, const std::string& path, const char* key) {
+    const json* value = Get(object, path, key);
+    if (value == nullptr) return {};
+    if (!value->is_string()) {
+      Fail(path + key, "a string", value->dump());
+      return {};
+    }
+    return value->get<std::string>();
+  }
+  void Fail(const std::string& field, const std::string& expected, const std::string& got) {
+    if (!status_.ok()) return;
+    status_ = core::Status::Error(file_ + ": field '" + field + "': expected " + expected +
+                                  ", got " + got);
+  }
+  const core::Status& status() const { return status_; }
+
+ private:
+  std::string file_;
+  core::Status status_ = core::Status::Ok();
+};
+
+Eigen::Matrix2d Matrix2(const std::vector<double>& v) {
+  Eigen::Matrix2d m;
+  m << v[0], v[1], v[2], v[3];
+  return m;
+}
+
+json ToJson(const Eigen::Matrix2d& m) { return json::array({m(0, 0), m(0, 1), m(1, 0), m(1, 1)}); }
+json ToJson(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
+
+core::Status CheckCovariance(const Eigen::Matrix2d& c, const std::string& field) {
+  const bool ok = c.allFinite() && std::abs(c(0, 1) - c(1, 0)) <= 1e-12 * c.cwiseAbs().maxCoeff() &&
+                  c(0, 0) > 0.0 && c.determinant() > 0.0;
+  if (ok) return core::Status::Ok();
+  return core::Status::Error("field '" + field +
+                             "': expected a symmetric positive definite 2x2 matrix");
+}
+
+}  // namespace
+
+core::Status Atlas::Validate() const {
+  std::set<std::int64_t> ids;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const AtlasLine& line = lines[i];
+    const std::string field = "lines[" + std::to_string(i) + "]";
+    if (!ids.insert(line.id).second) {
+      return core::Status::Error("field '" + field + ".id': duplicate id " +
+                                 std::to_string(line.id));
+    }
+    if (!std::isfinite(line.line_map.rho_m) || !std::isfinite(line.line_map.alpha_rad) ||
+        !perception::IsNormalized(line.line_map)) {
+      return core::Status::Error("field '" + field +
+                                 "': expected a normalized line (rho_m >= 0, alpha_rad in "
+                                 "(-pi, pi])");
+    }
+    if (!line.endpoint_a_m.allFinite() || !line.endpoint_b_m.allFinite()) {
+      return core::Status::Error("field '" + field + ".endpoints_m': expected finite numbers");
+    }
+    core::Status status = CheckCovariance(line.covariance, field + ".covariance");
+    if (!status.ok()) return status;
+  }
+  ids.clear();
+  for (size_t i = 0; i < junctions.size(); ++i) {
+    const std::string field = "junctions[" + std::to_string(i) + "]";
+    if (!ids.insert(junctions[i].id).second) {
+      return core::Status::Error("field '" + field + ".id': duplicate id");
+    }
+    if (!junctions[i].point_m.allFinite()) {
+      return core::Status::Error("field '" + field + ".point_m': expected finite numbers");
+    }
+    core::Status status = CheckCovariance(junctions[i].covariance, field + ".covariance");
+    if (!status.ok()) return status;
+  }
+  return core::Status::Ok();
+}
+
+core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) return core::Status::Error(path.string() + ": cannot open the atlas file");
+  const std::string file = path.filename().string();
+  json root;
+  try {
+    root = json::parse(in);
+  } catch (const json::parse_error& error) {
+    return core::Status::Error(file + ": not valid JSON (" + error.what() + ")");
+  }
+  FieldReader reader(file);
+  const std::string format = reader.String(root, "", "format");
+  if (reader.status().ok() && format != kAtlasFormatName) {
+    reader.Fail("format", std::string("\"") + kAtlasFormatName + "\"", "\"" + format + "\"");
+  }
+  const double major = reader.Number(root, "", "version_major");
+  if (reader.status().ok() && major != kAtlasFormatMajor) {
+    reader.Fail("version_major", std::to_string(kAtlasFormatMajor), std::to_string(major));
+  }
+  Atlas atlas;
+  atlas.frame = reader.String(root, "", "frame");
+  const json* lines = reader.Get(root, "", "lines");
+  const json* junctions = reader.Get(root, "", "junctions");
+  if (!reader.status().ok()) return reader.status();
+  if (!lines->is_array()) reader.Fail("lines", "an array", lines->dump().substr(0, 40));
+  if (!junctions->is_array()) reader.Fail("junctions", "an array", junctions->dump().substr(0, 40));
+  if (!reader.status().ok()) return reader.status();
+  for (size_t i = 0; i < lines->size(); ++i) {
+    const json& entry = (*lines)[i];
+    const std::string p = "lines[" + std::to_string(i) + "].";
+    AtlasLine line;
+    line.id = static_cast<std::int64_t>(reader.Number(entry, p, "id"));
+    line.line_map.rho_m = reader.Number(entry, p, "rho_m");
+    line.line_map.alpha_rad = reader.Number(entry, p, "alpha_rad");
+    line.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));
+    const std::string kind = reader.String(entry, p, "kind");
+    const auto parsed_kind = core::MarkingKindFromName(kind);
+    if (reader.status().ok() && !parsed_kind) reader.Fail(p + "kind", "a marking kind", kind);
+    if (parsed_kind) line.kind = *parsed_kind;
+    const std::vector<double> ends = reader.Numbers(entry, p, "endpoints_m", 4);
+    line.endpoint_a_m = {ends[0], ends[1]};
+    line.endpoint_b_m = {ends[2], ends[3]};
+    atlas.lines.push_back(line);
+  }
+  for (size_t i = 0; i < junctions->size(); ++i) {
+    const json& entry = (*junctions)[i];
+    const std::string p = "junctions[" + std::to_string(i) + "].";
+    AtlasJunction junction;
+    junction.id = static_cast<std::int64_t>(reader.Number(entry, p, "id"));
+    const std::vector<double> point = reader.Numbers(entry, p, "point_m", 2);
+    junction.point_m = {point[0], point[1]};
+    junction.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));
+    atlas.junctions.push_back(junction);
+  }
+  if (!reader.status().ok()) return reader.status();
+  const core::Status valid = atlas.Validate();
+  if (!valid.ok()) return valid.WithContext(file);
+  return atlas;
+}
+
+core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
+  const core::Status valid = atlas.Validate();
+  if (!valid.ok()) return valid.WithContext("atlas not written to " + path.string());
+  json root;
+  root["format"] = kAtlasFormatName;
+  root["version_major"] = kAtlasFormatMajor;
+  root["frame"] = atlas.frame;
+  root["lines"] = json::array();
+  for (const AtlasLine& line : atlas.lines) {
+    root["lines"].push_back(
+        {{"id", line.id},
+         {"rho_m", line.line_map.rho_m},
+         {"alpha_rad", line.line_map.alpha_rad},
+         {"covariance", ToJson(line.covariance)},
+         {"kind", std::string(core::MarkingKindName(line.kind))},
+         {"endpoints_m", json::array({line.endpoint_a_m.x(), line.endpoint_a_m.y(),
+                                      line.endpoint_b_m.x(), line.endpoint_b_m.y()})}});
+  }
+  root["junctions"] = json::array();
+  for (const AtlasJunction& junction : atlas.junctions) {
+    root["junctions"].push_back({{"id", junction.id},
+                                 {"point_m", ToJson(junction.point_m)},
+                                 {"covariance", ToJson(junction.covariance)}});
+  }
+  return core::WriteFileAtomically(path, root.dump(1) + "\n");
+}
+
+}  // namespace groundline::localization

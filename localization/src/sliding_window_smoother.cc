@@ -1,0 +1,342 @@
+#include "groundline/localization/sliding_window_smoother.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/QR>
+#include <cassert>
+#include <chrono>
+
+#include "groundline/core/se2_manifold.h"
+#include "groundline/localization/floor_factors.h"
+#include "groundline/localization/relative_pose_factor.h"
+
+namespace groundline::localization {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
+
+const core::SE2Manifold kSe2Manifold;
+
+}  // namespace
+
+core::Status SmootherOptions::Validate() const {
+  if (!(window_s > 0.0)) return core::Status::Error("smoother window_s must be > 0");
+  if (!(line_loss_scale > 0.0)) return core::Status::Error("smoother line_loss_scale must be > 0");
+  if (!(junction_loss_scale > 0.0)) {
+    return core::Status::Error("smoother junction_loss_scale must be > 0");
+  }
+  if (max_iterations < 1) return core::Status::Error("smoother max_iterations must be >= 1");
+  if (tracker.min_keyframes < 1) {
+    return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
+  }
+  return association.Validate();
+}
+
+PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeMotion& motion,
+                                   double stamp_s) {
+  PoseEstimate out;
+  out.stamp_s = stamp_s;
+  out.T_map_base = keyframe.T_map_base * motion.T_start_end;
+  const core::Matrix3 A = motion.T_start_end.Inverse().Adjoint();
+  out.covariance = A * keyframe.covariance * A.transpose() + motion.covariance;
+  return out;
+}
+
+SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atlas atlas)
+    : options_(options),
+      atlas_(std::move(atlas)),
+      line_loss_(new ceres::SoftLOneLoss(options.line_loss_scale)),
+      junction_loss_(new ceres::SoftLOneLoss(options.junction_loss_scale)),
+      tracker_(options.tracker) {
+  assert(options_.Validate().ok());
+  assert(atlas_.Validate().ok());
+  for (const AtlasLine& line : atlas_.lines) {
+    line_blocks_.push_back({line.line_map.rho_m, line.line_map.alpha_rad});
+  }
+  for (const AtlasJunction& junction : atlas_.junctions) {
+    junction_blocks_.push_back({junction.point_m.x(), junction.point_m.y()});
+  }
+}
+
+SlidingWindowSmoother::~SlidingWindowSmoother() = default;
+
+void SlidingWindowSmoother::Initialize(double stamp_s, const core::SE2& T_map_base,
+                                       const core::Matrix3& covariance) {
+  window_.clear();
+  Keyframe keyframe;
+  keyframe.stamp_s = stamp_s;
+  keyframe.pose = {T_map_base.x(), T_map_base.y(), T_map_base.yaw()};
+  window_.push_back(std::move(keyframe));
+  MarginalPrior prior;
+  prior.x0 = {{T_map_base.x(), T_map_base.y(), T_map_base.yaw()}};
+  prior.is_pose = {true};
+  prior.sqrt_prior.J = SqrtInformationFromCovariance(covariance).value();
+  prior.sqrt_prior.r = Eigen::Vector3d::Zero();
+  prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
+  latest_ = {stamp_s, T_map_base, covariance};
+  keyframe_count_ = 1;
+}
+
+Atlas SlidingWindowSmoother::CurrentAtlas() const {
+  Atlas atlas = atlas_;
+  for (size_t i = 0; i < atlas.lines.size(); ++i) {
+    atlas.lines[i].line_map = perception::NormalizeLine(line_blocks_[i][0], line_blocks_[i][1]);
+  }
+  for (size_t i = 0; i < atlas.junctions.size(); ++i) {
+    atlas.junctions[i].point_m = {junction_blocks_[i][0], junction_blocks_[i][1]};
+  }
+  return atlas;
+}
+
+void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observations,
+                                               const core::SE2& T_pred,
+                                               const core::Matrix3& covariance_pred,
+                                               Keyframe* keyframe, KeyframeHealth* health) {
+  const bool mapping = options_.mode == SmootherMode::kMapping;
+  if (mapping) {
+    for (size_t i = 0; i < atlas_.lines.size(); ++i) {
+      atlas_.lines[i].line_map = perception::NormalizeLine(line_blocks_[i][0], line_blocks_[i][1]);
+    }
+    for (size_t i = 0; i < atlas_.junctions.size(); ++i) {
+      atlas_.junctions[i].point_m = {junction_blocks_[i][0], junction_blocks_[i][1]};
+    }
+  }
+  std::vector<const LineObservation*> unmatched_lines;
+  std::vector<const JunctionObservation*> unmatched_junctions;
+  health->lines_observed = static_cast<int>(observations.lines.size());
+  health->junctions_observed = static_cast<int>(observations.junctions.size());
+  const auto add_line = [&](const LineObservation& observation, int landmark) {
+    const auto sqrt_information = SqrtInformationFromCovariance2(observation.covariance);
+    if (!sqrt_information.ok()) return false;
+    keyframe->lines.push_back(
+        {landmark, std::make_unique<GroundLineFactor>(observation.line_base, *sqrt_information)});
+    return true;
+  };
+  const auto add_junction = [&](const JunctionObservation& observation, int landmark) {
+    const auto sqrt_information = SqrtInformationFromCovariance2(observation.covariance);
+    if (!sqrt_information.ok()) return false;
+    keyframe->junctions.push_back(
+        {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
+    return true;
+  };
+  for (const Match& match :
+       AssociateLines(observations.lines, atlas_, T_pred, covariance_pred, options_.association)) {
+    const LineObservation& observation = observations.lines[match.observation];
+    if (match.landmark >= 0 && add_line(observation, match.landmark)) {
+      ++health->lines_used;
+      if (mapping) {
+        AtlasLine& landmark = atlas_.lines[match.landmark];
+        const AtlasLine seen = LineInMap(observation, T_pred, covariance_pred);
+        ExtendLineExtent(seen.endpoint_a_m, &landmark);
+        ExtendLineExtent(seen.endpoint_b_m, &landmark);
+      }
+      continue;
+    }
+    ++health->lines_rejected;
+    if (match.ambiguous) {
+      ++health->lines_ambiguous;
+    } else if (mapping) {
+      unmatched_lines.push_back(&observation);
+    }
+  }
+  for (const Match& match : AssociateJunctions(observations.junctions, atlas_, T_pred,
+                                               covariance_pred, options_.association)) {
+    const JunctionObservation& observation = observations.junctions[match.observation];
+    if (match.landmark >= 0 && add_junction(observation, match.landmark)) {
+      ++health->junctions_used;
+    } else if (mapping && !match.ambiguous) {
+      unmatched_junctions.push_back(&observation);
+    }
+  }
+  if (!mapping) return;
+  const LandmarkTracker::Confirmed confirmed = tracker_.Update(
+      keyframe_count_, T_pred, covariance_pred, unmatched_lines, unmatched_junctions);
+  for (const auto& [line, observation] : confirmed.lines) {
+    AtlasLine landmark = line;
+    landmark.id = atlas_.lines.empty() ? 0 : atlas_.lines.back().id + 1;
+    atlas_.lines.push_back(landmark);
+    line_blocks_.push_back({landmark.line_map.rho_m, landmark.line_map.alpha_rad});
+    add_line(*unmatched_lines[observation], static_cast<int>(atlas_.lines.size()) - 1);
+    ++health->landmarks_added;
+  }
+  for (const auto& [junction, observation] : confirmed.junctions) {
+    AtlasJunction landmark = junction;
+    landmark.id = atlas_.junctions.empty() ? 0 : atlas_.junctions.back().id + 1;
+    atlas_.junctions.push_back(landmark);
+    junction_blocks_.push_back({landmark.point_m.x(), landmark.point_m.y()});
+    add_junction(*unmatched_junctions[observation], static_cast<int>(atlas_.junctions.size()) - 1);
+    ++health->landmarks_added;
+  }
+}
+
+core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
+    double stamp_s, const RelativeMotion& motion, const FloorObservations& observations) {
+  assert(initialized());
+  const Clock::time_point start = Clock::now();
+  KeyframeHealth health;
+  health.stamp_s = stamp_s;
+  const PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
+  const auto odometry_sqrt =
+      SqrtInformationFromCovariance(0.5 * (motion.covariance + motion.covariance.transpose()) +
+                                    core::Matrix3::Identity() * 1e-12);
+  if (!odometry_sqrt.ok()) {
+    return odometry_sqrt.status().WithContext("keyframe at " + std::to_string(stamp_s) +
+                                              " s: odometry covariance");
+  }
+  Keyframe keyframe;
+  keyframe.stamp_s = stamp_s;
+  keyframe.pose = {predicted.T_map_base.x(), predicted.T_map_base.y(), predicted.T_map_base.yaw()};
+  keyframe.odometry = std::make_unique<RelativePoseFactor>(motion.T_start_end, *odometry_sqrt);
+  ++keyframe_count_;
+  AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance, &keyframe, &health);
+  window_.push_back(std::move(keyframe));
+  latest_ = predicted;
+
+  core::Status status = Solve(&health);
+  while (status.ok() && window_.size() > 2 &&
+         window_.back().stamp_s - window_.front().stamp_s > options_.window_s) {
+    status = MarginalizeOldest();
+  }
+  if (!status.ok()) return status;
+  latest_ = {stamp_s, PoseOf(window_.back().pose), NewestCovariance()};
+  health.window_size = static_cast<int>(window_.size());
+  health.update_time_s = SecondsSince(start);
+  return health;
+}
+
+core::Status SlidingWindowSmoother::Solve(KeyframeHealth* health) {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  auto* manifold = const_cast<core::SE2Manifold*>(&kSe2Manifold);
+  for (Keyframe& keyframe : window_) problem.AddParameterBlock(keyframe.pose.data(), 3, manifold);
+  problem.AddResidualBlock(prior_.get(), nullptr, window_.front().pose.data());
+  const bool mapping = options_.mode == SmootherMode::kMapping;
+  for (size_t i = 0; i < window_.size(); ++i) {
+    Keyframe& keyframe = window_[i];
+    if (i > 0) {
+      problem.AddResidualBlock(keyframe.odometry.get(), nullptr, window_[i - 1].pose.data(),
+                               keyframe.pose.data());
+    }
+    for (LandmarkFactor& factor : keyframe.lines) {
+      double* block = line_blocks_[factor.landmark].data();
+      problem.AddResidualBlock(factor.cost.get(), line_loss_.get(), keyframe.pose.data(), block);
+      if (!mapping) problem.SetParameterBlockConstant(block);
+    }
+    for (LandmarkFactor& factor : keyframe.junctions) {
+      double* block = junction_blocks_[factor.landmark].data();
+      problem.AddResidualBlock(factor.cost.get(), junction_loss_.get(), keyframe.pose.data(),
+                               block);
+      if (!mapping) problem.SetParameterBlockConstant(block);
+    }
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  options.num_threads = 1;
+  options.max_num_iterations = options_.max_iterations;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  const Clock::time_point start = Clock::now();
+  ceres::Solve(options, &problem, &summary);
+  health->solve_time_s = SecondsSince(start);
+  health->iterations = static_cast<int>(summary.iterations.size());
+  if (!summary.IsSolutionUsable()) {
+    return core::Status::Error("window solve failed: " + summary.message);
+  }
+  return core::Status::Ok();
+}
+
+std::vector<LinearizationFactor> SlidingWindowSmoother::UnaryFactors(
+    const Keyframe& keyframe, std::vector<LinearizationVariable>* variables) {
+  std::vector<LinearizationFactor> factors;
+  for (const LandmarkFactor& factor : keyframe.lines) {
+    variables->push_back({line_blocks_[factor.landmark].data(), 2, false});
+    factors.push_back(
+        {factor.cost.get(), line_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
+  }
+  for (const LandmarkFactor& factor : keyframe.junctions) {
+    variables->push_back({junction_blocks_[factor.landmark].data(), 2, false});
+    factors.push_back(
+        {factor.cost.get(), junction_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
+  }
+  return factors;
+}
+
+core::Status SlidingWindowSmoother::MarginalizeOldest() {
+  Keyframe& front = window_[0];
+  Keyframe& second = window_[1];
+  // Variables: the oldest pose, the next pose, then the landmarks (held fixed:
+  // in neither set, so their coupling is dropped).
+  std::vector<LinearizationVariable> variables = {{front.pose.data(), 3, true},
+                                                  {second.pose.data(), 3, true}};
+  // Localization mode: the landmarks are fixed, so their factors are unary
+  // on the pose and belong in the prior. Mapping mode: the landmarks are
+  // estimates still moving; linearizing their factors with the landmarks held
+  // fixed would count them as exact and anchor the prior to their current
+  // values, so they are left out (information dropped, not invented).
+  std::vector<LinearizationFactor> factors;
+  if (options_.mode == SmootherMode::kLocalization) factors = UnaryFactors(front, &variables);
+  factors.push_back({prior_.get(), nullptr, {0}});
+  factors.push_back({second.odometry.get(), nullptr, {0, 1}});
+  const auto system = LinearizeFactors(variables, factors);
+  if (!system.ok()) return system.status().WithContext("marginalization");
+  const std::vector<int> keep = {3, 4, 5};
+  const std::vector<int> marginalize = {0, 1, 2};
+  const auto reduced = MarginalizeSchur(*system, keep, marginalize);
+  if (!reduced.ok()) return reduced.status();
+  auto sqrt_prior = SqrtPriorFromSystem(*reduced);
+  if (!sqrt_prior.ok()) return sqrt_prior.status();
+  MarginalPrior prior;
+  prior.x0 = {{second.pose[0], second.pose[1], second.pose[2]}};
+  prior.is_pose = {true};
+  prior.sqrt_prior = std::move(sqrt_prior).value();
+  prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
+  second.odometry.reset();
+  window_.pop_front();
+  return core::Status::Ok();
+}
+
+core::Matrix3 SlidingWindowSmoother::NewestCovariance() const {
+  // Eliminate the poses oldest first: information on pose i from the prior
+  // and everything before, plus its own factors, passed on through the
+  // odometry factor to pose i + 1.
+  auto* self = const_cast<SlidingWindowSmoother*>(this);
+  const MarginalPrior& prior = prior_->prior();
+  // The prior's Jacobian at the current estimate: J * Jr^-1(delta) ~ J.
+  Eigen::Matrix3d information = prior.sqrt_prior.J.transpose() * prior.sqrt_prior.J;
+  for (size_t i = 0; i < window_.size(); ++i) {
+    const Keyframe& keyframe = window_[i];
+    const bool last = i + 1 == window_.size();
+    std::vector<LinearizationVariable> variables = {{keyframe.pose.data(), 3, true}};
+    std::vector<LinearizationFactor> factors = self->UnaryFactors(keyframe, &variables);
+    int next = -1;
+    if (!last) {
+      variables.push_back({window_[i + 1].pose.data(), 3, true});
+      next = static_cast<int>(variables.size()) - 1;
+      factors.push_back({window_[i + 1].odometry.get(), nullptr, {0, next}});
+    }
+    auto system = LinearizeFactors(variables, factors);
+    if (!system.ok()) return latest_.covariance;
+    system->H.topLeftCorner<3, 3>() += information;
+    if (last) {
+      information = system->H.topLeftCorner<3, 3>();  // landmarks held fixed
+      break;
+    }
+    // Keep pose i + 1 (the last three tangent coordinates), eliminate pose i.
+    const int n = static_cast<int>(system->H.rows());
+    const std::vector<int> keep = {n - 3, n - 2, n - 1};
+    const std::vector<int> marginalize = {0, 1, 2};
+    information = MarginalizeSchur(*system, keep, marginalize)->H;
+  }
+  return information.completeOrthogonalDecomposition().pseudoInverse();
+}
+
+}  // namespace groundline::localization

@@ -1,0 +1,87 @@
+// The smoother without observations is dead reckoning: its newest pose and
+// covariance equal the odometry's, whether the chain is kept in the window or
+// marginalized into the prior (a differential check of the marginal prior
+// and the newest-pose covariance); odometry-rate propagation; options.
+#include "groundline/localization/sliding_window_smoother.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace groundline::localization {
+namespace {
+
+std::vector<RelativeMotion> RandomMotions(int n, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> ds(0.15, 0.25);
+  std::uniform_real_distribution<double> dtheta(-0.08, 0.08);
+  const OdometryNoiseParams noise;
+  std::vector<RelativeMotion> motions;
+  for (int i = 0; i < n; ++i) {
+    RelativeMotion motion;
+    const double d = ds(rng);
+    const double t = dtheta(rng);
+    motion.T_start_end = core::SE2::Exp(Eigen::Vector3d(d, 0.0, t));
+    motion.covariance = IncrementCovariance(noise, d, t);
+    motions.push_back(motion);
+  }
+  return motions;
+}
+
+TEST(SlidingWindowSmoother, WithoutObservationsItIsDeadReckoningWithOrWithoutMarginalization) {
+  const std::vector<RelativeMotion> motions = RandomMotions(60, 51);
+  const core::SE2 start(2.0, 1.0, 0.4);
+  const core::Matrix3 start_covariance = Eigen::Vector3d(1e-4, 2e-4, 1e-5).asDiagonal();
+  SmootherOptions keep_all;
+  keep_all.window_s = 1e6;
+  SmootherOptions short_window;
+  short_window.window_s = 1.0;  // keyframes every 0.1 s: ~10 in the window
+  SlidingWindowSmoother full(keep_all, Atlas());
+  SlidingWindowSmoother marginalizing(short_window, Atlas());
+  full.Initialize(0.0, start, start_covariance);
+  marginalizing.Initialize(0.0, start, start_covariance);
+  PoseEstimate dead_reckoning{0.0, start, start_covariance};
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const double stamp_s = 0.1 * static_cast<double>(i + 1);
+    dead_reckoning = PropagateFromKeyframe(dead_reckoning, motions[i], stamp_s);
+    ASSERT_TRUE(full.AddKeyframe(stamp_s, motions[i], {}).ok());
+    const auto health = marginalizing.AddKeyframe(stamp_s, motions[i], {});
+    ASSERT_TRUE(health.ok());
+    EXPECT_LE(health->window_size, 12);
+  }
+  EXPECT_EQ(full.WindowSize(), 61);
+  for (const SlidingWindowSmoother* smoother : {&full, &marginalizing}) {
+    const PoseEstimate& latest = smoother->Latest();
+    EXPECT_TRUE(latest.T_map_base.IsApprox(dead_reckoning.T_map_base, 1e-6, 1e-6));
+    EXPECT_LT((latest.covariance - dead_reckoning.covariance).norm(),
+              1e-6 * dead_reckoning.covariance.norm());
+  }
+}
+
+TEST(PropagateFromKeyframe, ComposesThePoseAndTransportsTheCovariance) {
+  PoseEstimate keyframe{1.0, core::SE2(1.0, 2.0, 0.3), core::Matrix3::Zero()};
+  keyframe.covariance(2, 2) = 1e-4;  // heading only
+  RelativeMotion motion;
+  motion.T_start_end = core::SE2(2.0, 0.0, 0.0);
+  motion.covariance = core::Matrix3::Identity() * 1e-6;
+  const PoseEstimate out = PropagateFromKeyframe(keyframe, motion, 1.5);
+  EXPECT_EQ(out.stamp_s, 1.5);
+  EXPECT_TRUE(out.T_map_base.IsApprox(keyframe.T_map_base * motion.T_start_end));
+  // A heading error of the keyframe moves a pose 2 m ahead sideways by 2 m * dtheta.
+  EXPECT_NEAR(out.covariance(1, 1), 4.0 * 1e-4 + 1e-6, 1e-12);
+  EXPECT_NEAR(out.covariance(0, 0), 1e-6, 1e-12);
+  EXPECT_NEAR(out.covariance(2, 2), 1e-4 + 1e-6, 1e-12);
+}
+
+TEST(SmootherOptions, ValidateNamesTheField) {
+  SmootherOptions options;
+  EXPECT_TRUE(options.Validate().ok());
+  options.window_s = 0.0;
+  EXPECT_NE(options.Validate().message().find("window_s"), std::string::npos);
+  options = SmootherOptions();
+  options.association.gate_chi2 = -1.0;
+  EXPECT_NE(options.Validate().message().find("gate_chi2"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace groundline::localization
