@@ -36,6 +36,9 @@ nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T
   line["x_m"] = T_map_base.x();
   line["y_m"] = T_map_base.y();
   line["yaw_deg"] = T_map_base.yaw() * kDegPerRad;
+  line["local_x_m"] = r.T_local_base.x();
+  line["local_y_m"] = r.T_local_base.y();
+  line["local_yaw_deg"] = r.T_local_base.yaw() * kDegPerRad;
   line["matched"] = r.matched;
   line["score"] = r.match.score;
   line["correlative_score"] = r.match.correlative_score;

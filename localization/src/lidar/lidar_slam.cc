@@ -60,9 +60,41 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
   report.information = ComputeMatchInformation(scan.points, options_.information);
   const std::shared_ptr<const Submap> submap = submaps_.matching_submap();
   if (submap != nullptr && !scan.points.empty()) {
-    const core::SE2 prediction = submap->T_local_submap.Between(report.T_local_base);
+    const std::vector<core::Vector2> points = PositionsOf(scan);
+    // Odometry in logs can be stale for a while and then jump: the motion
+    // of the last scan interval, continued, is the second hypothesis.
+    std::vector<core::SE2> predictions = {report.T_local_base};
+    if (scans_.size() >= 2) {
+      const ScanRecord& a = scans_[scans_.size() - 2];
+      const ScanRecord& b = scans_.back();
+      const double ratio = (stamp_s - b.stamp_s) / (b.stamp_s - a.stamp_s);
+      const core::SE2 velocity =
+          b.T_local_base * core::SE2::Exp(ratio * a.T_local_base.Between(b.T_local_base).Log());
+      if (!velocity.IsApprox(report.T_local_base, options_.hypothesis_distance_m,
+                             options_.hypothesis_angle_rad)) {
+        predictions.push_back(velocity);
+      }
+    }
+    double best_score = -1.0;
+    core::SE2 prediction;
+    for (const core::SE2& T_local_predicted : predictions) {
+      double score = 0.0;
+      const core::SE2 found =
+          CorrelativeSearch(submap->grid, points, submap->T_local_submap.Between(T_local_predicted),
+                            options_.matcher, &score);
+      if (score > best_score) best_score = score, prediction = found;
+    }
     core::Result<ScanMatchResult> match =
-        MatchScan(submap->grid, PositionsOf(scan), prediction, options_.matcher);
+        MatchScan(submap->grid, points, prediction, options_.matcher, false);
+    if (!match.ok() || match->score < options_.min_match_score) {
+      const PrecomputedGrids grids(submap->grid, options_.recovery_search.depth);
+      const std::optional<BranchAndBoundMatch> coarse =
+          BranchAndBoundSearch(submap->grid, grids, points, prediction, options_.min_match_score,
+                               options_.recovery_search);
+      if (coarse) {
+        match = MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, false);
+      }
+    }
     if (match.ok()) {
       report.match = *match;
       if (match->score >= options_.min_match_score) {

@@ -92,6 +92,7 @@ core::Status ScanMatcherOptions::Validate() const {
   if (!(linear_window_m >= 0.0 && angular_window_rad >= 0.0)) {
     return core::Status::Error("search windows must be >= 0");
   }
+  if (!(min_angle_step_rad > 0.0)) return core::Status::Error("min_angle_step_rad must be > 0");
   if (max_search_points < 1 || max_iterations < 1) {
     return core::Status::Error("max_search_points and max_iterations must be >= 1");
   }
@@ -131,9 +132,9 @@ core::SE2 CorrelativeSearch(const ProbabilityGrid& grid,
   }
   const double res = grid.resolution_m();
   const double angle_step =
-      max_range > res ? std::acos(1.0 - res * res / (2.0 * max_range * max_range)) : 0.1;
-  const int n_angles =
-      std::min(100, static_cast<int>(std::ceil(options.angular_window_rad / angle_step)));
+      std::max(options.min_angle_step_rad,
+               max_range > res ? std::acos(1.0 - res * res / (2.0 * max_range * max_range)) : 0.1);
+  const int n_angles = static_cast<int>(std::ceil(options.angular_window_rad / angle_step));
   const int n_cells = static_cast<int>(std::ceil(options.linear_window_m / res));
   const int side = 2 * n_cells + 1;
   double best = -1.0;

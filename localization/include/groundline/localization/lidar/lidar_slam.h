@@ -4,9 +4,12 @@
 //
 // Per scan (AddScan, in time order):
 //   1. predict T_local_base from the previous scan and the odometry increment
-//      T_odom_prev^-1 T_odom_base;
+//      T_odom_prev^-1 T_odom_base, and by continuing the last scan interval's
+//      motion (logs' odometry is sometimes stale, then jumps); the
+//      correlative search runs around both and keeps the better;
 //   2. match the scan against the older active submap (scan_matcher.h); the
 //      result replaces the prediction when its score reaches min_match_score;
+//      below that, a wide branch-and-bound search (recovery_search) retries;
 //      the Fisher information of the match (match_information.h) says which
 //      directions the scan constrains;
 //   3. a keyframe (moved keyframe_distance_m or turned keyframe_angle_rad
@@ -64,7 +67,14 @@ struct LidarSlamOptions {
   double keyframe_distance_m = 0.15;
   double keyframe_angle_rad = 0.05;
   double keyframe_time_s = 5.0;
+  // A constant-velocity prediction is searched too when it differs from the
+  // odometry's by more than this.
+  double hypothesis_distance_m = 0.05;
+  double hypothesis_angle_rad = 0.035;
   double min_match_score = 0.3;
+  // When the match scores below min_match_score (stale or jumping odometry),
+  // a branch-and-bound search over this window around the prediction.
+  BranchAndBoundOptions recovery_search{1.0, 3.14159265358979, 5, 150};
   double loop_min_score = 0.6;
   int loop_search_every_n_nodes = 3;
   int optimize_every_n_nodes = 60;

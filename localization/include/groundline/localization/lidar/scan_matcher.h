@@ -69,10 +69,13 @@ class GridPointCost final : public ceres::SizedCostFunction<1, 3> {
 
 struct ScanMatcherOptions {
   // Correlative search window around the prediction (half widths).
-  double linear_window_m = 0.15;
-  double angular_window_rad = 0.12;
+  double linear_window_m = 0.2;
+  double angular_window_rad = 0.35;
+  // The angle step is the one that moves the farthest point by one cell, but
+  // at least this (the refinement recovers the rest).
+  double min_angle_step_rad = 0.005;
   // Points used by the correlative search (every k-th, at most this many).
-  int max_search_points = 200;
+  int max_search_points = 120;
   double translation_delta_weight = 2.0;  // [1/m^2] in the score's exp()
   double rotation_delta_weight = 2.0;     // [1/rad^2]
   // Refinement.
