@@ -76,30 +76,39 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
       }
     }
     double best_score = -1.0;
-    core::SE2 prediction;
+    core::SE2 prediction, initial;
     for (const core::SE2& T_local_predicted : predictions) {
       double score = 0.0;
+      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(T_local_predicted);
       const core::SE2 found =
-          CorrelativeSearch(submap->grid, points, submap->T_local_submap.Between(T_local_predicted),
-                            options_.matcher, &score);
-      if (score > best_score) best_score = score, prediction = found;
+          CorrelativeSearch(submap->grid, points, T_submap_predicted, options_.matcher, &score);
+      if (score > best_score) best_score = score, prediction = T_submap_predicted, initial = found;
     }
     core::Result<ScanMatchResult> match =
-        MatchScan(submap->grid, points, prediction, options_.matcher, false);
+        MatchScan(submap->grid, points, prediction, options_.matcher, initial);
     if (!match.ok() || match->score < options_.min_match_score) {
       const PrecomputedGrids grids(submap->grid, options_.recovery_search.depth);
       const std::optional<BranchAndBoundMatch> coarse =
           BranchAndBoundSearch(submap->grid, grids, points, prediction, options_.min_match_score,
                                options_.recovery_search);
       if (coarse) {
-        match = MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, false);
+        match = MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher,
+                          coarse->T_grid_base);
       }
     }
     if (match.ok()) {
       report.match = *match;
       if (match->score >= options_.min_match_score) {
         report.matched = true;
-        report.T_local_base = submap->T_local_submap * match->T_grid_base;
+        core::SE2 T_submap_base = match->T_grid_base;
+        if (report.information.degenerate) {
+          // The scan does not see along its weakest direction: keep the
+          // prediction's component there (right perturbation, base frame).
+          const core::Vector3 v = report.information.weakest_direction;
+          const core::Vector3 delta = T_submap_base.Minus(prediction);
+          T_submap_base = prediction.Plus(delta - v.dot(delta) * v);
+        }
+        report.T_local_base = submap->T_local_submap * T_submap_base;
       }
     }
   }
@@ -204,7 +213,7 @@ int LidarSlam::SearchLoops(int node, const ScanPoints& scan) {
                              options_.loop_min_score, options_.loop_search);
     if (!coarse) continue;
     core::Result<ScanMatchResult> refined =
-        MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, false);
+        MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, coarse->T_grid_base);
     if (!refined.ok() || refined->score < options_.loop_min_score) continue;
     const MatchInformation information = ComputeMatchInformation(scan.points, options_.information);
     if (information.rank == 0) continue;

@@ -5,6 +5,7 @@
 #include <ceres/solver.h>
 
 #include <cassert>
+#include <cmath>
 
 #include "groundline/core/se2_manifold.h"
 #include "groundline/localization/relative_pose_factor.h"
@@ -18,11 +19,13 @@ std::unique_ptr<std::array<double, 3>> Block(const core::SE2& T) {
   return std::make_unique<std::array<double, 3>>(std::array<double, 3>{T.x(), T.y(), T.yaw()});
 }
 
+constexpr int kMaxRejectionRounds = 4;
+
 }  // namespace
 
 core::Status PoseGraphOptions::Validate() const {
-  if (!(loop_huber_scale > 0.0 && loop_max_residual > 0.0)) {
-    return core::Status::Error("loop_huber_scale and loop_max_residual must be > 0");
+  if (!(loop_huber_scale > 0.0 && loop_max_translation_m > 0.0 && loop_max_rotation_rad > 0.0)) {
+    return core::Status::Error("loop_huber_scale and the loop_max_* must be > 0");
   }
   if (max_iterations < 1) return core::Status::Error("max_iterations must be >= 1");
   return core::Status::Ok();
@@ -107,23 +110,31 @@ core::Result<PoseGraphSummary> PoseGraph::Solve() {
 }
 
 core::Result<PoseGraphSummary> PoseGraph::Optimize() {
-  core::Result<PoseGraphSummary> first = Solve();
-  if (!first.ok()) return first;
+  core::Result<PoseGraphSummary> solved = Solve();
+  if (!solved.ok()) return solved;
+  const double initial_cost = solved->initial_cost;
   int rejected = 0;
-  for (PoseGraphConstraint& c : constraints_) {
-    if (c.kind != ConstraintKind::kLoop || c.rejected) continue;
-    const RelativePoseFactor factor(c.T_from_to, c.sqrt_information);
-    if (factor.Residual(submap(c.from), node(c.to)).norm() > options_.loop_max_residual) {
-      c.rejected = true;
-      ++rejected;
+  // Reject the loop that disagrees most, solve again; a few rounds at most
+  // (a wrong loop bends the graph, so the others are judged after it goes).
+  for (int round = 0; round < kMaxRejectionRounds; ++round) {
+    PoseGraphConstraint* worst = nullptr;
+    double worst_excess = 1.0;
+    for (PoseGraphConstraint& c : constraints_) {
+      if (c.kind != ConstraintKind::kLoop || c.rejected) continue;
+      const core::SE2 E = c.T_from_to.Between(submap(c.from).Between(node(c.to)));
+      const double excess = std::max(E.translation().norm() / options_.loop_max_translation_m,
+                                     std::abs(E.yaw()) / options_.loop_max_rotation_rad);
+      if (excess > worst_excess) worst_excess = excess, worst = &c;
     }
+    if (worst == nullptr) break;
+    worst->rejected = true;
+    ++rejected;
+    solved = Solve();
+    if (!solved.ok()) return solved;
   }
-  if (rejected == 0) return first;
-  core::Result<PoseGraphSummary> second = Solve();
-  if (!second.ok()) return second;
-  second->loops_rejected = rejected;
-  second->initial_cost = first->initial_cost;
-  return second;
+  solved->loops_rejected = rejected;
+  solved->initial_cost = initial_cost;
+  return solved;
 }
 
 }  // namespace groundline::localization::lidar

@@ -170,15 +170,16 @@ core::Result<ScanMatchResult> MatchScan(const ProbabilityGrid& grid,
                                         const std::vector<core::Vector2>& points_base_m,
                                         const core::SE2& prediction,
                                         const ScanMatcherOptions& options,
-                                        bool run_correlative_search) {
+                                        const std::optional<core::SE2>& initial_guess) {
   if (points_base_m.empty()) return core::Status::Error("scan match: the scan has no points");
   ScanMatchResult result;
-  core::SE2 initial = prediction;
-  if (run_correlative_search) {
+  core::SE2 initial;
+  if (initial_guess) {
+    initial = *initial_guess;
+    result.correlative_score = ScoreAt(grid, points_base_m, initial);
+  } else {
     initial =
         CorrelativeSearch(grid, points_base_m, prediction, options, &result.correlative_score);
-  } else {
-    result.correlative_score = ScoreAt(grid, points_base_m, prediction);
   }
   // Points on known free space (nothing occupied within one cell) are
   // objects that were not there when the grid was built.

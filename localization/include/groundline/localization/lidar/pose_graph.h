@@ -11,9 +11,10 @@
 // first scan).
 //
 // Optimize() solves, then checks each loop constraint against the graph:
-// one whose whitened residual norm exceeds loop_max_residual is removed and
-// the graph solved again (Olson's "consistency" idea, reduced to one
-// round-trip).
+// the one that disagrees with it most, by more than loop_max_translation_m
+// or loop_max_rotation_rad, is removed and the graph solved again, for up
+// to four rounds (a wrong loop bends the graph, so the others are judged
+// again without it).
 //
 // Not thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_POSE_GRAPH_H_
@@ -29,8 +30,11 @@
 namespace groundline::localization::lidar {
 
 struct PoseGraphOptions {
-  double loop_huber_scale = 1.0;   // on the whitened residual
-  double loop_max_residual = 3.0;  // whitened norm above which a loop is rejected
+  double loop_huber_scale = 3.0;  // on the whitened residual
+  // A loop constraint that disagrees with the solved graph by more than
+  // this (translation or rotation of Z^-1 T_submap^-1 T_node) is rejected.
+  double loop_max_translation_m = 0.3;
+  double loop_max_rotation_rad = 0.05;
   int max_iterations = 30;
 
   core::Status Validate() const;

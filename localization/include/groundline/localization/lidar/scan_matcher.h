@@ -10,9 +10,11 @@
 //    interpolation of the grid (ceres::BiCubicInterpolator, as Cartographer's
 //    OccupiedSpaceCostFunction2D):
 //      r_i = w_occ / sqrt(n) * (1 - P(T_grid_base * p_i))   (Cauchy loss)
-//    plus regularizers w_t * (t - t_0), w_r * (theta - theta_0) toward the
-//    correlative result. Points whose cell at the correlative pose is known
-//    free (and no neighbour is occupied: a pallet moved, a person passed)
+//    plus weak regularizers w_t * (t - t_0), w_r * (theta - theta_0) toward
+//    the correlative result (pulling toward the odometry prediction instead
+//    biased good matches on the real logs; along a featureless aisle the
+//    caller replaces the unconstrained component, see lidar_slam.h). Points whose cell at the
+//    correlative pose is known free (and no neighbour is occupied: a pallet moved, a person passed)
 //    are dropped before the refinement.
 // 3. MatchInformation (match_information.h): the Fisher information of the
 //    result.
@@ -26,6 +28,7 @@
 #include <ceres/sized_cost_function.h>
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "groundline/core/se2.h"
@@ -109,12 +112,15 @@ core::SE2 CorrelativeSearch(const ProbabilityGrid& grid,
                             const core::SE2& prediction, const ScanMatcherOptions& options,
                             double* score);
 
-// Steps 1 and 2. Errors: no points, or the refinement failed numerically.
+// Steps 1 and 2: the correlative search around `prediction` (or, when
+// `initial_guess` is given, no search: the refinement starts there), then
+// the refinement, regularized toward its starting pose. Errors: no points, every
+// point on free space, or the refinement failed numerically.
 core::Result<ScanMatchResult> MatchScan(const ProbabilityGrid& grid,
                                         const std::vector<core::Vector2>& points_base_m,
                                         const core::SE2& prediction,
                                         const ScanMatcherOptions& options,
-                                        bool run_correlative_search = true);
+                                        const std::optional<core::SE2>& initial_guess = {});
 
 }  // namespace groundline::localization::lidar
 
