@@ -79,7 +79,7 @@ struct ScanMatcherOptions {
   double min_angle_step_rad = 0.005;
   // Points used by the correlative search (every k-th, at most this many).
   int max_search_points = 120;
-  double translation_delta_weight = 2.0;  // [1/m^2] in the score's exp()
+  double translation_delta_weight = 10.0;  // [1/m^2] in the score's exp()
   double rotation_delta_weight = 2.0;     // [1/rad^2]
   // Refinement.
   double occupied_weight = 1.0;
