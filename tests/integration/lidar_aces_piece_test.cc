@@ -16,10 +16,16 @@ namespace {
 
 namespace lidar = localization::lidar;
 
-// ACES' laser clock starts at 70.29 s.
+// ACES' laser clock starts at 70.29 s; its first relation is at 90.2 s.
 constexpr double kEndStampS = 130.0;
+constexpr std::size_t kMinScans = 250, kMinRelations = 40;
 
 TEST(LidarAcesPiece, RelationErrorOfFirstMinuteIsCentimetres) {
+#ifdef __SANITIZE_ADDRESS__
+  // 143 s of CPU in the ASan Debug build (1.6 s in release): over the CI
+  // budget; the unit tests cover the same code under the sanitizers.
+  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+#endif
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.clf.bz2");
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
   const auto dir = testing::SharedDataDir() / "lidar2d";
@@ -46,7 +52,7 @@ TEST(LidarAcesPiece, RelationErrorOfFirstMinuteIsCentimetres) {
   ASSERT_FALSE(read.ok());  // stopped at the end of the piece
   ASSERT_NE(read.message().find("end of the piece"), std::string::npos) << read.message();
   ASSERT_TRUE(slam.Finish().ok());
-  EXPECT_GT(scans, 250);
+  EXPECT_GT(static_cast<std::size_t>(scans), kMinScans);
 
   core::Result<std::vector<core::Relation>> all = io::ReadRelations(dir / "aces.relations");
   ASSERT_TRUE(all.ok()) << all.message();
@@ -54,7 +60,7 @@ TEST(LidarAcesPiece, RelationErrorOfFirstMinuteIsCentimetres) {
   for (const core::Relation& r : *all) {
     if (r.t1_s <= odometry.back().stamp_s && r.t2_s <= odometry.back().stamp_s) inside.push_back(r);
   }
-  ASSERT_GT(inside.size(), 40u);
+  ASSERT_GT(inside.size(), kMinRelations);
   core::Result<core::RelationErrorSummary> slam_errors =
       core::ComputeRelationErrors(slam.Trajectory(), inside);
   ASSERT_TRUE(slam_errors.ok()) << slam_errors.message();
