@@ -22,6 +22,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
+#include "localize_carmen.h"
 
 namespace groundline::tools {
 namespace {
@@ -40,7 +41,13 @@ Modes:
   odometry  dead reckoning of the wheel encoders (differential drive, covariance
             growing with distance and rotation; keyframes every 0.20 m or 5 deg):
             the odometry-only baseline row of every accuracy table.
-The factor-graph modes (floor lines, LiDAR) arrive with the localization issues.
+The factor-graph modes (floor lines) arrive with the localization issues.
+  --carmen LOG  2D LiDAR + odometry SLAM (submaps, scan-to-submap matching,
+            pose graph with loop closures) on a CARMEN log; writes trajectory.tum
+            (one pose per front-laser scan, at its ipc_timestamp), health.jsonl
+            (per scan: match score, information eigenvalues, degenerate flag) and
+            summary.json; with --relations FILE also the relation errors.
+            Example: groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces
 
 Start pose: --initial-pose x_m y_m yaw_deg, else the dataset's first ground-truth
 pose, else the origin of the map.
@@ -186,15 +193,30 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* cmd = parent.add_subcommand("localize", "Estimate the vehicle pose from a dataset");
   cmd->footer(kHelp);
   cmd->add_option("-d,--dataset", flags->dataset_dir, "Dataset directory (docs/dataset.md)")
-      ->required()
       ->check(CLI::ExistingDirectory);
+  auto carmen = std::make_shared<LocalizeCarmenFlags>();
+  cmd->add_option("--carmen", carmen->log_path,
+                  "CARMEN log (.clf[.gz|.bz2]): 2D LiDAR + odometry SLAM instead of --dataset")
+      ->check(CLI::ExistingFile)
+      ->excludes("--dataset");
+  cmd->add_option("--relations", carmen->relations_path,
+                  "With --carmen: Kuemmerle .relations file to score the trajectory against")
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", flags->out_dir, "Output directory for the run")->required();
   cmd->add_option("--mode", flags->mode, "Estimator")
       ->check(CLI::IsMember({"odometry"}))
       ->capture_default_str();
   cmd->add_option("--initial-pose", flags->initial_pose, "Start pose: x_m y_m yaw_deg")
       ->expected(3);
-  cmd->callback([flags, run] { *run = [flags] { return RunLocalize(*flags); }; });
+  cmd->callback([flags, carmen, run] {
+    if (!carmen->log_path.empty()) {
+      carmen->out_dir = flags->out_dir;
+      *run = [carmen] { return RunLocalizeCarmen(*carmen); };
+      return;
+    }
+    if (flags->dataset_dir.empty()) throw CLI::RequiredError("--dataset or --carmen");
+    *run = [flags] { return RunLocalize(*flags); };
+  });
   return cmd;
 }
 

@@ -1,0 +1,142 @@
+// 2D LiDAR + wheel odometry SLAM: local submaps with scan-to-submap matching
+// (the "front end") and a pose graph with loop closures (the "back end"),
+// after Cartographer (Hess et al. 2016).
+//
+// Per scan (AddScan, in time order):
+//   1. predict T_local_base from the previous scan and the odometry increment
+//      T_odom_prev^-1 T_odom_base, and by continuing the last scan interval's
+//      motion (logs' odometry is sometimes stale, then jumps); the
+//      correlative search runs around both and keeps the better;
+//   2. match the scan against the older active submap (scan_matcher.h); the
+//      result replaces the prediction when its score reaches min_match_score;
+//      below that, a wide branch-and-bound search (recovery_search) retries;
+//      the Fisher information of the match (match_information.h) says which
+//      directions the scan constrains;
+//   3. a keyframe (moved keyframe_distance_m or turned keyframe_angle_rad
+//      since the last one, or keyframe_time_s passed) is inserted into the
+//      active submaps and becomes a pose-graph node with an odometry
+//      constraint to the previous node and one constraint per submap it went
+//      into (weighted by the match information);
+//   4. every loop_search_every_n_nodes-th node is searched (branch and bound,
+//      loop_closure.h) in each finished submap whose area contains its
+//      current global estimate; a match scoring at least loop_min_score after
+//      refinement becomes a loop constraint (checked again in
+//      PoseGraph::Optimize);
+//   5. the graph is solved every optimize_every_n_nodes nodes when new loop
+//      constraints arrived, and in Finish().
+// Every scan's global pose is that of the last keyframe node at or before it
+// composed with the local motion since: T_map_node * T_local_node^-1 * T_local_base.
+//
+// Frames: T_odom_base (the log's odometry), T_local_base (the front end's
+// drift-prone frame), T_map_base (the graph's frame; equal to the local frame
+// at the first scan).
+//
+// Not thread-safe.
+#ifndef GROUNDLINE_LOCALIZATION_LIDAR_LIDAR_SLAM_H_
+#define GROUNDLINE_LOCALIZATION_LIDAR_LIDAR_SLAM_H_
+
+#include <list>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "groundline/core/se2.h"
+#include "groundline/core/status.h"
+#include "groundline/core/trajectory.h"
+#include "groundline/localization/diff_drive_odometry.h"
+#include "groundline/localization/lidar/loop_closure.h"
+#include "groundline/localization/lidar/match_information.h"
+#include "groundline/localization/lidar/pose_graph.h"
+#include "groundline/localization/lidar/scan_matcher.h"
+#include "groundline/localization/lidar/scan_points.h"
+#include "groundline/localization/lidar/submaps.h"
+
+namespace groundline::localization::lidar {
+
+struct LidarSlamOptions {
+  ProbabilityGridOptions grid;
+  ScanMatcherOptions matcher;
+  MatchInformationOptions information;
+  BranchAndBoundOptions loop_search;
+  PoseGraphOptions graph;
+  // Odometry increment noise of a typical indoor research robot, far looser
+  // than a calibrated AGV's (diff_drive_odometry.h).
+  OdometryNoiseParams odometry_noise{4e-3, 1e-3, 1e-2, 2e-3, 1e-3};
+
+  int scans_per_submap = 40;  // keyframes
+  double keyframe_distance_m = 0.15;
+  double keyframe_angle_rad = 0.05;
+  double keyframe_time_s = 5.0;
+  // A constant-velocity prediction is searched too when it differs from the
+  // odometry's by more than this.
+  double hypothesis_distance_m = 0.05;
+  double hypothesis_angle_rad = 0.035;
+  double min_match_score = 0.3;
+  // When the match scores below min_match_score (stale or jumping odometry),
+  // a branch-and-bound search over this window around the prediction.
+  BranchAndBoundOptions recovery_search{1.0, 3.14159265358979, 5, 150};
+  double loop_min_score = 0.6;
+  int loop_search_every_n_nodes = 3;
+  int optimize_every_n_nodes = 60;
+  int precomputed_cache_size = 24;  // submaps whose loop-search grids stay in memory
+
+  core::Status Validate() const;
+};
+
+struct ScanReport {
+  double stamp_s = 0.0;
+  core::SE2 T_local_base;
+  bool matched = false;  // false: the prediction was kept (first scan, poor match)
+  ScanMatchResult match;
+  MatchInformation information;
+  bool keyframe = false;
+  int node = -1;  // pose-graph node of a keyframe
+  int loops_found = 0;
+};
+
+class LidarSlam {
+ public:
+  // Asserts that options.Validate() is ok.
+  explicit LidarSlam(const LidarSlamOptions& options);
+
+  // Errors: stamps not increasing, or a failed graph solve.
+  core::Result<ScanReport> AddScan(double stamp_s, const core::SE2& T_odom_base,
+                                   const ScanPoints& scan);
+  // Final optimization.
+  core::Result<PoseGraphSummary> Finish();
+
+  // T_map_base of every scan added, at its stamp.
+  core::Trajectory Trajectory() const;
+  const PoseGraph& graph() const { return graph_; }
+  int num_submaps() const { return static_cast<int>(submaps_.all().size()); }
+  int num_optimizations() const { return num_optimizations_; }
+
+ private:
+  struct ScanRecord {
+    double stamp_s;
+    core::SE2 T_local_base;
+    int node;  // last keyframe node at or before the scan
+  };
+  void AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan, ScanReport* report);
+  int SearchLoops(int node, const ScanPoints& scan);
+  const PrecomputedGrids& Precomputed(const Submap& submap);
+
+  LidarSlamOptions options_;
+  ActiveSubmaps submaps_;
+  PoseGraph graph_;
+  std::vector<ScanRecord> scans_;
+  std::vector<core::SE2> node_local_;  // T_local_node per node
+  std::vector<core::SE2> node_odom_;   // T_odom_node per node
+  std::vector<double> node_stamp_s_;
+  std::vector<std::vector<int>> node_submaps_;  // submaps a node went into
+  core::SE2 last_odom_, last_local_;
+  int loops_since_optimization_ = 0;
+  int nodes_since_optimization_ = 0;
+  int num_optimizations_ = 0;
+  std::map<int, std::unique_ptr<PrecomputedGrids>> precomputed_;
+  std::list<int> precomputed_lru_;
+};
+
+}  // namespace groundline::localization::lidar
+
+#endif  // GROUNDLINE_LOCALIZATION_LIDAR_LIDAR_SLAM_H_

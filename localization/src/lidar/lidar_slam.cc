@@ -1,0 +1,244 @@
+#include "groundline/localization/lidar/lidar_slam.h"
+
+#include <cassert>
+#include <cmath>
+#include <string>
+
+#include "groundline/localization/relative_pose_factor.h"
+
+namespace groundline::localization::lidar {
+namespace {
+
+std::vector<core::Vector2> PositionsOf(const ScanPoints& scan) {
+  std::vector<core::Vector2> out;
+  out.reserve(scan.points.size());
+  for (const ScanPoint& p : scan.points) out.push_back(p.point_m);
+  return out;
+}
+
+// The node's pose in the submap that it starts is exact by construction.
+const core::Matrix3 kSubmapOriginSqrtInformation = core::Matrix3::Identity() * 100.0;
+
+}  // namespace
+
+core::Status LidarSlamOptions::Validate() const {
+  for (const core::Status& s :
+       {grid.Validate(), matcher.Validate(), information.Validate(), loop_search.Validate(),
+        graph.Validate(), odometry_noise.Validate()}) {
+    if (!s.ok()) return s;
+  }
+  if (scans_per_submap < 2) return core::Status::Error("scans_per_submap must be >= 2");
+  if (!(keyframe_distance_m >= 0.0 && keyframe_angle_rad >= 0.0 && keyframe_time_s > 0.0)) {
+    return core::Status::Error("keyframe thresholds must be >= 0 (time > 0)");
+  }
+  if (!(min_match_score >= 0.0 && min_match_score < 1.0 && loop_min_score > 0.0 &&
+        loop_min_score < 1.0)) {
+    return core::Status::Error("scores must be in [0, 1)");
+  }
+  if (loop_search_every_n_nodes < 1 || optimize_every_n_nodes < 1 || precomputed_cache_size < 1) {
+    return core::Status::Error("loop/optimize periods and cache size must be >= 1");
+  }
+  return core::Status::Ok();
+}
+
+LidarSlam::LidarSlam(const LidarSlamOptions& options)
+    : options_(options), submaps_(options.grid, options.scans_per_submap), graph_(options.graph) {
+  assert(options.Validate().ok());
+}
+
+core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_odom_base,
+                                            const ScanPoints& scan) {
+  if (!scans_.empty() && !(stamp_s > scans_.back().stamp_s)) {
+    return core::Status::Error("LiDAR scan at " + std::to_string(stamp_s) +
+                               " s is not after the previous one at " +
+                               std::to_string(scans_.back().stamp_s) + " s");
+  }
+  ScanReport report;
+  report.stamp_s = stamp_s;
+  report.T_local_base =
+      scans_.empty() ? core::SE2() : last_local_ * last_odom_.Between(T_odom_base);
+  report.information = ComputeMatchInformation(scan.points, options_.information);
+  const std::shared_ptr<const Submap> submap = submaps_.matching_submap();
+  if (submap != nullptr && !scan.points.empty()) {
+    const std::vector<core::Vector2> points = PositionsOf(scan);
+    // Odometry in logs can be stale for a while and then jump: the motion
+    // of the last scan interval, continued, is the second hypothesis.
+    std::vector<core::SE2> predictions = {report.T_local_base};
+    if (scans_.size() >= 2) {
+      const ScanRecord& a = scans_[scans_.size() - 2];
+      const ScanRecord& b = scans_.back();
+      const double ratio = (stamp_s - b.stamp_s) / (b.stamp_s - a.stamp_s);
+      const core::SE2 velocity =
+          b.T_local_base * core::SE2::Exp(ratio * a.T_local_base.Between(b.T_local_base).Log());
+      if (!velocity.IsApprox(report.T_local_base, options_.hypothesis_distance_m,
+                             options_.hypothesis_angle_rad)) {
+        predictions.push_back(velocity);
+      }
+    }
+    double best_score = -1.0;
+    core::SE2 prediction, initial;
+    for (const core::SE2& T_local_predicted : predictions) {
+      double score = 0.0;
+      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(T_local_predicted);
+      const core::SE2 found =
+          CorrelativeSearch(submap->grid, points, T_submap_predicted, options_.matcher, &score);
+      if (score > best_score) best_score = score, prediction = T_submap_predicted, initial = found;
+    }
+    core::Result<ScanMatchResult> match =
+        MatchScan(submap->grid, points, prediction, options_.matcher, initial);
+    if (!match.ok() || match->score < options_.min_match_score) {
+      const PrecomputedGrids grids(submap->grid, options_.recovery_search.depth);
+      const std::optional<BranchAndBoundMatch> coarse =
+          BranchAndBoundSearch(submap->grid, grids, points, prediction, options_.min_match_score,
+                               options_.recovery_search);
+      if (coarse) {
+        match = MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher,
+                          coarse->T_grid_base);
+      }
+    }
+    if (match.ok()) {
+      report.match = *match;
+      if (match->score >= options_.min_match_score) {
+        report.matched = true;
+        core::SE2 T_submap_base = match->T_grid_base;
+        if (report.information.degenerate) {
+          // The scan does not see along its weakest direction: keep the
+          // prediction's component there (right perturbation, base frame).
+          const core::Vector3 v = report.information.weakest_direction;
+          const core::Vector3 delta = T_submap_base.Minus(prediction);
+          T_submap_base = prediction.Plus(delta - v.dot(delta) * v);
+        }
+        report.T_local_base = submap->T_local_submap * T_submap_base;
+      }
+    }
+  }
+  const bool first = node_local_.empty();
+  if (!first) {
+    const core::SE2 moved = node_local_.back().Between(report.T_local_base);
+    report.keyframe = moved.translation().norm() >= options_.keyframe_distance_m ||
+                      std::abs(moved.yaw()) >= options_.keyframe_angle_rad ||
+                      stamp_s - node_stamp_s_.back() >= options_.keyframe_time_s;
+  }
+  report.keyframe = report.keyframe || first;
+  last_odom_ = T_odom_base;
+  last_local_ = report.T_local_base;
+  if (report.keyframe) {
+    node_stamp_s_.push_back(stamp_s);
+    AddKeyframe(T_odom_base, scan, &report);
+    if (loops_since_optimization_ > 0 &&
+        nodes_since_optimization_ >= options_.optimize_every_n_nodes) {
+      core::Result<PoseGraphSummary> solved = graph_.Optimize();
+      if (!solved.ok()) return solved.status();
+      ++num_optimizations_;
+      loops_since_optimization_ = 0;
+      nodes_since_optimization_ = 0;
+    }
+  }
+  scans_.push_back({stamp_s, report.T_local_base, graph_.num_nodes() - 1});
+  return report;
+}
+
+void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan,
+                            ScanReport* report) {
+  const core::SE2& T_local = report->T_local_base;
+  core::SE2 T_map = T_local;
+  if (!node_local_.empty()) {
+    const int prev = graph_.num_nodes() - 1;
+    T_map = graph_.node(prev) * node_local_.back().Between(T_local);
+  }
+  const int node = graph_.AddNode(T_map);
+  report->node = node;
+  if (node > 0) {
+    const core::SE2 increment = node_odom_.back().Between(T_odom_base);
+    const core::Matrix3 covariance =
+        IncrementCovariance(options_.odometry_noise, increment.translation().norm(),
+                            increment.yaw()) +
+        core::Matrix3::Identity() * 1e-6;
+    core::Result<core::Matrix3> sqrt_info = SqrtInformationFromCovariance(covariance);
+    assert(sqrt_info.ok());
+    graph_.AddConstraint({ConstraintKind::kOdometry, node - 1, node, increment, *sqrt_info});
+  }
+  node_local_.push_back(T_local);
+  node_odom_.push_back(T_odom_base);
+  const std::size_t submaps_before = submaps_.all().size();
+  std::vector<std::shared_ptr<Submap>> finished;
+  const std::vector<int> ids = submaps_.InsertScan(T_local, scan, &finished);
+  for (std::size_t s = submaps_before; s < submaps_.all().size(); ++s) {
+    graph_.AddSubmap(T_map * T_local.Between(submaps_.all()[s]->T_local_submap));
+  }
+  for (int id : ids) {
+    const core::SE2 T_submap_node = submaps_.all()[id]->T_local_submap.Between(T_local);
+    const bool origin = T_submap_node.IsApprox(core::SE2(), 1e-9, 1e-9);
+    if (!origin && !(report->matched && report->information.rank > 0)) continue;
+    graph_.AddConstraint(
+        {ConstraintKind::kIntraSubmap, id, node, T_submap_node,
+         origin ? kSubmapOriginSqrtInformation : report->information.sqrt_information});
+  }
+  node_submaps_.push_back(ids);
+  ++nodes_since_optimization_;
+  if (node % options_.loop_search_every_n_nodes == 0) {
+    report->loops_found = SearchLoops(node, scan);
+    loops_since_optimization_ += report->loops_found;
+  }
+}
+
+const PrecomputedGrids& LidarSlam::Precomputed(const Submap& submap) {
+  auto it = precomputed_.find(submap.id);
+  if (it != precomputed_.end()) {
+    precomputed_lru_.remove(submap.id);
+    precomputed_lru_.push_front(submap.id);
+    return *it->second;
+  }
+  if (static_cast<int>(precomputed_.size()) >= options_.precomputed_cache_size) {
+    precomputed_.erase(precomputed_lru_.back());
+    precomputed_lru_.pop_back();
+  }
+  precomputed_lru_.push_front(submap.id);
+  auto grids = std::make_unique<PrecomputedGrids>(submap.grid, options_.loop_search.depth);
+  return *precomputed_.emplace(submap.id, std::move(grids)).first->second;
+}
+
+int LidarSlam::SearchLoops(int node, const ScanPoints& scan) {
+  if (scan.points.empty()) return 0;
+  const std::vector<core::Vector2> points = PositionsOf(scan);
+  const std::vector<int>& own = node_submaps_[static_cast<std::size_t>(node)];
+  int found = 0;
+  for (const std::shared_ptr<Submap>& submap : submaps_.all()) {
+    if (!submap->finished) continue;
+    if (std::find(own.begin(), own.end(), submap->id) != own.end()) continue;
+    const core::SE2 estimate = graph_.submap(submap->id).Between(graph_.node(node));
+    if (!submap->grid.IsKnown(submap->grid.CellOf(estimate.translation()))) continue;
+    const std::optional<BranchAndBoundMatch> coarse =
+        BranchAndBoundSearch(submap->grid, Precomputed(*submap), points, estimate,
+                             options_.loop_min_score, options_.loop_search);
+    if (!coarse) continue;
+    core::Result<ScanMatchResult> refined =
+        MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, coarse->T_grid_base);
+    if (!refined.ok() || refined->score < options_.loop_min_score) continue;
+    const MatchInformation information = ComputeMatchInformation(scan.points, options_.information);
+    if (information.rank == 0) continue;
+    graph_.AddConstraint({ConstraintKind::kLoop, submap->id, node, refined->T_grid_base,
+                          information.sqrt_information});
+    ++found;
+  }
+  return found;
+}
+
+core::Result<PoseGraphSummary> LidarSlam::Finish() {
+  core::Result<PoseGraphSummary> solved = graph_.Optimize();
+  if (solved.ok()) ++num_optimizations_;
+  return solved;
+}
+
+core::Trajectory LidarSlam::Trajectory() const {
+  core::Trajectory out;
+  out.reserve(scans_.size());
+  for (const ScanRecord& s : scans_) {
+    const core::SE2 T_map_node = graph_.node(s.node);
+    const core::SE2& T_local_node = node_local_[static_cast<std::size_t>(s.node)];
+    out.push_back({s.stamp_s, T_map_node * T_local_node.Between(s.T_local_base), std::nullopt});
+  }
+  return out;
+}
+
+}  // namespace groundline::localization::lidar

@@ -1,0 +1,161 @@
+#include "groundline/localization/lidar/loop_closure.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace groundline::localization::lidar {
+
+core::Status BranchAndBoundOptions::Validate() const {
+  if (!(linear_window_m >= 0.0 && angular_window_rad >= 0.0 &&
+        angular_window_rad <= std::numbers::pi)) {
+    return core::Status::Error("need linear_window_m >= 0 and angular_window_rad in [0, pi]");
+  }
+  if (depth < 1 || depth > 12) return core::Status::Error("depth must be in [1, 12]");
+  if (max_points < 1) return core::Status::Error("max_points must be >= 1");
+  return core::Status::Ok();
+}
+
+PrecomputedGrids::PrecomputedGrids(const ProbabilityGrid& grid, int depth) {
+  Level base;
+  base.width = 1;
+  base.size_x = grid.width();
+  base.size_y = grid.height();
+  base.values.resize(grid.probabilities().size());
+  for (std::size_t i = 0; i < base.values.size(); ++i) {
+    base.values[i] = static_cast<uint8_t>(std::lround(grid.probabilities()[i] * 255.0f));
+  }
+  const auto floor_value =
+      static_cast<uint8_t>(std::lround(grid.options().min_probability * 255.0));
+  levels_.push_back(std::move(base));
+  for (int h = 1; h < depth; ++h) {
+    const Level& prev = levels_.back();
+    const int w = prev.width;  // the new block is 2w wide: [x, x + w) and [x + w, x + 2w)
+    Level next;
+    next.width = 2 * w;
+    next.size_x = grid.width() + next.width - 1;
+    next.size_y = grid.height() + next.width - 1;
+    next.values.assign(static_cast<std::size_t>(next.size_x) * next.size_y, floor_value);
+    auto prev_at = [&prev, floor_value](int x, int y) -> uint8_t {  // original cell coordinates
+      const int ix = x + prev.width - 1, iy = y + prev.width - 1;
+      if (ix < 0 || iy < 0 || ix >= prev.size_x || iy >= prev.size_y) return floor_value;
+      return prev.values[static_cast<std::size_t>(iy) * prev.size_x + ix];
+    };
+    for (int iy = 0; iy < next.size_y; ++iy) {
+      const int y = iy - (next.width - 1);
+      for (int ix = 0; ix < next.size_x; ++ix) {
+        const int x = ix - (next.width - 1);
+        next.values[static_cast<std::size_t>(iy) * next.size_x + ix] =
+            std::max({prev_at(x, y), prev_at(x + w, y), prev_at(x, y + w), prev_at(x + w, y + w)});
+      }
+    }
+    levels_.push_back(std::move(next));
+  }
+}
+
+float PrecomputedGrids::Value(int level, int x, int y) const {
+  const Level& l = levels_[static_cast<std::size_t>(level)];
+  const int ix = x + l.width - 1, iy = y + l.width - 1;
+  if (ix < 0 || iy < 0 || ix >= l.size_x || iy >= l.size_y) return 0.0f;  // off the grid
+  return l.values[static_cast<std::size_t>(iy) * l.size_x + ix] * (1.0f / 255.0f);
+}
+
+namespace {
+
+struct Candidate {
+  int angle = 0;  // index into the discretized scans
+  int x = 0;      // cell offset
+  int y = 0;
+  double score = 0.0;
+};
+
+struct Search {
+  const PrecomputedGrids& grids;
+  const std::vector<std::vector<CellIndex>>& scans;  // per angle, cells at zero offset
+  int window_cells;
+
+  double Score(int level, const Candidate& c) const {
+    double sum = 0.0;
+    for (const CellIndex& cell : scans[static_cast<std::size_t>(c.angle)]) {
+      sum += grids.Value(level, cell.x + c.x, cell.y + c.y);
+    }
+    return sum / static_cast<double>(scans[static_cast<std::size_t>(c.angle)].size());
+  }
+
+  // Algorithm 3 of Hess et al.: depth-first, best child first, pruned by the
+  // best score found so far.
+  Candidate Branch(std::vector<Candidate>& candidates, int level, double min_score) const {
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    Candidate best{0, 0, 0, min_score};
+    for (const Candidate& c : candidates) {
+      if (c.score <= best.score) break;
+      if (level == 0) return c;
+      const int half = 1 << (level - 1);
+      std::vector<Candidate> children;
+      for (int dy : {0, half}) {
+        for (int dx : {0, half}) {
+          Candidate child{c.angle, c.x + dx, c.y + dy, 0.0};
+          if (child.x > window_cells || child.y > window_cells) continue;
+          child.score = Score(level - 1, child);
+          children.push_back(child);
+        }
+      }
+      const Candidate found = Branch(children, level - 1, best.score);
+      if (found.score > best.score) best = found;
+    }
+    return best;
+  }
+};
+
+}  // namespace
+
+std::optional<BranchAndBoundMatch> BranchAndBoundSearch(
+    const ProbabilityGrid& grid, const PrecomputedGrids& precomputed,
+    const std::vector<core::Vector2>& points_base_m, const core::SE2& center, double min_score,
+    const BranchAndBoundOptions& options) {
+  if (points_base_m.empty()) return std::nullopt;
+  std::vector<core::Vector2> points;
+  const std::size_t stride = (points_base_m.size() + options.max_points - 1) /
+                             static_cast<std::size_t>(options.max_points);
+  double max_range = 0.0;
+  for (std::size_t i = 0; i < points_base_m.size(); i += std::max<std::size_t>(1, stride)) {
+    points.push_back(points_base_m[i]);
+    max_range = std::max(max_range, points_base_m[i].norm());
+  }
+  const double res = grid.resolution_m();
+  const double angle_step =
+      max_range > res ? std::acos(1.0 - res * res / (2.0 * max_range * max_range)) : 0.1;
+  const int n_angles = static_cast<int>(std::ceil(options.angular_window_rad / angle_step));
+  const int window_cells = static_cast<int>(std::ceil(options.linear_window_m / res));
+  std::vector<std::vector<CellIndex>> scans;
+  for (int a = -n_angles; a <= n_angles; ++a) {
+    const core::SE2 rotated(center.translation(), center.yaw() + a * angle_step);
+    std::vector<CellIndex> cells;
+    cells.reserve(points.size());
+    for (const core::Vector2& p : points) cells.push_back(grid.CellOf(rotated * p));
+    scans.push_back(std::move(cells));
+  }
+  const int top = precomputed.depth() - 1;
+  const int top_width = 1 << top;
+  Search search{precomputed, scans, window_cells};
+  std::vector<Candidate> candidates;
+  for (int a = 0; a < static_cast<int>(scans.size()); ++a) {
+    for (int y = -window_cells; y <= window_cells; y += top_width) {
+      for (int x = -window_cells; x <= window_cells; x += top_width) {
+        Candidate c{a, x, y, 0.0};
+        c.score = search.Score(top, c);
+        candidates.push_back(c);
+      }
+    }
+  }
+  const Candidate best = search.Branch(candidates, top, min_score);
+  if (best.score <= min_score) return std::nullopt;
+  BranchAndBoundMatch match;
+  match.T_grid_base = core::SE2(center.translation() + core::Vector2(best.x, best.y) * res,
+                                center.yaw() + (best.angle - n_angles) * angle_step);
+  match.score = best.score;
+  return match;
+}
+
+}  // namespace groundline::localization::lidar
