@@ -6,18 +6,23 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "apriltag_adapter.h"
-
 namespace groundline::calibration {
 
-core::Status AprilTagOptions::Validate() const {
-  if (!(quad_decimate >= 1.0f)) return core::Status::Error("quad_decimate must be >= 1");
-  if (!(quad_sigma >= 0.0f)) return core::Status::Error("quad_sigma must be >= 0");
-  if (max_hamming < 0 || max_hamming > 2) {
-    return core::Status::Error("max_hamming must be 0, 1 or 2");
-  }
-  if (threads < 1) return core::Status::Error("threads must be >= 1");
-  return core::Status::Ok();
+TagDetectorOptions BoardTagDetectorOptions() {
+  TagDetectorOptions options;
+  options.quad_decimate = 1.0;
+  options.quad_sigma = 0.0;
+  options.refine_edges = false;
+  options.max_bits_corrected = 0;
+  options.min_decision_margin = 0.0;
+  options.border_margin_px = 0.0;
+  options.one_per_id = false;  // an id seen twice is ambiguous: DetectAprilGrid skips it
+  return options;
+}
+
+std::vector<TagDetection> DetectTags(const cv::Mat& gray, const TagDetectorOptions& options) {
+  assert(gray.type() == CV_8UC1);
+  return DetectTags(gray.data, gray.cols, gray.rows, static_cast<int>(gray.step[0]), options);
 }
 
 core::Status BoardDetectionOptions::Validate() const {
@@ -30,44 +35,6 @@ core::Status BoardDetectionOptions::Validate() const {
   }
   if (min_aprilgrid_tags < 1) return core::Status::Error("min_aprilgrid_tags must be >= 1");
   return core::Status::Ok();
-}
-
-std::vector<TagDetection> DetectAprilTags(const cv::Mat& gray, const AprilTagOptions& options) {
-  assert(options.Validate().ok());
-  assert(gray.type() == CV_8UC1);
-  apriltag_adapter::FamilyPtr family = apriltag_adapter::Tag36h11();
-  apriltag_adapter::DetectorPtr detector(apriltag_detector_create());
-  apriltag_detector_add_family_bits(detector.get(), family.get(), options.max_hamming);
-  detector->quad_decimate = options.quad_decimate;
-  detector->quad_sigma = options.quad_sigma;
-  detector->refine_edges = options.refine_edges;
-  detector->nthreads = options.threads;
-  cv::Mat contiguous = gray.isContinuous() ? gray : gray.clone();
-  image_u8_t image{contiguous.cols, contiguous.rows, contiguous.cols, contiguous.data};
-  apriltag_adapter::DetectionsPtr detections(apriltag_detector_detect(detector.get(), &image));
-  std::vector<TagDetection> out;
-  for (int i = 0; i < zarray_size(detections.get()); ++i) {
-    apriltag_detection_t* det = nullptr;
-    zarray_get(detections.get(), i, &det);
-    TagDetection tag;
-    tag.id = det->id;
-    tag.hamming = det->hamming;
-    tag.decision_margin = det->decision_margin;
-    // libapriltag's pixel centres are at +0.5 (see the header).
-    for (int k = 0; k < 4; ++k) tag.corners_px[k] = {det->p[k][0] - 0.5, det->p[k][1] - 0.5};
-    out.push_back(tag);
-  }
-  auto key = [](const TagDetection& t) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& c : t.corners_px) mean += c / 4.0;
-    return std::make_tuple(t.id, mean.x(), mean.y());
-  };
-  std::sort(out.begin(), out.end(),
-            [&](const TagDetection& a, const TagDetection& b) { return key(a) < key(b); });
-  // The detector must be destroyed before the family it references.
-  detections.reset();
-  detector.reset();
-  return out;
 }
 
 namespace {
@@ -112,7 +79,7 @@ core::Result<BoardObservation> DetectChessboard(const cv::Mat& gray, const Calib
 core::Result<BoardObservation> DetectAprilGrid(const cv::Mat& gray, const CalibTarget& target,
                                                const BoardGrid& grid,
                                                const BoardDetectionOptions& options) {
-  const std::vector<TagDetection> tags = DetectAprilTags(gray, options.apriltag);
+  const std::vector<TagDetection> tags = DetectTags(gray, options.apriltag);
   BoardObservation obs;
   int used = 0;
   int previous_id = -1;

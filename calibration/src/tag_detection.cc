@@ -12,9 +12,9 @@ extern "C" {
 
 #include <algorithm>
 #include <cassert>
-#include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 
 namespace groundline::calibration {
 namespace {
@@ -86,7 +86,7 @@ std::vector<TagDetection> DetectTags(const std::uint8_t* pixels, int width_px, i
   std::unique_ptr<zarray_t, DetectionsDeleter> found(
       apriltag_detector_detect(detector.get(), image.get()));
 
-  std::map<int, TagDetection> by_id;
+  std::vector<TagDetection> out;
   for (int i = 0; i < zarray_size(found.get()); ++i) {
     apriltag_detection_t* det = nullptr;
     zarray_get(found.get(), i, &det);
@@ -105,12 +105,26 @@ std::vector<TagDetection> DetectTags(const std::uint8_t* pixels, int width_px, i
                c.x() <= width_px - 1 - options.border_margin_px &&
                c.y() <= height_px - 1 - options.border_margin_px;
     }
-    if (!inside) continue;
-    auto it = by_id.find(d.id);
-    if (it == by_id.end() || it->second.decision_margin < d.decision_margin) by_id[d.id] = d;
+    if (inside) out.push_back(d);
   }
-  std::vector<TagDetection> out;
-  for (auto& [id, d] : by_id) out.push_back(d);
+  const auto key = [](const TagDetection& t) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& c : t.corners_px) mean += c / 4.0;
+    return std::make_tuple(t.id, mean.x(), mean.y());
+  };
+  std::sort(out.begin(), out.end(),
+            [&](const TagDetection& a, const TagDetection& b) { return key(a) < key(b); });
+  if (options.one_per_id) {
+    std::vector<TagDetection> strongest;
+    for (const TagDetection& d : out) {
+      if (!strongest.empty() && strongest.back().id == d.id) {
+        if (strongest.back().decision_margin < d.decision_margin) strongest.back() = d;
+      } else {
+        strongest.push_back(d);
+      }
+    }
+    out = std::move(strongest);
+  }
   return out;
 }
 

@@ -6,7 +6,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "apriltag_adapter.h"
+#include "groundline/calibration/tag_detection.h"
 #include "xml_text.h"
 
 namespace groundline::calibration {
@@ -212,15 +212,10 @@ std::string Num(double v) {
 }  // namespace
 
 std::vector<std::uint8_t> Tag36h11Cells(int id) {
-  assert(id >= 0 && id < 587);
-  apriltag_adapter::FamilyPtr family = apriltag_adapter::Tag36h11();
-  apriltag_adapter::ImagePtr image(apriltag_to_image(family.get(), id));
-  assert(image->width == 10 && image->height == 10);
-  std::vector<std::uint8_t> cells(100);
-  for (int r = 0; r < 10; ++r) {
-    for (int c = 0; c < 10; ++c)
-      cells[r * 10 + c] = image->buf[r * image->stride + c] > 127 ? 1 : 0;
-  }
+  const core::Result<TagPattern> pattern = Tag36h11Pattern(id);
+  assert(pattern.ok() && pattern->total_width == 10);
+  std::vector<std::uint8_t> cells(pattern->black.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = pattern->black[i] != 0 ? 0 : 1;
   return cells;
 }
 

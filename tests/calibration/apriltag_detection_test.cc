@@ -1,4 +1,4 @@
-// libapriltag through DetectAprilTags on AprilTag's own test photos
+// libapriltag through DetectTags on AprilTag's own test photos
 // (../shared/data/calib/apriltag_photos: NASA Swarmathon images with the
 // detections AprilTag's test suite expects, at quad_decimate 1, quad_sigma 0,
 // refine_edges 0).
@@ -51,11 +51,11 @@ TEST_P(AprilTagPhotos, EveryExpectedTagWithinATenthOfAPixel) {
   const cv::Mat image =
       cv::imread((dir / (std::string(GetParam()) + ".jpg")).string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(image.empty());
-  AprilTagOptions options;
-  options.quad_sigma = 0.0f;
+  TagDetectorOptions options = BoardTagDetectorOptions();
+  options.quad_sigma = 0.0;
   options.refine_edges = false;
-  options.max_hamming = 2;  // apriltag_detector_add_family's default, as the reference ran
-  const std::vector<TagDetection> found = DetectAprilTags(image, options);
+  options.max_bits_corrected = 2;  // apriltag_detector_add_family's default, as the reference ran
+  const std::vector<TagDetection> found = DetectTags(image, options);
   EXPECT_EQ(found.size(), expected.size());
   double worst = 0.0;
   int within_tenth = 0;
@@ -84,14 +84,14 @@ INSTANTIATE_TEST_SUITE_P(Photos, AprilTagPhotos,
                          ::testing::Values("33369213973_9d9bb4cc96_c", "34085369442_304b6bafd9_c",
                                            "34139872896_defdb2f8d9_c"));
 
-TEST(AprilTagOptions, ValidateNamesTheBadField) {
-  AprilTagOptions options;
+TEST(TagDetectorOptions, ValidateNamesTheBadField) {
+  TagDetectorOptions options = BoardTagDetectorOptions();
   EXPECT_TRUE(options.Validate().ok());
-  options.quad_decimate = 0.5f;
+  options.quad_decimate = 0.5;
   EXPECT_NE(options.Validate().message().find("quad_decimate"), std::string::npos);
-  options = AprilTagOptions{};
-  options.max_hamming = 3;
-  EXPECT_NE(options.Validate().message().find("max_hamming"), std::string::npos);
+  options = BoardTagDetectorOptions();
+  options.max_bits_corrected = 4;
+  EXPECT_NE(options.Validate().message().find("max_bits_corrected"), std::string::npos);
 }
 
 }  // namespace

@@ -57,7 +57,7 @@ TEST(TargetRender, AprilGridSheetIsDetectedWithEveryIdAndCornerWhereTheLayoutPut
   cv::cvtColor(RasterizeSheet(sheet, kDpi), gray, cv::COLOR_BGR2GRAY);
   EXPECT_EQ(gray.cols, 1654);  // 420 mm at 100 dpi
   EXPECT_EQ(gray.rows, 1169);
-  const std::vector<TagDetection> tags = DetectAprilTags(gray, AprilTagOptions{});
+  const std::vector<TagDetection> tags = DetectTags(gray, BoardTagDetectorOptions());
   ASSERT_EQ(tags.size(), 35u);
   const BoardGrid grid = MakeBoardGrid(target);
   double worst = 0.0;
@@ -116,7 +116,7 @@ TEST(TargetRender, FloorSheetsCarryOneDetectableTagEachCentredOnTheMarks) {
     EXPECT_EQ(sheet.paper, "A4");
     cv::Mat gray;
     cv::cvtColor(RasterizeSheet(sheet, 60.0), gray, cv::COLOR_BGR2GRAY);
-    const std::vector<TagDetection> tags = DetectAprilTags(gray, AprilTagOptions{});
+    const std::vector<TagDetection> tags = DetectTags(gray, BoardTagDetectorOptions());
     ASSERT_EQ(tags.size(), 1u) << sheet.file_stem;
     EXPECT_EQ(tags[0].id, 100 + i);
     // The tag's centre is where the centre marks meet.

@@ -42,6 +42,9 @@ struct TagDetectorOptions {
   // Reject tags with a corner closer than this to the image border: libapriltag
   // extrapolates the edges of a tag cut by the border, misplacing its corners.
   double border_margin_px = 4.0;
+  // A tag field has unique ids: keep only the strongest detection of an id
+  // seen twice. false keeps every detection (photos may repeat an id).
+  bool one_per_id = true;
   int threads = 1;
 
   core::Status Validate() const;
@@ -55,9 +58,10 @@ struct TagDetection {
 };
 
 // Detects tag36h11 in an 8-bit grey image (row-major, row stride in bytes).
-// Detections are sorted by id; tags closer than border_margin_px to the image
-// border are dropped; an id seen twice in one image keeps the one
-// with the larger decision margin. options must be valid (asserted).
+// Detections are sorted by id, then by the corners' mean u, then v; tags
+// closer than border_margin_px to the image border are dropped; with
+// one_per_id, an id seen twice in one image keeps the one with the larger
+// decision margin. options must be valid (asserted).
 std::vector<TagDetection> DetectTags(const std::uint8_t* pixels, int width_px, int height_px,
                                      int stride_bytes, const TagDetectorOptions& options = {});
 
