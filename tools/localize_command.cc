@@ -23,6 +23,7 @@
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
 #include "localize_carmen.h"
+#include "localize_lines.h"
 
 namespace groundline::tools {
 namespace {
@@ -60,8 +61,11 @@ Writes into --out (created if missing; files replaced atomically):
 and prints ATE / along-track / heading errors and NEES consistency when the dataset
 has ground truth (the full table: groundline eval --est OUT/trajectory.tum --ref ...).
 
-Example:
-  groundline localize --dataset sample_zone_b --out run_odom)";
+Examples:
+  groundline localize --dataset sample_zone_b --out run_odom
+  groundline localize --dataset sample_zone_b --mode lines --out run_lines
+  groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
+  groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
 double CpuSeconds() {
   rusage usage{};
@@ -204,17 +208,35 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", flags->out_dir, "Output directory for the run")->required();
   cmd->add_option("--mode", flags->mode, "Estimator")
-      ->check(CLI::IsMember({"odometry"}))
+      ->check(CLI::IsMember({"odometry", "lines", "mapping"}))
       ->capture_default_str();
   cmd->add_option("--initial-pose", flags->initial_pose, "Start pose: x_m y_m yaw_deg")
       ->expected(3);
-  cmd->callback([flags, carmen, run] {
+  auto lines = std::make_shared<LocalizeLinesFlags>();
+  cmd->add_option("--atlas", lines->atlas_path,
+                  "--mode lines: the atlas to localize on (default: the dataset's floor map)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--atlas-out", lines->atlas_out_path,
+                  "--mode mapping: where to write the atlas (default OUT/atlas.json)");
+  cmd->add_option("--window", lines->window_s,
+                  "--mode lines/mapping: sliding-window length, seconds")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
+  cmd->callback([flags, carmen, lines, run] {
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
       *run = [carmen] { return RunLocalizeCarmen(*carmen); };
       return;
     }
     if (flags->dataset_dir.empty()) throw CLI::RequiredError("--dataset or --carmen");
+    if (flags->mode != "odometry") {
+      lines->dataset_dir = flags->dataset_dir;
+      lines->out_dir = flags->out_dir;
+      lines->mapping = flags->mode == "mapping";
+      lines->initial_pose = flags->initial_pose;
+      *run = [lines] { return RunLocalizeLines(*lines); };
+      return;
+    }
     *run = [flags] { return RunLocalize(*flags); };
   });
   return cmd;

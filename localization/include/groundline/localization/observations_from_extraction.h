@@ -1,0 +1,32 @@
+// The bridge from the floor-line extractor (perception/line_extractor.h) to
+// the smoother's input (floor_observation.h): one camera frame's lines and
+// junctions in base_link with their covariances.
+//
+// Kinds: the extractor knows polarity and orientation, not the marking type;
+// dark lines become kJoint, bright transverse lines kStopBar, other bright
+// lines kTapeSolid (association does not gate on kind; the atlas keeps the
+// surveyed kind).
+//
+// Lines or junctions whose covariance is not symmetric positive definite
+// (a degenerate fit) are dropped and counted: the smoother requires SPD
+// covariances. Pure and thread-safe.
+#ifndef GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
+#define GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
+
+#include "groundline/localization/floor_observation.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::localization {
+
+struct ConvertedObservations {
+  FloorObservations observations;
+  int dropped_lines = 0;      // covariance not SPD
+  int dropped_junctions = 0;  // covariance not SPD
+};
+
+ConvertedObservations ObservationsFromExtraction(double stamp_s,
+                                                 const perception::LineExtraction& extraction);
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_

@@ -1,0 +1,279 @@
+// Keyframes come from camera frames: a frame becomes a keyframe when the
+// vehicle has moved 0.20 m or turned 5 deg since the last one (other frames
+// are skipped); without camera frames, an odometry-only keyframe every
+// 1.0 m keeps the chain going. The keyframe is stamped at the encoder reading
+// that closes the frame's interval (the frame's own stamp is in health.jsonl);
+// unreadable images are named, counted and replaced by an empty observation.
+#include "localize_lines.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "groundline/calibration/camera_file.h"
+#include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/core/atomic_file.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/metric_fields.h"
+#include "groundline/core/trajectory_io.h"
+#include "groundline/core/trajectory_metrics.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/keyframe_selector.h"
+#include "groundline/localization/observations_from_extraction.h"
+#include "groundline/localization/odometry_integrator.h"
+#include "groundline/localization/sliding_window_smoother.h"
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/line_extractor.h"
+#include "progress.h"
+#include "run_resources.h"
+
+namespace groundline::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kOdometryOnlyKeyframeM = 1.0;
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
+  return 1;
+}
+
+double Percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
+  return values[std::min(k, values.size() - 1)];
+}
+
+core::Result<localization::Atlas> LoadAtlas(const LocalizeLinesFlags& flags,
+                                            const core::Dataset& dataset) {
+  if (flags.mapping) return localization::Atlas();
+  if (!flags.atlas_path.empty()) return localization::ReadAtlas(flags.atlas_path);
+  if (dataset.floor_map) {
+    return localization::AtlasFromFloorMap(*dataset.floor_map,
+                                           localization::AtlasFromFloorMapOptions());
+  }
+  return core::Status::Error(flags.dataset_dir +
+                             ": --mode lines needs --atlas FILE or a dataset with floor_map.yaml");
+}
+
+nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHealth& health,
+                                  const localization::PoseEstimate& pose,
+                                  std::optional<double> frame_stamp_s, int dropped) {
+  nlohmann::ordered_json line;
+  line["keyframe"] = keyframe;
+  line["stamp_s"] = pose.stamp_s;
+  if (frame_stamp_s) line["frame_stamp_s"] = *frame_stamp_s;
+  line["x_m"] = pose.T_map_base.x();
+  line["y_m"] = pose.T_map_base.y();
+  line["yaw_deg"] = pose.T_map_base.yaw() * 180.0 / std::numbers::pi;
+  const core::Matrix3& c = pose.covariance;
+  line["cov"] = {c(0, 0), c(0, 1), c(0, 2), c(1, 0), c(1, 1), c(1, 2), c(2, 0), c(2, 1), c(2, 2)};
+  line["lines_observed"] = health.lines_observed;
+  line["lines_used"] = health.lines_used;
+  line["lines_rejected"] = health.lines_rejected;
+  line["lines_ambiguous"] = health.lines_ambiguous;
+  line["lines_dropped"] = dropped;
+  line["junctions_used"] = health.junctions_used;
+  line["landmarks_added"] = health.landmarks_added;
+  line["window_size"] = health.window_size;
+  line["solve_ms"] = 1e3 * health.solve_time_s;
+  line["update_ms"] = 1e3 * health.update_time_s;
+  return line;
+}
+
+}  // namespace
+
+int RunLocalizeLines(const LocalizeLinesFlags& flags) {
+  const auto wall_start = std::chrono::steady_clock::now();
+  const double cpu_start = ProcessCpuSeconds();
+  core::DatasetReadOptions read_options;  // the image index, not the pixels
+  read_options.check_image_files = false;
+  read_options.load_scans = false;
+  core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
+  if (!dataset.ok()) return Fail(dataset.message());
+  const core::DatasetManifest& manifest = dataset->manifest;
+  if (!manifest.wheel_encoders || dataset->wheel_encoders.empty()) {
+    return Fail(flags.dataset_dir + ": the lines modes need wheel encoder readings");
+  }
+  if (!manifest.camera) return Fail(flags.dataset_dir + ": the lines modes need a camera");
+  const fs::path dir(flags.dataset_dir);
+  core::Result<calibration::CameraModel> camera =
+      calibration::ReadCameraModel(dir / manifest.camera->intrinsics_file);
+  if (!camera.ok()) return Fail(camera.message());
+  core::Result<calibration::CameraMount> mount =
+      calibration::ReadCameraMountYaml(dir / manifest.camera->extrinsics_file);
+  if (!mount.ok()) return Fail(mount.message());
+  core::Result<localization::Atlas> atlas = LoadAtlas(flags, *dataset);
+  if (!atlas.ok()) return Fail(atlas.message());
+
+  // Start pose: --initial-pose, else the first ground-truth pose, else the origin.
+  double start_s = dataset->wheel_encoders.front().stamp_s;
+  core::SE2 start_pose;
+  if (flags.initial_pose.size() == 3) {
+    start_pose = core::SE2(flags.initial_pose[0], flags.initial_pose[1],
+                           flags.initial_pose[2] * std::numbers::pi / 180.0);
+  } else if (!dataset->ground_truth.empty()) {
+    start_s = dataset->ground_truth.front().stamp_s;
+    start_pose = dataset->ground_truth.front().pose;
+  }
+  const core::Matrix3 start_covariance =
+      core::Vector3(0.005 * 0.005, 0.005 * 0.005, std::pow(0.1 * std::numbers::pi / 180.0, 2))
+          .asDiagonal();
+
+  perception::BevRemap::Options remap_options;
+  remap_options.supersampling = 2;
+  const perception::BevRemap remap(*camera, *mount, remap_options);
+  const perception::LineExtractor extractor(remap, perception::LineExtractorOptions());
+
+  localization::DiffDriveParams drive;
+  drive.wheel_radius_m = manifest.wheel_encoders->wheel_radius_m;
+  drive.track_m = manifest.wheel_encoders->track_m;
+  localization::OdometryIntegrator integrator(drive, localization::OdometryNoiseParams());
+  const localization::KeyframeSelector selector{localization::KeyframeSelector::Options()};
+  localization::SmootherOptions smoother_options;
+  smoother_options.mode = flags.mapping ? localization::SmootherMode::kMapping
+                                        : localization::SmootherMode::kLocalization;
+  smoother_options.window_s = flags.window_s;
+  localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
+  smoother.Initialize(start_s, start_pose, start_covariance);
+
+  core::Trajectory keyframes{{start_s, start_pose, start_covariance}};
+  core::Trajectory odometry_rate{{start_s, start_pose, start_covariance}};
+  std::ostringstream health_lines;
+  std::vector<double> update_ms;
+  long frames_used = 0, frames_skipped = 0, images_unreadable = 0, solve_failures = 0;
+  long lines_used = 0, lines_rejected = 0, lines_dropped = 0;
+  const fs::path index_dir = (dir / manifest.files.image_index).parent_path();
+  const std::vector<core::ImageRecord>& images = dataset->images;
+  std::size_t next_image = 0;
+  while (next_image < images.size() && images[next_image].stamp_s < start_s) ++next_image;
+
+  ProgressLine progress("[localize]");
+  const std::vector<core::WheelEncoderReading>& readings = dataset->wheel_encoders;
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const core::WheelEncoderReading& r = readings[i];
+    if (r.stamp_s <= start_s) continue;
+    if (i % 1000 == 0) progress.Update("replay", static_cast<double>(i) / readings.size());
+    integrator.Integrate(localization::WheelAngleIncrement{r.left_delta_rad, r.right_delta_rad});
+    std::optional<std::size_t> frame;
+    while (next_image < images.size() && images[next_image].stamp_s <= r.stamp_s + 1e-9) {
+      frame = next_image++;
+    }
+    const localization::RelativeMotion& since = integrator.SinceKeyframe();
+    const bool moved = selector.IsKeyframeDue(since.T_start_end);
+    const bool blind = since.path_length_m >= kOdometryOnlyKeyframeM;
+    if (frame && !moved) ++frames_skipped;
+    if ((frame && moved) || blind) {
+      localization::ConvertedObservations converted;
+      converted.observations.stamp_s = r.stamp_s;
+      if (frame) {
+        const fs::path path = index_dir / images[*frame].file;
+        const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+        if (grey.empty()) {
+          std::fprintf(stderr, "\ngroundline localize: %s: unreadable image, frame dropped\n",
+                       path.string().c_str());
+          ++images_unreadable;
+        } else {
+          cv::Mat bev;
+          remap.Apply(grey, &bev);
+          converted = localization::ObservationsFromExtraction(r.stamp_s, extractor.Extract(bev));
+          ++frames_used;
+        }
+      }
+      const localization::RelativeMotion motion = integrator.StartKeyframe();
+      core::Result<localization::KeyframeHealth> health =
+          smoother.AddKeyframe(r.stamp_s, motion, converted.observations);
+      if (!health.ok()) {
+        ++solve_failures;
+        std::fprintf(stderr, "\ngroundline localize: keyframe at %.3f s: %s\n", r.stamp_s,
+                     health.message().c_str());
+      } else {
+        update_ms.push_back(1e3 * health->update_time_s);
+        lines_used += health->lines_used;
+        lines_rejected += health->lines_rejected;
+        lines_dropped += converted.dropped_lines;
+        health_lines << HealthLine(static_cast<long>(keyframes.size()), *health, smoother.Latest(),
+                                   frame ? std::optional(images[*frame].stamp_s) : std::nullopt,
+                                   converted.dropped_lines)
+                            .dump()
+                     << "\n";
+      }
+      const localization::PoseEstimate& latest = smoother.Latest();
+      keyframes.push_back({latest.stamp_s, latest.T_map_base, latest.covariance});
+    }
+    const localization::PoseEstimate now = localization::PropagateFromKeyframe(
+        smoother.Latest(), integrator.SinceKeyframe(), r.stamp_s);
+    odometry_rate.push_back({now.stamp_s, now.T_map_base, now.covariance});
+  }
+  progress.Update("replay", 1.0);
+
+  const fs::path out(flags.out_dir);
+  for (const core::Status& s :
+       {core::WriteTumTrajectory(out / "trajectory.tum", keyframes),
+        core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
+        core::WriteFileAtomically(out / "health.jsonl", health_lines.str())}) {
+    if (!s.ok()) return Fail(s.message());
+  }
+  nlohmann::ordered_json summary;
+  summary["dataset"] = flags.dataset_dir;
+  summary["mode"] = flags.mapping ? "mapping" : "lines";
+  summary["n_keyframes"] = keyframes.size();
+  summary["frames_used"] = frames_used;
+  summary["frames_skipped"] = frames_skipped;
+  summary["images_unreadable"] = images_unreadable;
+  summary["solve_failures"] = solve_failures;
+  summary["lines_used"] = lines_used;
+  summary["lines_rejected"] = lines_rejected;
+  summary["lines_dropped"] = lines_dropped;
+  summary["update_ms_median"] = Percentile(update_ms, 0.5);
+  summary["update_ms_p99"] = Percentile(update_ms, 0.99);
+  std::printf(
+      "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
+      "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99\n",
+      flags.dataset_dir.c_str(), keyframes.size(), frames_used, frames_skipped, images_unreadable,
+      lines_used, lines_rejected, Percentile(update_ms, 0.5), Percentile(update_ms, 0.99));
+  if (flags.mapping) {
+    const fs::path atlas_out =
+        flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
+    const localization::Atlas built = smoother.CurrentAtlas();
+    if (core::Status s = localization::WriteAtlas(atlas_out, built); !s.ok()) {
+      return Fail(s.message());
+    }
+    std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
+                built.junctions.size(), atlas_out.string().c_str());
+  }
+  if (!dataset->ground_truth.empty()) {
+    core::Result<core::TrajectoryErrorSummary> errors =
+        core::ComputeTrajectoryErrors(keyframes, dataset->ground_truth);
+    if (!errors.ok()) return Fail("evaluating against ground truth: " + errors.message());
+    std::printf("accuracy of the keyframes against ground truth (%zu poses matched):\n",
+                errors->n_matched);
+    nlohmann::ordered_json accuracy;
+    for (const core::MetricField& f : core::MetricFields(*errors)) {
+      accuracy[f.key] = f.value;
+      if (!f.is_count) std::printf("  %-28s %10.4f\n", f.label.c_str(), f.value);
+    }
+    summary["accuracy"] = accuracy;
+  }
+  summary["wall_s"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  summary["cpu_s"] = ProcessCpuSeconds() - cpu_start;
+  summary["peak_rss_mb"] = ProcessPeakRssMb();
+  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+      !s.ok()) {
+    return Fail(s.message());
+  }
+  return 0;
+}
+
+}  // namespace groundline::tools
