@@ -17,12 +17,16 @@ launcher=()
 command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 case "$kind" in
   release)
+    # -g1: line tables only (backtraces, profiles); full -g doubles the build time.
     cmake -S . -B build "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
       -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=ON >/dev/null
     cmake --build build -j "$jobs" "${targets[@]}"
     ;;
   asan)
+    # -g1 is enough for sanitizer reports with file:line.
     cmake -S . -B build-asan "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
+      -DCMAKE_CXX_FLAGS_DEBUG="-g1" -DCMAKE_C_FLAGS_DEBUG="-g1" \
       -DGROUNDLINE_SANITIZE=ON -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=OFF >/dev/null
     cmake --build build-asan -j "$jobs" "${targets[@]}"
     ;;
