@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # README command 1: install what is needed, build groundline, and run the main
-# job on the bundled default: simulate a 400 m loop through the high-bay rack
-# aisles of zone B (seed 1), replay it through `groundline localize`, and print
-# its accuracy against ground truth. When the shared real data is present
-# (../shared/data), also score the raw odometry of the ACES CARMEN log against
-# its Kuemmerle relations.
+# job on the bundled default: simulate 400 m through the high-bay rack aisles
+# of zone B (seed 1, floor camera at 2 Hz), replay it through `groundline
+# localize` twice (the floor-line factor graph, and the odometry-only
+# baseline), and print both accuracies side by side against ground truth.
+# When the shared real data is present (../shared/data), also run the LiDAR
+# SLAM on the ACES CARMEN log and score it and the raw odometry against the
+# log's Kuemmerle relations.
 #
 # Outputs go to out/demo/ (override with GROUNDLINE_DEMO_OUT).
 set -euo pipefail
@@ -18,24 +20,31 @@ out="${GROUNDLINE_DEMO_OUT:-out/demo}"
 mkdir -p "$out"
 
 echo
-echo "== simulating zone B (high-bay rack aisles), 400 m loop, seed 1; floor camera at 0.5 Hz for sample frames =="
-"$gl" sim --zone B --length 400m --seed 1 --camera-rate 0.5 --out "$out/zone_b_seed1"
+echo "== simulating zone B (high-bay rack aisles), 400 m, seed 1; floor camera at 2 Hz =="
+"$gl" sim --zone B --length 400m --seed 1 --camera-rate 2 --out "$out/zone_b_seed1"
 
 echo
-echo "== localizing (mode: odometry; the floor-line and LiDAR modes come with the localization issues) =="
+echo "== localizing: floor lines + wheel odometry (sliding-window factor graph on the surveyed floor map) =="
+"$gl" localize --dataset "$out/zone_b_seed1" --mode lines --out "$out/run_lines"
+
+echo
+echo "== localizing: wheel odometry only (the baseline) =="
 "$gl" localize --dataset "$out/zone_b_seed1" --out "$out/run_odometry"
 
 echo
 echo "== accuracy table =="
-"$gl" eval --est "$out/run_odometry/trajectory.tum" --label odometry \
+"$gl" eval --est "$out/run_lines/trajectory.tum" --est "$out/run_odometry/trajectory.tum" \
+  --label lines --label odometry \
   --ref "$out/zone_b_seed1/ground_truth.tum" --json "$out/eval_zone_b_seed1.json"
 
 data="${GROUNDLINE_DATA_DIR:-../shared/data}"
 if [ -f "$data/lidar2d/aces.clf.bz2" ] && [ -f "$data/lidar2d/aces.relations" ]; then
   echo
-  echo "== real data: raw odometry of the ACES log against the Kuemmerle relations =="
+  echo "== real data: LiDAR SLAM on the ACES log, and its raw odometry, against the Kuemmerle relations =="
+  "$gl" localize --carmen "$data/lidar2d/aces.clf.bz2" --out "$out/run_aces_lidar"
   "$gl" convert carmen "$data/lidar2d/aces.clf.bz2" --out "$out/aces_raw_odometry.tum"
-  "$gl" eval --est "$out/aces_raw_odometry.tum" --label aces_raw_odometry \
+  "$gl" eval --est "$out/run_aces_lidar/trajectory.tum" --est "$out/aces_raw_odometry.tum" \
+    --label lidar_slam --label raw_odometry \
     --relations "$data/lidar2d/aces.relations" --json "$out/eval_aces.json"
 else
   echo
@@ -43,5 +52,6 @@ else
 fi
 
 echo
-echo "Outputs in $out: the dataset (zone_b_seed1/, with layout.png), the run"
-echo "(run_odometry/: trajectory.tum, health.jsonl, summary.json) and eval JSON files."
+echo "Outputs in $out: the dataset (zone_b_seed1/, with layout.png and sample frames), the runs"
+echo "(run_lines/, run_odometry/, run_aces_lidar/: trajectory.tum, health.jsonl, summary.json)"
+echo "and the eval JSON files."
