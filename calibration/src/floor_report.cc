@@ -8,6 +8,7 @@
 
 #include "groundline/calibration/floor_calibration.h"
 #include "groundline/calibration/floor_projection.h"
+#include "xml_text.h"
 
 namespace groundline::calibration {
 namespace {
@@ -31,29 +32,6 @@ constexpr std::array<Row, 6> kRows = {{
 
 std::array<double, 6> Values(const CameraMount& m) {
   return {m.height_m, m.pitch_rad, m.roll_rad, m.yaw_rad, m.forward_m, m.lateral_m};
-}
-
-std::string Escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 std::string Fixed(double v, int digits) {
@@ -122,7 +100,7 @@ std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
        "table{border-collapse:collapse}td,th{border:1px solid #999;padding:3px 8px;"
        "text-align:right}.pass{color:#070}.fail{color:#b00}</style></head><body>\n"
     << "<h1>Floor calibration: <span class=\"" << (c.pass ? "pass" : "fail") << "\">"
-    << Escape(c.verdict) << "</span></h1>\n"
+    << internal::XmlEscape(c.verdict) << "</span></h1>\n"
     << "<p>Thresholds: BEV error at 2 m &le; " << options.max_bev_error_2m_mm
     << " mm, corner RMS per image &le; " << options.max_image_rms_px << " px.</p>\n";
   h << "<h2>Camera mount</h2><table><tr><th>parameter</th><th>value</th><th>&plusmn;3&sigma;</th>"
@@ -141,13 +119,13 @@ std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
   }
   h << "</table>\n<h2>Images</h2><table><tr><th>image</th><th>corners</th><th>RMS px</th></tr>\n";
   for (std::size_t i = 0; i < c.images.size(); ++i) {
-    h << "<tr><td>" << Escape(c.images[i].name) << "</td><td>" << c.images[i].corners.size()
-      << "</td><td>" << Fixed(s.image_rms_px[i], 3) << "</td></tr>\n";
+    h << "<tr><td>" << internal::XmlEscape(c.images[i].name) << "</td><td>"
+      << c.images[i].corners.size() << "</td><td>" << Fixed(s.image_rms_px[i], 3) << "</td></tr>\n";
   }
   h << "</table>\n";
   if (!c.warnings.empty()) {
     h << "<h2>Warnings</h2><ul>\n";
-    for (const std::string& w : c.warnings) h << "<li>" << Escape(w) << "</li>\n";
+    for (const std::string& w : c.warnings) h << "<li>" << internal::XmlEscape(w) << "</li>\n";
     h << "</ul>\n";
   }
 
