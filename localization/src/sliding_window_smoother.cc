@@ -176,8 +176,14 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
 }
 
 core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
-    double stamp_s, const RelativeMotion& motion, const FloorObservations& observations) {
+    double stamp_s, const RelativeMotion& motion, const FloorObservations& observations,
+    const std::optional<RelativePoseMeasurement>& relative) {
   assert(initialized());
+  if (relative &&
+      (!relative->T_prev_curr.Log().allFinite() || !relative->sqrt_information.allFinite())) {
+    return core::Status::Error("keyframe at " + std::to_string(stamp_s) +
+                               " s: relative measurement is not finite");
+  }
   const Clock::time_point start = Clock::now();
   KeyframeHealth health;
   health.stamp_s = stamp_s;
@@ -192,7 +198,13 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   Keyframe keyframe;
   keyframe.stamp_s = stamp_s;
   keyframe.pose = {predicted.T_map_base.x(), predicted.T_map_base.y(), predicted.T_map_base.yaw()};
-  keyframe.odometry = std::make_unique<RelativePoseFactor>(motion.T_start_end, *odometry_sqrt);
+  keyframe.between.push_back(
+      std::make_unique<RelativePoseFactor>(motion.T_start_end, *odometry_sqrt));
+  if (relative) {
+    keyframe.between.push_back(
+        std::make_unique<RelativePoseFactor>(relative->T_prev_curr, relative->sqrt_information));
+    health.relative_measurement_used = true;
+  }
   ++keyframe_count_;
   AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance, &keyframe, &health);
   window_.push_back(std::move(keyframe));
@@ -222,8 +234,8 @@ core::Status SlidingWindowSmoother::Solve(KeyframeHealth* health) {
   const bool mapping = options_.mode == SmootherMode::kMapping;
   for (size_t i = 0; i < window_.size(); ++i) {
     Keyframe& keyframe = window_[i];
-    if (i > 0) {
-      problem.AddResidualBlock(keyframe.odometry.get(), nullptr, window_[i - 1].pose.data(),
+    for (auto& between : keyframe.between) {
+      problem.AddResidualBlock(between.get(), nullptr, window_[i - 1].pose.data(),
                                keyframe.pose.data());
     }
     for (LandmarkFactor& factor : keyframe.lines) {
@@ -285,7 +297,7 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   std::vector<LinearizationFactor> factors;
   if (options_.mode == SmootherMode::kLocalization) factors = UnaryFactors(front, &variables);
   factors.push_back({prior_.get(), nullptr, {0}});
-  factors.push_back({second.odometry.get(), nullptr, {0, 1}});
+  for (const auto& between : second.between) factors.push_back({between.get(), nullptr, {0, 1}});
   const auto system = LinearizeFactors(variables, factors);
   if (!system.ok()) return system.status().WithContext("marginalization");
   const std::vector<int> keep = {3, 4, 5};
@@ -299,7 +311,7 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   prior.is_pose = {true};
   prior.sqrt_prior = std::move(sqrt_prior).value();
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
-  second.odometry.reset();
+  second.between.clear();
   window_.pop_front();
   return core::Status::Ok();
 }
@@ -321,7 +333,9 @@ core::Matrix3 SlidingWindowSmoother::NewestCovariance() const {
     if (!last) {
       variables.push_back({window_[i + 1].pose.data(), 3, true});
       next = static_cast<int>(variables.size()) - 1;
-      factors.push_back({window_[i + 1].odometry.get(), nullptr, {0, next}});
+      for (const auto& between : window_[i + 1].between) {
+        factors.push_back({between.get(), nullptr, {0, next}});
+      }
     }
     auto system = LinearizeFactors(variables, factors);
     if (!system.ok()) return latest_.covariance;

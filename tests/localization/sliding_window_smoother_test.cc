@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 namespace groundline::localization {
@@ -56,6 +57,57 @@ TEST(SlidingWindowSmoother, WithoutObservationsItIsDeadReckoningWithOrWithoutMar
     EXPECT_LT((latest.covariance - dead_reckoning.covariance).norm(),
               1e-6 * dead_reckoning.covariance.norm());
   }
+}
+
+// A rank-deficient relative measurement (a corridor scan match: lateral and
+// heading known, nothing along the aisle) corrects the odometry's lateral and
+// heading drift and leaves the along-track distance to the odometry, also
+// after the corrected keyframes are marginalized into the prior.
+TEST(SlidingWindowSmoother, RankDeficientRelativeMeasurementCorrectsOnlyItsDirections) {
+  const core::SE2 true_step(0.2, 0.0, 0.0);
+  RelativeMotion motion;  // biased odometry: drifts sideways and turns
+  motion.T_start_end = core::SE2(0.21, 0.01, 0.002);
+  motion.covariance = Eigen::Vector3d(1e-4, 1e-4, 1e-5).asDiagonal();
+  RelativePoseMeasurement scan;
+  scan.T_prev_curr = true_step;
+  scan.sqrt_information = Eigen::Vector3d(0.0, 1e4, 1e4).asDiagonal();  // no x row
+  for (const double window_s : {1e6, 0.5}) {
+    SmootherOptions options;
+    options.window_s = window_s;
+    SlidingWindowSmoother smoother(options, Atlas());
+    smoother.Initialize(0.0, core::SE2(), core::Matrix3::Identity() * 1e-8);
+    const int n = 20;
+    for (int i = 1; i <= n; ++i) {
+      const auto health = smoother.AddKeyframe(0.1 * i, motion, {}, scan);
+      ASSERT_TRUE(health.ok()) << health.status().message();
+      EXPECT_TRUE(health->relative_measurement_used);
+    }
+    const PoseEstimate& latest = smoother.Latest();
+    EXPECT_NEAR(latest.T_map_base.x(), 0.21 * n, 1e-3) << "window " << window_s;
+    // Dead reckoning ends ~0.6 m to the side and 0.04 rad off; the scan rows
+    // (sigma 1e-4 per step against the odometry's 1e-2) leave 1e-4 of that.
+    EXPECT_NEAR(latest.T_map_base.y(), 0.0, 5e-4) << "window " << window_s;
+    EXPECT_NEAR(latest.T_map_base.yaw(), 0.0, 1e-4) << "window " << window_s;
+    // Along-track uncertainty grows like the odometry's; lateral and heading
+    // grow like the scan's random walk (20 steps of 1e-8 rad^2), far below the
+    // odometry's (20 x 1e-5 rad^2).
+    EXPECT_NEAR(latest.covariance(0, 0), n * 1e-4, 0.05 * n * 1e-4);
+    EXPECT_LT(latest.covariance(1, 1), 0.01 * n * 1e-4);
+    EXPECT_NEAR(latest.covariance(2, 2), n * 1e-8, 0.1 * n * 1e-8);
+  }
+}
+
+TEST(SlidingWindowSmoother, NonFiniteRelativeMeasurementIsAnError) {
+  SlidingWindowSmoother smoother{SmootherOptions(), Atlas()};
+  smoother.Initialize(0.0, core::SE2(), core::Matrix3::Identity() * 1e-4);
+  RelativeMotion motion;
+  motion.T_start_end = core::SE2(0.2, 0.0, 0.0);
+  motion.covariance = core::Matrix3::Identity() * 1e-4;
+  RelativePoseMeasurement scan;
+  scan.sqrt_information(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  const auto health = smoother.AddKeyframe(0.1, motion, {}, scan);
+  ASSERT_FALSE(health.ok());
+  EXPECT_NE(health.status().message().find("relative measurement"), std::string::npos);
 }
 
 TEST(PropagateFromKeyframe, ComposesThePoseAndTransportsTheCovariance) {

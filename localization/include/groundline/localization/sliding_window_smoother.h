@@ -28,6 +28,11 @@
 // the landmarks as known (optimistic). There are no loop-closure factors
 // yet, so no keyframe is held back from marginalization.
 //
+// Other relative sensors (a LiDAR scan match between consecutive keyframes)
+// enter as an optional RelativePoseMeasurement per keyframe: a second
+// between-factor next to the odometry, whose square-root information may be
+// rank deficient (a corridor match carries nothing along the aisle).
+//
 // Memory: the window holds at most window_s of keyframes; everything else is
 // the atlas. Not thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
@@ -82,6 +87,15 @@ struct PoseEstimate {
 PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeMotion& motion,
                                    double stamp_s);
 
+// A measured pose of the new keyframe seen from the previous one, T_prev_curr,
+// from a sensor other than the wheels (a LiDAR scan match). S^T S is its
+// information in the tangent space of T_prev_curr; rows of zeros where the
+// sensor carries no information (lidar::MatchInformation::sqrt_information).
+struct RelativePoseMeasurement {
+  core::SE2 T_prev_curr;
+  core::Matrix3 sqrt_information = core::Matrix3::Zero();
+};
+
 struct KeyframeHealth {
   double stamp_s = 0.0;
   int lines_observed = 0;
@@ -90,8 +104,9 @@ struct KeyframeHealth {
   int lines_ambiguous = 0;
   int junctions_observed = 0;
   int junctions_used = 0;
-  int landmarks_added = 0;  // mapping mode
-  int window_size = 0;      // keyframes in the window after this update
+  bool relative_measurement_used = false;  // a RelativePoseMeasurement entered the window
+  int landmarks_added = 0;                 // mapping mode
+  int window_size = 0;                     // keyframes in the window after this update
   int iterations = 0;
   double solve_time_s = 0.0;   // Ceres solve
   double update_time_s = 0.0;  // the whole AddKeyframe
@@ -107,11 +122,14 @@ class SlidingWindowSmoother {
   void Initialize(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
 
   // A new keyframe at stamp_s, `motion` since the previous keyframe
-  // (OdometryIntegrator::StartKeyframe()), observations taken at stamp_s.
+  // (OdometryIntegrator::StartKeyframe()), observations taken at stamp_s,
+  // and optionally a relative measurement from the previous keyframe by
+  // another sensor (a LiDAR scan match).
   // Errors: a failed solve or marginalization (the keyframe is kept, the
-  // estimate is the prediction).
-  core::Result<KeyframeHealth> AddKeyframe(double stamp_s, const RelativeMotion& motion,
-                                           const FloorObservations& observations);
+  // estimate is the prediction); a non-finite relative measurement.
+  core::Result<KeyframeHealth> AddKeyframe(
+      double stamp_s, const RelativeMotion& motion, const FloorObservations& observations,
+      const std::optional<RelativePoseMeasurement>& relative = std::nullopt);
 
   bool initialized() const { return !window_.empty(); }
   // The newest keyframe's estimate (requires initialized()).
@@ -128,8 +146,9 @@ class SlidingWindowSmoother {
   struct Keyframe {
     double stamp_s = 0.0;
     std::array<double, 3> pose{};
-    std::unique_ptr<ceres::CostFunction>
-        odometry;  // from the previous keyframe; null for the first
+    // From the previous keyframe (empty for the first): the odometry factor,
+    // then any RelativePoseMeasurement factor.
+    std::vector<std::unique_ptr<ceres::CostFunction>> between;
     std::vector<LandmarkFactor> lines;
     std::vector<LandmarkFactor> junctions;
   };
