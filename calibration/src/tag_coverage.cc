@@ -73,13 +73,8 @@ std::vector<std::string> TagCoverage::Missing() const {
 std::string TagCoverage::StatusLine() const {
   int seen = 0;
   for (const auto& [id, n] : frames_per_tag_) seen += n > 0 ? 1 : 0;
-  std::string line = std::to_string(frames_) + " frames; tags seen " + std::to_string(seen) +
-                     " of " + std::to_string(frames_per_tag_.size());
-  const std::vector<std::string> missing = Missing();
-  if (missing.empty()) return line + "; coverage complete";
-  line += "; missing: ";
-  for (std::size_t i = 0; i < missing.size(); ++i) line += (i ? "; " : "") + missing[i];
-  return line;
+  return std::to_string(frames_) + " frames; tags seen " + std::to_string(seen) + " of " +
+         std::to_string(frames_per_tag_.size()) + (Complete() ? "; coverage complete" : "");
 }
 
 }  // namespace groundline::calibration

@@ -210,13 +210,15 @@ ViewVerdict ViewCoverage::Consider(const BoardObservation& observation, double s
 std::vector<std::string> ViewCoverage::Missing() const {
   std::vector<std::string> missing;
   char text[200];
+  std::string regions;
   for (int r = 0; r < 9; ++r) {
     if (region_corners_[r] < options_.min_corners_per_region) {
-      std::snprintf(text, sizeof(text), "%s of the image: %d of %d corners; hold the board there",
+      std::snprintf(text, sizeof(text), "%s%s (%d of %d corners)", regions.empty() ? "" : ", ",
                     kRegionNames[r], region_corners_[r], options_.min_corners_per_region);
-      missing.push_back(text);
+      regions += text;
     }
   }
+  if (!regions.empty()) missing.push_back("hold the board in the image's " + regions);
   double max_vertical = 0.0, max_horizontal = 0.0;
   double near_m = std::numeric_limits<double>::infinity(), far_m = 0.0;
   for (const KeptView& v : views_) {
@@ -257,13 +259,9 @@ std::vector<std::string> ViewCoverage::Missing() const {
 std::string ViewCoverage::StatusLine() const {
   int covered = 0;
   for (int c : region_corners_) covered += c >= options_.min_corners_per_region ? 1 : 0;
-  std::string line = std::to_string(views()) + " of " + std::to_string(options_.min_views) +
-                     " views; image regions covered " + std::to_string(covered) + " of 9";
-  const std::vector<std::string> missing = Missing();
-  if (missing.empty()) return line + "; coverage complete";
-  line += "; missing: ";
-  for (std::size_t i = 0; i < missing.size(); ++i) line += (i ? "; " : "") + missing[i];
-  return line;
+  return std::to_string(views()) + " of " + std::to_string(options_.min_views) +
+         " views; image regions covered " + std::to_string(covered) + " of 9" +
+         (Complete() ? "; coverage complete" : "");
 }
 
 }  // namespace groundline::calibration

@@ -23,8 +23,10 @@ TEST(TagCoverage, KeepsFramesUntilEveryTagHasEnoughAndSaysWhichAreMissing) {
   EXPECT_EQ(first.unknown_ids, (std::vector<int>{40}));
   EXPECT_NE(coverage.StatusLine().find("1 frames; tags seen 2 of 3"), std::string::npos)
       << coverage.StatusLine();
-  EXPECT_NE(coverage.StatusLine().find("not yet seen: tags 8"), std::string::npos);
-  EXPECT_NE(coverage.StatusLine().find("tag 3 (1 of 2), tag 5 (1 of 2)"), std::string::npos);
+  EXPECT_EQ(coverage.Missing(),
+            (std::vector<std::string>{
+                "not yet seen: tags 8: point the camera at them (or move the vehicle)",
+                "need more frames of: tag 3 (1 of 2), tag 5 (1 of 2)"}));
 
   const TagCoverage::Verdict nothing = coverage.Consider({40});
   EXPECT_FALSE(nothing.kept);

@@ -81,9 +81,11 @@ TEST(ViewCoverage, FirstViewIsKeptAndTheGuidanceNamesWhatIsMissing) {
     }
     return false;
   };
-  EXPECT_TRUE(has("top-left of the image: 0 of 10 corners; hold the board there"));
-  EXPECT_TRUE(has("bottom-right of the image"));
-  EXPECT_FALSE(has("centre of the image"));  // a 220 px board in the middle covers it
+  EXPECT_TRUE(
+      has("hold the board in the image's top-left (0 of 10 corners), top (0 of 10 "
+          "corners), top-right (0 of 10 corners), left ("));
+  EXPECT_TRUE(has("bottom-right (0 of 10 corners)"));
+  EXPECT_FALSE(has("centre"));  // a 220 px board in the middle covers it
   EXPECT_TRUE(has("tilt the board about its vertical axis"));
   EXPECT_TRUE(has("tilt the board about its horizontal axis"));
   EXPECT_TRUE(has("vary the distance"));

@@ -41,7 +41,8 @@ class TagCoverage {
   // "not yet seen: tags 4 7 9" and "need more frames of: tag 2 (1 of 3), ...";
   // empty when Complete().
   std::vector<std::string> Missing() const;
-  // "3 frames; tags seen 10 of 12; missing: ..." (one line).
+  // "3 frames; tags seen 10 of 12", with "; coverage complete" appended
+  // when Complete().
   std::string StatusLine() const;
 
  private:

@@ -101,11 +101,12 @@ class ViewCoverage {
   int views() const { return static_cast<int>(views_.size()); }
   bool Complete() const { return Missing().empty(); }
   // What is still missing, one instruction per line, e.g.
-  //   "top-left of the image: 3 of 10 corners; hold the board there"
+  //   "hold the board in the image's top-left (3 of 10 corners), left (0 of 10 corners)"
   //   "tilt the board about its vertical axis (left or right edge 30-45 deg away)"
   // Empty when Complete().
   std::vector<std::string> Missing() const;
-  // "7 of 12 views; regions 6 of 9 covered; missing: ..." (one line).
+  // "7 of 12 views; image regions covered 6 of 9", with "; coverage
+  // complete" appended when Complete().
   std::string StatusLine() const;
   // Corners of the kept views in each region, row-major from the top-left.
   const std::array<int, 9>& region_corners() const { return region_corners_; }
