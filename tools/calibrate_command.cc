@@ -43,13 +43,30 @@ worst |r| <= 2 px and at least 10 corners in each image quadrant (override in
 --config under `intrinsics_report:` max_rms_px, max_worst_px,
 require_all_quadrants, min_corners_per_quadrant). A FAIL says what to do.
 
+Live (--live URI instead of --images): frames from a camera, the board found
+in each, a frame kept only when it adds coverage (new image area, tilt or
+distance; blurred frames and near-duplicates dropped). After each kept view it
+prints what is still missing, e.g.
+  7 of 12 views; image regions covered 7 of 9
+  still missing: hold the board in the image's top-left (1 of 10 corners)
+  still missing: tilt the board about its vertical axis: left or right edge 30-45 deg away
+It stops when nothing is missing (--min-views views, every one of the 3 x 3
+image regions with 10 corners, tilts >= 20 deg about both axes, distances
+spanning x1.3), at --max-views, after --duration seconds, or on Ctrl-C, then
+solves and reports exactly as with --images. URIs: v4l2:/dev/video0[?width=1280
+&height=800&format=GREY|YUYV|MJPG&fps=30], libcamera:0 (or a camera id),
+folder:DIR or a glob (recorded frames). --save-frames DIR keeps the views as
+PNG, so that --images DIR reruns the session.
+
 Exit code: 0 PASS, 1 FAIL or unusable data (files are still written when the
 solve ran), 2 usage error.
 
 Example:
   groundline calibrate intrinsics --images views/ --target aprilgrid_7x5_38mm_a3 --out cam0_intrinsics
   groundline calibrate intrinsics --images 'left*.jpg' --target opencv_chessboard_9x6_25mm \
-      --model LENSMODEL_OPENCV5 --out left)";
+      --model LENSMODEL_OPENCV5 --out left
+  groundline calibrate intrinsics --live v4l2:/dev/video0 --target aprilgrid_7x5_38mm_a3 \
+      --out cam0 --save-frames cam0/frames)";
 
 constexpr char kName[] = "groundline calibrate intrinsics";
 

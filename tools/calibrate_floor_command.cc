@@ -35,9 +35,21 @@ image's corner RMS <= --max-rms (default 0.5 px). Exit code 0 on PASS, 1 on FAIL
 or a data error (malformed layout, unreadable image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
 
+Live (--live URI instead of --images; URIs as in 'calibrate intrinsics --help'):
+frames from a camera, kept when they add a view of a layout tag that has fewer
+than --frames-per-tag (default 3). After each kept frame it prints which tags
+are not yet seen and which need more frames; it stops when every tag has
+enough, at --max-frames, after --duration seconds or on Ctrl-C, writes the kept
+frames into --save-frames (default OUT/frames, empty or new) and solves them as
+--images does. From a camera the layout must be frame: base_link (vehicle
+standing still); a frame: floor layout works live only from a folder whose
+file names are the layout's vehicle poses.
+
 Example (with a scene from 'groundline sim-commissioning --out scene'):
   groundline calibrate floor --images scene/images --layout scene/tag_layout.yaml \
-      --camera scene/camera.cameramodel --out scene/calibration)";
+      --camera scene/camera.cameramodel --out scene/calibration
+  groundline calibrate floor --live folder:scene/images --layout scene/tag_layout.yaml \
+      --camera scene/camera.cameramodel --out scene/live)";
 
 int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   const auto fail = [](const std::string& message) {

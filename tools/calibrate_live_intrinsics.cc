@@ -51,7 +51,10 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
                  kName);
     return 2;
   }
-  core::Result<std::unique_ptr<io::FrameSource>> source = io::OpenFrameSource(flags.live);
+  io::FrameSourceOptions source_options;
+  source_options.latest_only = true;  // guide on the current view
+  core::Result<std::unique_ptr<io::FrameSource>> source =
+      io::OpenFrameSource(flags.live, source_options);
   if (!source.ok()) {
     std::fprintf(stderr, "%s: --live: %s\n", kName, source.message().c_str());
     return 2;

@@ -107,7 +107,15 @@ core::Result<FrameSourceUri> ParseFrameSourceUri(const std::string& uri,
   } else if (looks_like_scheme && !std::filesystem::exists(uri)) {
     return core::Status::Error(uri + ": unknown source scheme '" + scheme + ":'; " + kExpected);
   }
-  const std::size_t question = rest.find('?');
+  // A folder glob may use '?' as a wildcard: there only a last '?' followed
+  // by key=value starts the query.
+  std::size_t question = rest.find('?');
+  if (out.kind == FrameSourceKind::kFolder) {
+    question = rest.rfind('?');
+    if (question != std::string::npos && rest.find('=', question) == std::string::npos) {
+      question = std::string::npos;
+    }
+  }
   out.location = rest.substr(0, question);
   if (question != std::string::npos) {
     for (std::string_view pair :

@@ -66,6 +66,7 @@ class LibcameraFrameSource final : public FrameSource {
   std::vector<std::unique_ptr<lc::Request>> requests_;
   std::map<const lc::FrameBuffer*, Mapping> mappings_;
   bool acquired_ = false, started_ = false;
+  bool latest_only_ = false;
   PixelFormat format_ = PixelFormat::kGrey;
   int width_px_ = 0, height_px_ = 0, stride_bytes_ = 0;
   std::mutex mutex_;
@@ -119,6 +120,7 @@ core::Status LibcameraFrameSource::Configure(const FrameSourceOptions& options) 
 
 core::Status LibcameraFrameSource::Open(const std::string& location,
                                         const FrameSourceOptions& options) {
+  latest_only_ = options.latest_only;
   manager_ = std::make_unique<lc::CameraManager>();
   if (manager_->start() != 0) {
     manager_.reset();
@@ -185,6 +187,14 @@ core::Result<std::optional<Frame>> LibcameraFrameSource::Next(double timeout_s) 
       }
       request = completed_.front();
       completed_.pop_front();
+      while (latest_only_ && !completed_.empty() &&
+             request->status() != lc::Request::RequestCancelled) {
+        request->reuse(lc::Request::ReuseBuffers);
+        if (camera_->queueRequest(request) != 0) return Error("cannot queue a request again");
+        ++stats_.dropped;
+        request = completed_.front();
+        completed_.pop_front();
+      }
     }
     if (request->status() == lc::Request::RequestCancelled) {
       return Error("the camera cancelled a request (was it stopped or unplugged?)");

@@ -69,6 +69,7 @@ class V4l2FrameSource final : public FrameSource {
   std::string description_;
   int fd_ = -1;
   bool streaming_ = false;
+  bool latest_only_ = false;
   std::vector<MappedBuffer> buffers_;
   PixelFormat format_ = PixelFormat::kGrey;
   int width_px_ = 0, height_px_ = 0, stride_bytes_ = 0;
@@ -148,6 +149,7 @@ core::Status V4l2FrameSource::SetFormat(const FrameSourceOptions& options) {
 }
 
 core::Status V4l2FrameSource::Open(const FrameSourceOptions& options) {
+  latest_only_ = options.latest_only;
   fd_ = v4l2_open(device_.c_str(), O_RDWR | O_NONBLOCK);
   if (fd_ < 0) return Fail("cannot open (is it a V4L2 device, and may this user open it?)");
   v4l2_capability cap{};
@@ -207,6 +209,16 @@ core::Result<std::optional<Frame>> V4l2FrameSource::Next(double timeout_s) {
     if (Xioctl(fd_, VIDIOC_DQBUF, &buf) != 0) {
       if (errno == EAGAIN) continue;
       return Fail("VIDIOC_DQBUF");
+    }
+    if (latest_only_) {
+      v4l2_buffer newer{};
+      newer.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+      newer.memory = V4L2_MEMORY_MMAP;
+      while (Xioctl(fd_, VIDIOC_DQBUF, &newer) == 0) {
+        if (Xioctl(fd_, VIDIOC_QBUF, &buf) != 0) return Fail("VIDIOC_QBUF");
+        ++stats_.dropped;
+        buf = newer;
+      }
     }
     const MappedBuffer& mapped = buffers_[buf.index];
     core::Result<cv::Mat> grey =

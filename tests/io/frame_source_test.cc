@@ -125,6 +125,11 @@ TEST(FrameSourceUri, ParsesSchemesAndQueries) {
   ASSERT_TRUE(folder.ok()) << folder.message();
   EXPECT_EQ(folder->kind, FrameSourceKind::kFolder);
   EXPECT_EQ(folder->location, "views/left*.png");
+  core::Result<FrameSourceUri> wildcard = ParseFrameSourceUri("folder:views/left?.png?rate=5");
+  ASSERT_TRUE(wildcard.ok()) << wildcard.message();
+  EXPECT_EQ(wildcard->location, "views/left?.png");
+  EXPECT_DOUBLE_EQ(wildcard->options.folder_rate_hz, 5.0);
+  EXPECT_EQ(ParseFrameSourceUri("views/left?.png")->location, "views/left?.png");
 }
 
 TEST(FrameSourceUri, ErrorsNameTheUriAndWhatWasExpected) {

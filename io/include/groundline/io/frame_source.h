@@ -18,7 +18,8 @@
 //                             the camera of that id. Query: width, height, fps,
 //                             buffers.
 // Query values are "key=value" pairs after '?', joined by '&'
-// ("v4l2:/dev/video0?width=1280&height=800&format=YUYV&fps=30"); they override
+// ("v4l2:/dev/video0?width=1280&height=800&format=YUYV&fps=30"; for a folder
+// glob, whose '?' is a wildcard, only a last '?' followed by key=value); they override
 // FrameSourceOptions. Unknown schemes, keys or malformed values are errors that
 // name the URI and what was expected.
 //
@@ -63,6 +64,12 @@ struct FrameSourceOptions {
   double fps = 0.0;          // cameras: requested frame rate; 0 = the driver's default
   std::string pixel_format;  // V4L2: "GREY", "YUYV" or "MJPG"; "" = first supported
   int buffer_count = 4;      // cameras: driver buffers in flight
+  // Cameras: deliver the newest frame waiting, returning older ones to the
+  // driver unread (counted in FrameSourceStats::dropped). Interactive flows
+  // (live calibration guidance) want the current view, not one from several
+  // frames ago when their processing is slower than the camera; recording
+  // flows want every frame (false).
+  bool latest_only = false;
   core::Status Validate() const;
 };
 
@@ -73,6 +80,7 @@ struct FrameSourceStats {
   // (the file name or sequence and what was wrong).
   std::uint64_t skipped = 0;
   std::vector<std::string> skipped_reasons;
+  std::uint64_t dropped = 0;  // older frames passed over by latest_only
 };
 
 class FrameSource {
