@@ -1,8 +1,6 @@
 // `groundline calibrate`: commissioning calibrations. This file holds the
 // parent command and `calibrate intrinsics`; other calibrations add their
 // subcommand to the parent AddCalibrateCommand returns.
-#include <fnmatch.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
@@ -10,27 +8,18 @@
 #include <vector>
 
 #include "calib_targets_file.h"
+#include "calibrate_intrinsics.h"
 #include "commands.h"
 #include "groundline/calibration/board_detection.h"
 #include "groundline/calibration/calib_target.h"
 #include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/intrinsic_calibration.h"
 #include "groundline/core/atomic_file.h"
+#include "groundline/io/frame_source.h"
 #include "progress.h"
 
 namespace groundline::tools {
 namespace {
-
-struct IntrinsicsFlags {
-  std::string images;
-  std::string target;
-  std::string model = "LENSMODEL_OPENCV8";
-  std::string out_dir;
-  std::string config;
-  std::string targets_file;
-  bool no_board_warp = false;
-  bool no_outlier_rejection = false;
-};
 
 constexpr char kIntrinsicsHelp[] =
     R"(Calibrates a camera's intrinsics from images of a printed board
@@ -54,48 +43,82 @@ worst |r| <= 2 px and at least 10 corners in each image quadrant (override in
 --config under `intrinsics_report:` max_rms_px, max_worst_px,
 require_all_quadrants, min_corners_per_quadrant). A FAIL says what to do.
 
+Live (--live URI instead of --images): frames from a camera, the board found
+in each, a frame kept only when it adds coverage (new image area, tilt or
+distance; blurred frames and near-duplicates dropped). After each kept view it
+prints what is still missing, e.g.
+  7 of 12 views; image regions covered 7 of 9
+  still missing: hold the board in the image's top-left (1 of 10 corners)
+  still missing: tilt the board about its vertical axis: left or right edge 30-45 deg away
+It stops when nothing is missing (--min-views views, every one of the 3 x 3
+image regions with 10 corners, tilts >= 20 deg about both axes, distances
+spanning x1.3), at --max-views, after --duration seconds, or on Ctrl-C, then
+solves and reports exactly as with --images. URIs: v4l2:/dev/video0[?width=1280
+&height=800&format=GREY|YUYV|MJPG&fps=30], libcamera:0 (or a camera id),
+folder:DIR or a glob (recorded frames). --save-frames DIR keeps the views as
+PNG, so that --images DIR reruns the session.
+
 Exit code: 0 PASS, 1 FAIL or unusable data (files are still written when the
 solve ran), 2 usage error.
 
 Example:
   groundline calibrate intrinsics --images views/ --target aprilgrid_7x5_38mm_a3 --out cam0_intrinsics
   groundline calibrate intrinsics --images 'left*.jpg' --target opencv_chessboard_9x6_25mm \
-      --model LENSMODEL_OPENCV5 --out left)";
+      --model LENSMODEL_OPENCV5 --out left
+  groundline calibrate intrinsics --live v4l2:/dev/video0 --target aprilgrid_7x5_38mm_a3 \
+      --out cam0 --save-frames cam0/frames)";
 
-bool IsImageFile(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".pgm" ||
-         ext == ".tif" || ext == ".tiff";
-}
+constexpr char kName[] = "groundline calibrate intrinsics";
 
-// The image files of a directory or a glob on file names, sorted.
-std::vector<std::filesystem::path> ListImages(const std::string& spec) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> files;
-  std::error_code ec;
-  if (fs::is_directory(spec, ec)) {
-    for (const fs::directory_entry& e : fs::directory_iterator(spec, ec)) {
-      if (e.is_regular_file() && IsImageFile(e.path())) files.push_back(e.path());
-    }
-  } else {
-    const fs::path pattern(spec);
-    const fs::path dir = pattern.has_parent_path() ? pattern.parent_path() : fs::path(".");
-    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-      if (e.is_regular_file() &&
-          fnmatch(pattern.filename().c_str(), e.path().filename().c_str(), 0) == 0) {
-        files.push_back(e.path());
-      }
-    }
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
-int RunIntrinsics(const IntrinsicsFlags& flags) {
+int RunIntrinsicsFolder(const IntrinsicsFlags& flags) {
   using namespace calibration;
-  const char* kName = "groundline calibrate intrinsics";
+  IntrinsicsSetup setup;
+  if (const int code = PrepareIntrinsics(flags, &setup); code != 0) return code;
+  const std::vector<std::string> images = io::ListImageFiles(flags.images);
+  if (images.empty()) {
+    std::fprintf(stderr, "%s: --images: no image file matches '%s'\n", kName, flags.images.c_str());
+    return 2;
+  }
+  const BoardDetectionOptions detection;
+  std::vector<CalibrationView> views;
+  std::vector<RejectedImage> rejected;
+  cv::Size size;
+  ProgressLine progress("[calibrate]");
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    progress.Update("detecting", static_cast<double>(i) / images.size());
+    const std::string name = std::filesystem::path(images[i]).filename().string();
+    const cv::Mat image = cv::imread(images[i], cv::IMREAD_GRAYSCALE);
+    if (image.empty()) {
+      rejected.push_back({name, "cannot be read as an image"});
+      continue;
+    }
+    if (size.area() == 0) size = image.size();
+    if (image.size() != size) {
+      rejected.push_back({name, "size " + std::to_string(image.cols) + "x" +
+                                    std::to_string(image.rows) +
+                                    " differs from the first image's"});
+      continue;
+    }
+    core::Result<BoardObservation> obs = DetectBoard(image, setup.target, setup.grid, detection);
+    if (!obs.ok()) {
+      rejected.push_back({name, obs.message()});
+      continue;
+    }
+    views.push_back({name, std::move(obs).value()});
+  }
+  progress.Update("detecting", 1.0);
+  std::fprintf(stderr, "%s: board found in %zu of %zu images\n", kName, views.size(),
+               images.size());
+  for (const RejectedImage& r : rejected) {
+    std::fprintf(stderr, "  skipped %s: %s\n", r.name.c_str(), r.reason.c_str());
+  }
+  return SolveAndReportIntrinsics(flags, setup, views, std::move(rejected), size);
+}
+
+}  // namespace
+
+int PrepareIntrinsics(const IntrinsicsFlags& flags, IntrinsicsSetup* setup) {
+  using namespace calibration;
   const std::string file =
       flags.targets_file.empty() ? DefaultCalibTargetsFile() : flags.targets_file;
   core::Result<std::vector<CalibTarget>> targets = ReadCalibTargets(file);
@@ -110,7 +133,7 @@ int RunIntrinsics(const IntrinsicsFlags& flags) {
                              : target.message().c_str());
     return 2;
   }
-  IntrinsicCalibrationOptions options;
+  IntrinsicCalibrationOptions& options = setup->options;
   options.lens_model = flags.model;
   options.optimize_board_warp = !flags.no_board_warp;
   options.outlier_rejection = !flags.no_outlier_rejection;
@@ -118,69 +141,38 @@ int RunIntrinsics(const IntrinsicsFlags& flags) {
     std::fprintf(stderr, "%s: --model: %s\n", kName, s.message().c_str());
     return 2;
   }
-  ReportThresholds thresholds;
   if (!flags.config.empty()) {
     core::Result<ReportThresholds> read = ReadReportThresholds(flags.config);
     if (!read.ok()) {
       std::fprintf(stderr, "%s: --config: %s\n", kName, read.message().c_str());
       return 2;
     }
-    thresholds = *read;
+    setup->thresholds = *read;
   }
-  const std::vector<std::filesystem::path> images = ListImages(flags.images);
-  if (images.empty()) {
-    std::fprintf(stderr, "%s: --images: no image file matches '%s'\n", kName, flags.images.c_str());
-    return 2;
-  }
+  setup->target = *target;
+  setup->grid = MakeBoardGrid(*target);
+  return 0;
+}
 
-  const BoardGrid grid = MakeBoardGrid(*target);
-  const BoardDetectionOptions detection;
-  std::vector<CalibrationView> views;
-  std::vector<RejectedImage> rejected;
-  cv::Size size;
+int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup& setup,
+                             const std::vector<calibration::CalibrationView>& views,
+                             std::vector<calibration::RejectedImage> rejected, cv::Size size) {
+  using namespace calibration;
   ProgressLine progress("[calibrate]");
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    progress.Update("detecting", static_cast<double>(i) / images.size());
-    const std::string name = images[i].filename().string();
-    const cv::Mat image = cv::imread(images[i].string(), cv::IMREAD_GRAYSCALE);
-    if (image.empty()) {
-      rejected.push_back({name, "cannot be read as an image"});
-      continue;
-    }
-    if (size.area() == 0) size = image.size();
-    if (image.size() != size) {
-      rejected.push_back({name, "size " + std::to_string(image.cols) + "x" +
-                                    std::to_string(image.rows) +
-                                    " differs from the first image's"});
-      continue;
-    }
-    core::Result<BoardObservation> obs = DetectBoard(image, *target, grid, detection);
-    if (!obs.ok()) {
-      rejected.push_back({name, obs.message()});
-      continue;
-    }
-    views.push_back({name, std::move(obs).value()});
-  }
-  progress.Update("detecting", 1.0);
-  std::fprintf(stderr, "%s: board found in %zu of %zu images\n", kName, views.size(),
-               images.size());
-  for (const RejectedImage& r : rejected) {
-    std::fprintf(stderr, "  skipped %s: %s\n", r.name.c_str(), r.reason.c_str());
-  }
   progress.Update("solving", 0.0);
   core::Result<IntrinsicCalibration> cal =
-      CalibrateIntrinsics(views, grid, size.width, size.height, options);
+      CalibrateIntrinsics(views, setup.grid, size.width, size.height, setup.options);
   if (!cal.ok()) {
     std::fprintf(stderr, "%s: %s\n", kName, cal.message().c_str());
     return 1;
   }
   progress.Update("solving", 1.0);
   const CalibrationReport report =
-      BuildCalibrationReport(*cal, target->name, std::move(rejected), thresholds);
+      BuildCalibrationReport(*cal, setup.target.name, std::move(rejected), setup.thresholds);
   const std::filesystem::path out(flags.out_dir);
   core::Status written = WriteCalibrationOutputs(out, report, *cal);
   if (written.ok())
-    written = core::WriteFileAtomically(out / "corners.vnl", MrcalCornersVnl(views, grid));
+    written = core::WriteFileAtomically(out / "corners.vnl", MrcalCornersVnl(views, setup.grid));
   if (!written.ok()) {
     std::fprintf(stderr, "%s: %s\n", kName, written.message().c_str());
     return 1;
@@ -197,8 +189,6 @@ int RunIntrinsics(const IntrinsicsFlags& flags) {
   return report.pass ? 0 : 1;
 }
 
-}  // namespace
-
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
       "calibrate",
@@ -213,8 +203,14 @@ CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
       "intrinsics", "Camera intrinsics (mrcal .cameramodel + OpenCV/ROS files + report)");
   cmd->footer(kIntrinsicsHelp);
   auto flags = std::make_shared<IntrinsicsFlags>();
-  cmd->add_option("--images", flags->images, "Directory of images or a glob on file names")
-      ->required();
+  CLI::Option* images =
+      cmd->add_option("--images", flags->images, "Directory of images or a glob on file names");
+  CLI::Option* live = cmd->add_option(
+      "--live", flags->live,
+      "Live: a frame source URI (v4l2:/dev/video0, libcamera:0, folder:DIR); guides the "
+      "technician and keeps the views that add coverage");
+  images->excludes(live);
+  live->excludes(images);
   cmd->add_option("--target", flags->target, "Board name from the targets file")->required();
   cmd->add_option("--model", flags->model,
                   "mrcal lens model: LENSMODEL_OPENCV8, OPENCV5, OPENCV4, OPENCV12 or PINHOLE")
@@ -229,7 +225,28 @@ CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
                 "Assume the board perfectly flat (default: solve mrcal's board flex)");
   cmd->add_flag("--no-outlier-rejection", flags->no_outlier_rejection,
                 "Keep every corner (default: mrcal rejects outliers)");
-  cmd->callback([run, flags]() { *run = [flags]() { return RunIntrinsics(*flags); }; });
+  cmd->add_option("--min-views", flags->min_views,
+                  "Live: views to keep before the coverage can be complete")
+      ->capture_default_str();
+  cmd->add_option("--max-views", flags->max_views,
+                  "Live: stop after this many kept views (0: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--duration", flags->duration_s,
+                  "Live: stop after this many seconds (0: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--frame-timeout", flags->timeout_s,
+                  "Live: seconds to wait for one frame before giving up")
+      ->capture_default_str();
+  cmd->add_option("--save-frames", flags->save_frames,
+                  "Live: write the kept frames into this directory (rerun them with --images)");
+  cmd->callback([run, flags, images, live]() {
+    if (images->count() == 0 && live->count() == 0) {
+      throw CLI::RequiredError("--images or --live");
+    }
+    *run = [flags]() {
+      return flags->live.empty() ? RunIntrinsicsFolder(*flags) : RunIntrinsicsLive(*flags);
+    };
+  });
   return calibrate;
 }
 

@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "calibrate_floor.h"
 #include "commands.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/camera_mount_yaml.h"
@@ -12,16 +13,6 @@
 
 namespace groundline::tools {
 namespace {
-
-struct CalibrateFloorFlags {
-  std::string images;
-  std::string layout;
-  std::string camera;
-  std::string out;
-  double max_bev_error_2m_mm = 5.0;
-  double max_rms_px = 0.5;
-  double corner_sigma_px = 0.0;
-};
 
 constexpr char kHelp[] =
     R"(Solves the camera mount (height, pitch, roll, yaw, forward and lateral offset;
@@ -44,9 +35,21 @@ image's corner RMS <= --max-rms (default 0.5 px). Exit code 0 on PASS, 1 on FAIL
 or a data error (malformed layout, unreadable image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
 
+Live (--live URI instead of --images; URIs as in 'calibrate intrinsics --help'):
+frames from a camera, kept when they add a view of a layout tag that has fewer
+than --frames-per-tag (default 3). After each kept frame it prints which tags
+are not yet seen and which need more frames; it stops when every tag has
+enough, at --max-frames, after --duration seconds or on Ctrl-C, writes the kept
+frames into --save-frames (default OUT/frames, empty or new) and solves them as
+--images does. From a camera the layout must be frame: base_link (vehicle
+standing still); a frame: floor layout works live only from a folder whose
+file names are the layout's vehicle poses.
+
 Example (with a scene from 'groundline sim-commissioning --out scene'):
   groundline calibrate floor --images scene/images --layout scene/tag_layout.yaml \
-      --camera scene/camera.cameramodel --out scene/calibration)";
+      --camera scene/camera.cameramodel --out scene/calibration
+  groundline calibrate floor --live folder:scene/images --layout scene/tag_layout.yaml \
+      --camera scene/camera.cameramodel --out scene/live)";
 
 int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   const auto fail = [](const std::string& message) {
@@ -65,8 +68,22 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
     std::fprintf(stderr, "groundline calibrate floor: %s\n", s.message().c_str());
     return 2;
   }
+  if (!flags.live.empty()) return RunCalibrateFloorLive(flags, *layout, *camera, options);
+  return SolveAndReportFloor(flags, *layout, *camera, flags.images, options);
+}
+
+}  // namespace
+
+int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::TagLayout& layout,
+                        const calibration::CameraModel& camera,
+                        const std::filesystem::path& image_dir,
+                        const calibration::FloorCalibrationOptions& options) {
+  const auto fail = [](const std::string& message) {
+    std::fprintf(stderr, "groundline calibrate floor: %s\n", message.c_str());
+    return 1;
+  };
   core::Result<calibration::FloorCalibration> result =
-      calibration::CalibrateFloor(*camera, *layout, flags.images, options);
+      calibration::CalibrateFloor(camera, layout, image_dir, options);
   if (!result.ok()) return fail(result.message());
   for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
@@ -80,7 +97,7 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
                                   calibration::FloorReportJson(*result, options)),
         core::WriteFileAtomically(
             out / "floor_report.html",
-            calibration::FloorReportHtml(*result, *layout, *camera, options))}) {
+            calibration::FloorReportHtml(*result, layout, camera, options))}) {
     if (!s.ok()) return fail(s.message());
   }
   const calibration::FloorExtrinsicsResult& r = result->solution;
@@ -102,14 +119,18 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   return result->pass ? 0 : 1;
 }
 
-}  // namespace
-
 void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
   auto flags = std::make_shared<CalibrateFloorFlags>();
   CLI::App* cmd = calibrate->add_subcommand(
       "floor", "Camera mount (extrinsics) from AprilTags surveyed on the floor");
   cmd->footer(kHelp);
-  cmd->add_option("--images", flags->images, "Directory of the images")->required();
+  CLI::Option* images = cmd->add_option("--images", flags->images, "Directory of the images");
+  CLI::Option* live = cmd->add_option(
+      "--live", flags->live,
+      "Live: a frame source URI (v4l2:/dev/video0, libcamera:0, folder:DIR); says which tags "
+      "are still missing");
+  images->excludes(live);
+  live->excludes(images);
   cmd->add_option("--layout", flags->layout, "Tag layout file (docs/tag_layout.md)")->required();
   cmd->add_option("--camera", flags->camera,
                   "Intrinsics: .cameramodel, OpenCV YAML or ROS camera_info")
@@ -123,7 +144,26 @@ void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
   cmd->add_option("--corner-sigma", flags->corner_sigma_px,
                   "Corner noise in px for the covariance (0: a posteriori)")
       ->capture_default_str();
-  cmd->callback([flags, run] { *run = [flags] { return RunCalibrateFloor(*flags); }; });
+  cmd->add_option("--frames-per-tag", flags->frames_per_tag,
+                  "Live: kept frames each layout tag must appear in")
+      ->capture_default_str();
+  cmd->add_option("--max-frames", flags->max_frames,
+                  "Live: stop after this many kept frames (0: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--duration", flags->duration_s,
+                  "Live: stop after this many seconds (0: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--frame-timeout", flags->timeout_s,
+                  "Live: seconds to wait for one frame before giving up")
+      ->capture_default_str();
+  cmd->add_option("--save-frames", flags->save_frames,
+                  "Live: directory for the kept frames (default OUT/frames)");
+  cmd->callback([flags, run, images, live] {
+    if (images->count() == 0 && live->count() == 0) {
+      throw CLI::RequiredError("--images or --live");
+    }
+    *run = [flags] { return RunCalibrateFloor(*flags); };
+  });
 }
 
 }  // namespace groundline::tools

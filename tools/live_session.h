@@ -1,0 +1,86 @@
+// The stop conditions of a live capture loop (calibrate intrinsics/floor
+// --live): Ctrl-C, a duration, or the end of a recorded source. While a
+// LiveSession exists, SIGINT sets a flag instead of killing the process, so
+// the loop finishes cleanly (solves what it has and writes its files); a
+// second Ctrl-C, after the handler has been restored, kills as usual.
+#ifndef GROUNDLINE_TOOLS_LIVE_SESSION_H_
+#define GROUNDLINE_TOOLS_LIVE_SESSION_H_
+
+#include <cctype>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+
+#include "groundline/core/status.h"
+
+namespace groundline::tools {
+
+class LiveSession {
+ public:
+  // duration_s <= 0: no time limit.
+  explicit LiveSession(double duration_s)
+      : duration_s_(duration_s), start_(std::chrono::steady_clock::now()) {
+    Interrupted() = 0;
+    struct sigaction action {};
+    action.sa_handler = [](int) { Interrupted() = 1; };
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;  // a second Ctrl-C kills
+    sigaction(SIGINT, &action, &previous_);
+  }
+  ~LiveSession() { sigaction(SIGINT, &previous_, nullptr); }
+  LiveSession(const LiveSession&) = delete;
+  LiveSession& operator=(const LiveSession&) = delete;
+
+  double ElapsedS() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  // Why the loop should stop now ("interrupted (Ctrl-C)", "--duration 60 s
+  // reached"), or "" to go on.
+  std::string StopReason() const {
+    if (Interrupted() != 0) return "interrupted (Ctrl-C)";
+    if (duration_s_ > 0.0 && ElapsedS() >= duration_s_) {
+      return "--duration " + std::to_string(static_cast<int>(duration_s_)) + " s reached";
+    }
+    return "";
+  }
+
+ private:
+  static volatile std::sig_atomic_t& Interrupted() {
+    static volatile std::sig_atomic_t flag = 0;
+    return flag;
+  }
+  double duration_s_;
+  std::chrono::steady_clock::time_point start_;
+  struct sigaction previous_ {};
+};
+
+// Writes a kept frame into DIR, atomically (DIR/tmp.NAME, then rename), under
+// its own name, except that a lossy .jpg/.jpeg name becomes .png (a saved
+// frame must decode to exactly the pixels that were used). Returns the file
+// name written.
+inline core::Result<std::string> SaveFrame(const std::filesystem::path& dir,
+                                           const std::string& frame_name, const cv::Mat& grey) {
+  std::filesystem::path file(frame_name);
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".jpg" || ext == ".jpeg" || ext.empty()) file.replace_extension(".png");
+  const std::string name = file.filename().string();
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::filesystem::path path = dir / name;
+  const std::filesystem::path tmp = dir / ("tmp." + name);
+  if (ec || !cv::imwrite(tmp.string(), grey)) {
+    return core::Status::Error(path.string() + ": cannot write the frame");
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return core::Status::Error(path.string() + ": " + ec.message());
+  return name;
+}
+
+}  // namespace groundline::tools
+
+#endif  // GROUNDLINE_TOOLS_LIVE_SESSION_H_
