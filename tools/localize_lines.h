@@ -18,6 +18,9 @@ struct LocalizeLinesFlags {
   std::string atlas_out_path;        // mapping: where to write it (default OUT/atlas.json)
   std::vector<double> initial_pose;  // x_m y_m yaw_deg
   double window_s = 120.0;
+  // With ground truth: per-keyframe errors and an association check in
+  // health.jsonl (localize_diagnostics.h).
+  bool diagnose = false;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
