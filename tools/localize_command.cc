@@ -224,6 +224,12 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_flag("--diagnose", lines->diagnose,
                 "--mode lines: with ground truth, add per-keyframe errors (along/across track, "
                 "heading) and an association check (right/wrong/missed lines) to health.jsonl");
+  cmd->add_option("--wheel-variance", lines->wheel_variance_m2_per_m,
+                  "--mode lines/mapping: odometry noise as independent wheel errors of this "
+                  "variance per metre of wheel travel [m^2/m] (0: the OdometryNoiseParams "
+                  "defaults)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--window", lines->window_s,
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))

@@ -173,7 +173,12 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   localization::DiffDriveParams drive;
   drive.wheel_radius_m = manifest.wheel_encoders->wheel_radius_m;
   drive.track_m = manifest.wheel_encoders->track_m;
-  localization::OdometryIntegrator integrator(drive, localization::OdometryNoiseParams());
+  localization::OdometryNoiseParams noise;
+  if (flags.wheel_variance_m2_per_m > 0.0) {
+    noise = localization::OdometryNoiseFromWheelVariance(flags.wheel_variance_m2_per_m,
+                                                         drive.track_m, noise.k_lat);
+  }
+  localization::OdometryIntegrator integrator(drive, noise);
   const localization::KeyframeSelector selector{localization::KeyframeSelector::Options()};
   localization::SmootherOptions smoother_options;
   smoother_options.mode = flags.mapping ? localization::SmootherMode::kMapping
