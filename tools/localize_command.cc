@@ -230,6 +230,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "defaults)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  cmd->add_option("--lateral-variance", lines->lateral_variance_m2_per_m,
+                  "--mode lines/mapping, with --wheel-variance > 0: lateral odometry variance "
+                  "per metre travelled [m^2/m] (> 0)")
+      ->check(CLI::Range(1e-12, 1.0))
+      ->capture_default_str();
   cmd->add_option("--window", lines->window_s,
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))

@@ -175,8 +175,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   drive.track_m = manifest.wheel_encoders->track_m;
   localization::OdometryNoiseParams noise;
   if (flags.wheel_variance_m2_per_m > 0.0) {
-    noise = localization::OdometryNoiseFromWheelVariance(flags.wheel_variance_m2_per_m,
-                                                         drive.track_m, noise.k_lat);
+    noise = localization::OdometryNoiseFromWheelVariance(
+        flags.wheel_variance_m2_per_m, drive.track_m, flags.lateral_variance_m2_per_m);
   }
   localization::OdometryIntegrator integrator(drive, noise);
   const localization::KeyframeSelector selector{localization::KeyframeSelector::Options()};

@@ -30,6 +30,9 @@ struct LocalizeLinesFlags {
   // covariance was 3-4x too wide, NEES in band on 44 % of the keyframes
   // (zone D, 200 m); with this 93 %.
   double wheel_variance_m2_per_m = 1.5e-5;
+  // With wheel_variance_m2_per_m > 0: the lateral variance per metre
+  // travelled [m^2/m] (OdometryNoiseParams::k_lat).
+  double lateral_variance_m2_per_m = 1.0e-5;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
