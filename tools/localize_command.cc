@@ -235,6 +235,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "per metre travelled [m^2/m] (> 0)")
       ->check(CLI::Range(1e-12, 1.0))
       ->capture_default_str();
+  cmd->add_option("--gate-chi2", lines->gate_chi2,
+                  "--mode lines/mapping: association gate on the Mahalanobis distance of a line "
+                  "(chi-square, 2 dof; 9.21 = 0.99 quantile)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   cmd->add_option("--window", lines->window_s,
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))

@@ -184,6 +184,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   smoother_options.mode = flags.mapping ? localization::SmootherMode::kMapping
                                         : localization::SmootherMode::kLocalization;
   smoother_options.window_s = flags.window_s;
+  smoother_options.association.gate_chi2 = flags.gate_chi2;
   std::optional<LocalizeDiagnostics> diagnostics;
   if (flags.diagnose && !dataset->ground_truth.empty()) {
     diagnostics.emplace(dataset->ground_truth, *atlas, smoother_options.association);

@@ -33,6 +33,8 @@ struct LocalizeLinesFlags {
   // With wheel_variance_m2_per_m > 0: the lateral variance per metre
   // travelled [m^2/m] (OdometryNoiseParams::k_lat).
   double lateral_variance_m2_per_m = 1.0e-5;
+  // The association gate (floor_association.h), chi-square 2 dof.
+  double gate_chi2 = 9.21;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
