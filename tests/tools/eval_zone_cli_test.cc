@@ -26,8 +26,8 @@ class EvalZoneCli : public ::testing::Test {
     dir_ = testing::ScratchDir("eval_zone");
     dataset_ = dir_ / "zone_b";
     std::string out;
-    // 200 m from seed 3 drive up one 85 m aisle and down the next.
-    ASSERT_EQ(RunGroundline("sim --zone B --length 200m --seed 3 --no-lidar --no-camera --out " +
+    // 100 m from seed 3 drive up the rest of an 85 m aisle and out of it.
+    ASSERT_EQ(RunGroundline("sim --zone B --length 100m --seed 3 --no-lidar --no-camera --out " +
                                 Quoted(dataset_),
                             dir_, &out),
               0)
@@ -75,7 +75,7 @@ TEST_F(EvalZoneCli, ShiftedTruthGivesItsOffsetEverywhereAndOdometryHasNees) {
   const nlohmann::json& s = runs[1];
   EXPECT_EQ(s["label"], "shifted");
   EXPECT_NEAR(s["ate_rmse_m"].get<double>(), 0.05, 1e-6);
-  EXPECT_GE(s["aisle_exits_n"].get<int>(), 2);
+  EXPECT_GE(s["aisle_exits_n"].get<int>(), 1);
   EXPECT_EQ(s["aisle_exits_unmatched"].get<int>(), 0);
   // The estimate (10 Hz) interpolated at the exit: within 1 mm on a curve.
   EXPECT_NEAR(s["aisle_exit_max_m"].get<double>(), 0.05, 1e-3);
