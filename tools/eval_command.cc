@@ -13,9 +13,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "eval_zone_table.h"
+#include "groundline/core/aisle_exits.h"
 #include "groundline/core/atomic_file.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/floor_map.h"
 #include "groundline/core/metric_fields.h"
 #include "groundline/core/relation_metrics.h"
+#include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/io/relations.h"
@@ -34,13 +39,10 @@ struct EvalFlags {
   std::optional<double> rpe_m;
   std::optional<int> rpe_frames;
   std::string json_path;
-};
-
-// One evaluated estimate: its identity and its metric fields in order.
-struct EvalRun {
-  std::string label;
-  std::string est_path;
-  std::vector<core::MetricField> fields;
+  std::vector<std::string> runs;  // LABEL=DIR
+  std::string dataset_dir;
+  std::string zone;
+  std::string floor_map_path;
 };
 
 constexpr char kHelp[] =
@@ -66,7 +68,22 @@ estimate with the keys of EVAL.md plus label, est, ref, relations, assoc, max_dt
 aligned: a single object for one --est, a JSON array of such objects (in --est
 order) for several.
 
-Example:
+Runs and datasets: --run LABEL=DIR takes DIR/trajectory.tum of a `groundline
+localize` output and, when present, DIR/trajectory_covariance.txt (the NEES);
+--dataset DIR takes the dataset's ground truth as the reference and its floor map
+for the aisle exits (core/aisle_exits.h: the first ground-truth sample outside an
+aisle between two parallel solid tapes after >= 10 m inside it; error = |p_est -
+p_ref| there, the estimate interpolated; counted above 5 cm). --floor-map FILE does
+the same with --ref. --zone A|B|C|D prints instead one compact table, one row per
+run (ATE rmse/max, along/cross-track rmse in cm, heading rmse in deg, aisle exits,
+NEES mean and share in the 95 % band), each row checked against issue 6's
+targets of the zone (B: ATE rmse <= 1.5 cm, max <= 5 cm, along <= 1 cm, heading
+<= 0.2 deg, no exit above 5 cm; A, C, D: ATE rmse <= 2 cm; all: NEES in band on
+>= 90 % of the keyframes). scripts/eval_zones.sh runs every mode on every zone.
+
+Examples:
+  groundline eval --dataset sim/B --zone B --run odometry=runs/B/odometry \
+      --run lines=runs/B/lines
   groundline eval --est run1/trajectory.tum --est run2/trajectory.tum \
       --label floor --label lidar_only --ref gt.tum --align --json eval.json
   groundline eval --est aces_odom.tum --relations aces.relations
@@ -136,10 +153,32 @@ void PrintTable(const std::vector<EvalRun>& runs) {
   }
 }
 
-int RunEval(const EvalFlags& flags) {
-  if (flags.ref_path.empty() && flags.relations_path.empty()) {
-    std::fprintf(stderr, "groundline eval: give --ref FILE and/or --relations FILE\n");
+int RunEval(EvalFlags flags) {
+  if (flags.est_paths.empty() && flags.runs.empty()) {
+    std::fprintf(stderr, "groundline eval: give --est FILE or --run LABEL=DIR\n");
     return 2;
+  }
+  if (!flags.runs.empty() && (!flags.est_paths.empty() || !flags.labels.empty())) {
+    std::fprintf(stderr, "groundline eval: --run LABEL=DIR takes no --est or --label\n");
+    return 2;
+  }
+  if (flags.ref_path.empty() && flags.relations_path.empty() && flags.dataset_dir.empty()) {
+    std::fprintf(stderr,
+                 "groundline eval: give --ref FILE, --dataset DIR and/or --relations FILE\n");
+    return 2;
+  }
+  std::vector<std::string> covariance_paths(flags.est_paths.size());
+  for (const std::string& run : flags.runs) {
+    const std::size_t eq = run.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == run.size()) {
+      std::fprintf(stderr, "groundline eval: --run '%s': expected LABEL=DIR\n", run.c_str());
+      return 2;
+    }
+    const std::filesystem::path dir = run.substr(eq + 1);
+    flags.labels.push_back(run.substr(0, eq));
+    flags.est_paths.push_back((dir / "trajectory.tum").string());
+    const std::filesystem::path covariance = dir / "trajectory_covariance.txt";
+    covariance_paths.push_back(std::filesystem::exists(covariance) ? covariance.string() : "");
   }
   if (!flags.labels.empty() && flags.labels.size() != flags.est_paths.size()) {
     std::fprintf(stderr, "groundline eval: %zu --label for %zu --est; give one per --est or none\n",
@@ -166,6 +205,34 @@ int RunEval(const EvalFlags& flags) {
   }
 
   std::optional<core::Trajectory> reference;
+  std::optional<core::FloorMap> floor_map;
+  if (!flags.dataset_dir.empty()) {
+    core::DatasetReadOptions read_options;
+    read_options.load_images = false;
+    read_options.check_image_files = false;
+    read_options.load_wheel_encoders = false;
+    read_options.load_scans = false;
+    core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
+    if (!dataset.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", dataset.message().c_str());
+      return 1;
+    }
+    if (dataset->ground_truth.empty()) {
+      std::fprintf(stderr, "groundline eval: %s: the dataset has no ground truth\n",
+                   flags.dataset_dir.c_str());
+      return 1;
+    }
+    reference = std::move(dataset->ground_truth);
+    floor_map = std::move(dataset->floor_map);
+  }
+  if (!flags.floor_map_path.empty()) {
+    core::Result<core::FloorMap> read = core::ReadFloorMap(flags.floor_map_path);
+    if (!read.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", read.message().c_str());
+      return 1;
+    }
+    floor_map = std::move(read).value();
+  }
   if (!flags.ref_path.empty()) {
     core::Result<core::Trajectory> read = core::ReadTrajectory(flags.ref_path);
     if (!read.ok()) {
@@ -194,6 +261,13 @@ int RunEval(const EvalFlags& flags) {
       std::fprintf(stderr, "groundline eval: %s\n", estimate.message().c_str());
       return 1;
     }
+    if (!covariance_paths[i].empty()) {
+      if (core::Status s = core::AttachTrajectoryCovariances(covariance_paths[i], &*estimate);
+          !s.ok()) {
+        std::fprintf(stderr, "groundline eval: %s\n", s.message().c_str());
+        return 1;
+      }
+    }
     if (reference) {
       core::Result<core::TrajectoryErrorSummary> summary =
           core::ComputeTrajectoryErrors(*estimate, *reference, options);
@@ -203,6 +277,15 @@ int RunEval(const EvalFlags& flags) {
         return 1;
       }
       for (core::MetricField& f : core::MetricFields(*summary)) run.fields.push_back(std::move(f));
+      if (floor_map) {
+        core::Result<core::AisleExitSummary> exits =
+            core::ComputeAisleExitErrors(*estimate, *reference, *floor_map);
+        if (!exits.ok()) {
+          std::fprintf(stderr, "groundline eval: %s: %s\n", path.c_str(), exits.message().c_str());
+          return 1;
+        }
+        for (core::MetricField& f : core::MetricFields(*exits)) run.fields.push_back(std::move(f));
+      }
     }
     if (relations) {
       core::Result<core::RelationErrorSummary> summary =
@@ -217,7 +300,12 @@ int RunEval(const EvalFlags& flags) {
     runs.push_back(std::move(run));
   }
 
-  PrintTable(runs);
+  if (flags.zone.empty()) {
+    PrintTable(runs);
+  } else {
+    PrintZoneTable(flags.zone, flags.dataset_dir.empty() ? flags.ref_path : flags.dataset_dir,
+                   runs);
+  }
   if (!flags.json_path.empty()) {
     nlohmann::ordered_json out = nlohmann::ordered_json::array();
     for (const EvalRun& run : runs) out.push_back(RunToJson(run, flags));
@@ -238,8 +326,19 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
   cmd->footer(kHelp);
   auto flags = std::make_shared<EvalFlags>();
   cmd->add_option("--est", flags->est_paths,
-                  "estimated trajectory (TUM, or EuRoC if .csv); repeat for several")
-      ->required();
+                  "estimated trajectory (TUM, or EuRoC if .csv); repeat for several");
+  cmd->add_option("--run", flags->runs,
+                  "LABEL=DIR: a `groundline localize` output directory (its trajectory.tum, "
+                  "and trajectory_covariance.txt for the NEES when present); repeat for rows");
+  cmd->add_option("--dataset", flags->dataset_dir,
+                  "dataset directory: its ground truth is the reference and its floor map "
+                  "gives the aisle exits");
+  cmd->add_option("--floor-map", flags->floor_map_path,
+                  "floor_map.yaml for the aisle-exit errors (with --ref)");
+  cmd->add_option("--zone", flags->zone,
+                  "print the compact zone table (one row per run) checked against this zone's "
+                  "issue-6 targets: A, B, C or D")
+      ->check(CLI::IsMember({"A", "B", "C", "D"}));
   cmd->add_option("--ref", flags->ref_path, "reference trajectory (TUM, or EuRoC if .csv)");
   cmd->add_option("--relations", flags->relations_path,
                   "Kuemmerle relations file ('t1 t2 x y z roll pitch yaw' per line)");

@@ -19,6 +19,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/metric_fields.h"
+#include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
@@ -154,6 +155,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   for (const core::Status& s :
        {core::WriteTumTrajectory(out / "trajectory.tum", result->keyframes),
         core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", result->odometry_rate),
+        core::WriteTrajectoryCovariances(out / "trajectory_covariance.txt", result->keyframes),
         WriteHealth(out / "health.jsonl", result->keyframes)}) {
     if (!s.ok()) return Fail(s.message());
   }
@@ -184,7 +186,8 @@ int RunLocalize(const LocalizeFlags& flags) {
       core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
   if (!written.ok()) return Fail(written.message());
   std::printf(
-      "wrote %s/{trajectory.tum, trajectory_odometry_rate.tum, health.jsonl, "
+      "wrote %s/{trajectory.tum, trajectory_odometry_rate.tum, trajectory_covariance.txt, "
+      "health.jsonl, "
       "summary.json}\n",
       flags.out_dir.c_str());
   return 0;
@@ -218,6 +221,25 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--atlas-out", lines->atlas_out_path,
                   "--mode mapping: where to write the atlas (default OUT/atlas.json)");
+  cmd->add_flag("--diagnose", lines->diagnose,
+                "--mode lines: with ground truth, add per-keyframe errors (along/across track, "
+                "heading) and an association check (right/wrong/missed lines) to health.jsonl");
+  cmd->add_option("--wheel-variance", lines->wheel_variance_m2_per_m,
+                  "--mode lines/mapping: odometry noise as independent wheel errors of this "
+                  "variance per metre of wheel travel [m^2/m] (0: the OdometryNoiseParams "
+                  "defaults)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--lateral-variance", lines->lateral_variance_m2_per_m,
+                  "--mode lines/mapping, with --wheel-variance > 0: lateral odometry variance "
+                  "per metre travelled [m^2/m] (> 0)")
+      ->check(CLI::Range(1e-12, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--gate-chi2", lines->gate_chi2,
+                  "--mode lines/mapping: association gate on the Mahalanobis distance of a line "
+                  "(chi-square, 2 dof; 9.21 = 0.99 quantile)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   cmd->add_option("--window", lines->window_s,
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))

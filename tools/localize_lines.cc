@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <sstream>
 
@@ -23,6 +25,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/metric_fields.h"
+#include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/atlas.h"
@@ -32,6 +35,7 @@
 #include "groundline/localization/sliding_window_smoother.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/perception/line_extractor.h"
+#include "localize_diagnostics.h"
 #include "progress.h"
 #include "run_resources.h"
 
@@ -52,6 +56,33 @@ double Percentile(std::vector<double> values, double q) {
   std::sort(values.begin(), values.end());
   const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
   return values[std::min(k, values.size() - 1)];
+}
+
+// The BEV grid (1 cm cells) over the floor the camera sees: the bounding box
+// of the valid cells of a coarse 2 cm grid over 0-6 m ahead, +-4 m across.
+// The default BevGridOptions (+-1.0 m) cut off the far corners of the
+// footprint (+-1.3 m), where zone B's aisle boundary tapes are seen.
+perception::BevGridOptions BevGridCoveringCamera(const calibration::CameraModel& camera,
+                                                 const calibration::CameraMount& mount) {
+  perception::BevRemap::Options coarse;
+  coarse.grid = {0.0, 6.0, -4.0, 4.0, 0.02};
+  const perception::BevRemap probe(camera, mount, coarse);
+  std::vector<cv::Point> valid;
+  cv::findNonZero(probe.valid_mask(), valid);
+  perception::BevGridOptions grid;
+  if (valid.empty()) return grid;  // nothing seen: keep the default extent
+  const cv::Rect box = cv::boundingRect(valid);
+  const perception::BevGrid& g = probe.grid();
+  // Row 0 is the far edge (x_max), column 0 the left edge (y_max).
+  const Eigen::Vector2d far_left = g.FloorPointOfCell(Eigen::Vector2d(box.x, box.y));
+  const Eigen::Vector2d near_right =
+      g.FloorPointOfCell(Eigen::Vector2d(box.x + box.width - 1, box.y + box.height - 1));
+  const double margin_m = g.cell_m();
+  grid.x_max_m = far_left.x() + margin_m;
+  grid.y_max_m = far_left.y() + margin_m;
+  grid.x_min_m = std::max(0.0, near_right.x() - margin_m);
+  grid.y_min_m = near_right.y() - margin_m;
+  return grid;
 }
 
 core::Result<localization::Atlas> LoadAtlas(const LocalizeLinesFlags& flags,
@@ -132,18 +163,32 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
 
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = 2;
+  remap_options.grid = BevGridCoveringCamera(*camera, *mount);
   const perception::BevRemap remap(*camera, *mount, remap_options);
+  std::printf("BEV: x %.2f..%.2f m, y %.2f..%.2f m (%d x %d cells)\n", remap_options.grid.x_min_m,
+              remap_options.grid.x_max_m, remap_options.grid.y_min_m, remap_options.grid.y_max_m,
+              remap.grid().cols(), remap.grid().rows());
   const perception::LineExtractor extractor(remap, perception::LineExtractorOptions());
 
   localization::DiffDriveParams drive;
   drive.wheel_radius_m = manifest.wheel_encoders->wheel_radius_m;
   drive.track_m = manifest.wheel_encoders->track_m;
-  localization::OdometryIntegrator integrator(drive, localization::OdometryNoiseParams());
+  localization::OdometryNoiseParams noise;
+  if (flags.wheel_variance_m2_per_m > 0.0) {
+    noise = localization::OdometryNoiseFromWheelVariance(
+        flags.wheel_variance_m2_per_m, drive.track_m, flags.lateral_variance_m2_per_m);
+  }
+  localization::OdometryIntegrator integrator(drive, noise);
   const localization::KeyframeSelector selector{localization::KeyframeSelector::Options()};
   localization::SmootherOptions smoother_options;
   smoother_options.mode = flags.mapping ? localization::SmootherMode::kMapping
                                         : localization::SmootherMode::kLocalization;
   smoother_options.window_s = flags.window_s;
+  smoother_options.association.gate_chi2 = flags.gate_chi2;
+  std::optional<LocalizeDiagnostics> diagnostics;
+  if (flags.diagnose && !dataset->ground_truth.empty()) {
+    diagnostics.emplace(dataset->ground_truth, *atlas, smoother_options.association);
+  }
   localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
   smoother.Initialize(start_s, start_pose, start_covariance);
 
@@ -191,6 +236,12 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         }
       }
       const localization::RelativeMotion motion = integrator.StartKeyframe();
+      nlohmann::ordered_json diagnosis;
+      if (diagnostics) {
+        diagnosis = diagnostics->BeforeUpdate(
+            localization::PropagateFromKeyframe(smoother.Latest(), motion, r.stamp_s),
+            converted.observations);
+      }
       core::Result<localization::KeyframeHealth> health =
           smoother.AddKeyframe(r.stamp_s, motion, converted.observations);
       if (!health.ok()) {
@@ -202,11 +253,14 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         lines_used += health->lines_used;
         lines_rejected += health->lines_rejected;
         lines_dropped += converted.dropped_lines;
-        health_lines << HealthLine(static_cast<long>(keyframes.size()), *health, smoother.Latest(),
-                                   frame ? std::optional(images[*frame].stamp_s) : std::nullopt,
-                                   converted.dropped_lines)
-                            .dump()
-                     << "\n";
+        nlohmann::ordered_json line = HealthLine(
+            static_cast<long>(keyframes.size()), *health, smoother.Latest(),
+            frame ? std::optional(images[*frame].stamp_s) : std::nullopt, converted.dropped_lines);
+        if (diagnostics) {
+          line.update(diagnosis);
+          line.update(diagnostics->AfterUpdate(smoother.Latest()));
+        }
+        health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
       keyframes.push_back({latest.stamp_s, latest.T_map_base, latest.covariance});
@@ -221,6 +275,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   for (const core::Status& s :
        {core::WriteTumTrajectory(out / "trajectory.tum", keyframes),
         core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
+        core::WriteTrajectoryCovariances(out / "trajectory_covariance.txt", keyframes),
         core::WriteFileAtomically(out / "health.jsonl", health_lines.str())}) {
     if (!s.ok()) return Fail(s.message());
   }

@@ -78,4 +78,14 @@ std::vector<MetricField> MetricFields(const RelationErrorSummary& s) {
   return f;
 }
 
+std::vector<MetricField> MetricFields(const AisleExitSummary& s) {
+  std::vector<MetricField> f;
+  AddCount(&f, "aisle_exits_n", "aisle exits", s.n_exits);
+  AddCount(&f, "aisle_exits_unmatched", "aisle exits unmatched", s.n_unmatched);
+  Add(&f, "aisle_exit_rmse_m", "aisle exit error RMSE [m]", s.error_m.rmse);
+  Add(&f, "aisle_exit_max_m", "aisle exit error max [m]", s.error_m.max);
+  AddCount(&f, "aisle_exits_above_threshold", "aisle exits above threshold", s.n_above_threshold);
+  return f;
+}
+
 }  // namespace groundline::core

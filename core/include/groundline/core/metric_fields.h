@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "groundline/core/aisle_exits.h"
 #include "groundline/core/relation_metrics.h"
 #include "groundline/core/trajectory_metrics.h"
 
@@ -33,6 +34,10 @@ std::vector<MetricField> MetricFields(const TrajectoryErrorSummary& summary);
 // rel_n, rel_n_skipped, rel_trans_mean_m, rel_trans_std_m, rel_rot_mean_deg,
 // rel_rot_std_deg (population std), rel_trans_max_m, rel_rot_max_deg.
 std::vector<MetricField> MetricFields(const RelationErrorSummary& summary);
+
+// aisle_exits_n, aisle_exits_unmatched, aisle_exit_rmse_m, aisle_exit_max_m,
+// aisle_exits_above_threshold.
+std::vector<MetricField> MetricFields(const AisleExitSummary& summary);
 
 }  // namespace groundline::core
 

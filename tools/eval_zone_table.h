@@ -1,0 +1,37 @@
+// The per-zone accuracy table of `groundline eval --dataset DIR --run
+// LABEL=RUN ...` (issue 6): one row per run (odometry, lines, lidar, ...,
+// whatever run directories are given), the metrics the issue sets targets on,
+// and a last column saying whether the row meets the zone's targets.
+//
+// Targets (issue 6): zone B: ATE RMSE <= 1.5 cm, ATE max <= 5 cm, along-track
+// RMSE <= 1.0 cm, heading RMSE <= 0.2 deg, no aisle exit with an error above
+// 5 cm; zones A, C, D: ATE RMSE <= 2 cm; every zone: NEES in the 95 % band
+// on >= 90 % of keyframes (when the run has covariances).
+#ifndef GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
+#define GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
+
+#include <string>
+#include <vector>
+
+#include "groundline/core/metric_fields.h"
+
+namespace groundline::tools {
+
+// One evaluated estimate: its identity and its metric fields in order.
+struct EvalRun {
+  std::string label;
+  std::string est_path;
+  std::vector<core::MetricField> fields;
+};
+
+// The failed targets of `run` for `zone` ("A".."D"; other names: the A/C/D
+// targets), e.g. "ate_rmse", "aisle_exits"; empty if all are met.
+std::vector<std::string> FailedZoneTargets(const EvalRun& run, const std::string& zone);
+
+// Prints the table to stdout under a title line naming the zone and dataset.
+void PrintZoneTable(const std::string& zone, const std::string& dataset,
+                    const std::vector<EvalRun>& runs);
+
+}  // namespace groundline::tools
+
+#endif  // GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
