@@ -1,5 +1,7 @@
 #include "groundline/localization/lidar/lidar_slam.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cassert>
 #include <cmath>
 #include <string>
@@ -77,12 +79,16 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
     }
     double best_score = -1.0;
     core::SE2 prediction, initial;
-    for (const core::SE2& T_local_predicted : predictions) {
+    for (std::size_t h = 0; h < predictions.size(); ++h) {
       double score = 0.0;
-      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(T_local_predicted);
+      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(predictions[h]);
       const core::SE2 found =
           CorrelativeSearch(submap->grid, points, T_submap_predicted, options_.matcher, &score);
-      if (score > best_score) best_score = score, prediction = T_submap_predicted, initial = found;
+      const double gain = h == 0 ? 0.0 : options_.hypothesis_min_gain;
+      if (score > best_score + gain) {
+        best_score = score, prediction = T_submap_predicted, initial = found;
+        report.velocity_prediction = h > 0;
+      }
     }
     core::Result<ScanMatchResult> match =
         MatchScan(submap->grid, points, prediction, options_.matcher, initial);
@@ -149,14 +155,23 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
   const int node = graph_.AddNode(T_map);
   report->node = node;
   if (node > 0) {
-    const core::SE2 increment = node_odom_.back().Between(T_odom_base);
+    // The front end's motion since the previous keyframe (odometry fused
+    // with the scan match): information = odometry's + the match's.
+    const core::SE2 motion = node_local_.back().Between(T_local);
+    const double floor_m2 = options_.motion_floor_sigma_m * options_.motion_floor_sigma_m;
+    const double floor_rad2 = options_.motion_floor_sigma_rad * options_.motion_floor_sigma_rad;
     const core::Matrix3 covariance =
-        IncrementCovariance(options_.odometry_noise, increment.translation().norm(),
-                            increment.yaw()) +
-        core::Matrix3::Identity() * 1e-6;
-    core::Result<core::Matrix3> sqrt_info = SqrtInformationFromCovariance(covariance);
-    assert(sqrt_info.ok());
-    graph_.AddConstraint({ConstraintKind::kOdometry, node - 1, node, increment, *sqrt_info});
+        IncrementCovariance(options_.odometry_noise, motion.translation().norm(), motion.yaw()) +
+        core::Vector3(floor_m2, floor_m2, floor_rad2).asDiagonal().toDenseMatrix();
+    core::Matrix3 information = covariance.inverse();
+    if (report->matched) {
+      const core::Matrix3& S = report->information.sqrt_information;
+      information += S.transpose() * S;
+    }
+    const Eigen::LLT<core::Matrix3> llt(information);
+    assert(llt.info() == Eigen::Success);
+    graph_.AddConstraint(
+        {ConstraintKind::kOdometry, node - 1, node, motion, llt.matrixU().toDenseMatrix()});
   }
   node_local_.push_back(T_local);
   node_odom_.push_back(T_odom_base);

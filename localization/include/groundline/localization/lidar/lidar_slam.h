@@ -14,9 +14,12 @@
 //      directions the scan constrains;
 //   3. a keyframe (moved keyframe_distance_m or turned keyframe_angle_rad
 //      since the last one, or keyframe_time_s passed) is inserted into the
-//      active submaps and becomes a pose-graph node with an odometry
-//      constraint to the previous node and one constraint per submap it went
-//      into (weighted by the match information);
+//      active submaps and becomes a pose-graph node with a constraint to the
+//      previous node (the front end's motion between them, weighted by the
+//      odometry noise and the match information: raw odometry increments
+//      would carry the log's stale-then-jumping odometry into the graph) and
+//      one constraint per submap it went into (weighted by the match
+//      information);
 //   4. every loop_search_every_n_nodes-th node is searched (branch and bound,
 //      loop_closure.h) in each finished submap whose area contains its
 //      current global estimate; a match scoring at least loop_min_score after
@@ -62,6 +65,12 @@ struct LidarSlamOptions {
   // Odometry increment noise of a typical indoor research robot, far looser
   // than a calibrated AGV's (diff_drive_odometry.h).
   OdometryNoiseParams odometry_noise{4e-3, 1e-3, 1e-2, 2e-3, 1e-3};
+  // The front end's motion between consecutive keyframes is a pose-graph
+  // constraint whose information is the odometry's (the noise above plus this
+  // floor: logs' odometry is sometimes stale, then jumps) plus the scan
+  // match's in the directions it constrains.
+  double motion_floor_sigma_m = 0.02;
+  double motion_floor_sigma_rad = 0.02;
 
   int scans_per_submap = 40;  // keyframes
   double keyframe_distance_m = 0.15;
@@ -71,6 +80,10 @@ struct LidarSlamOptions {
   // odometry's by more than this.
   double hypothesis_distance_m = 0.05;
   double hypothesis_angle_rad = 0.035;
+  // ... and replaces the odometry's only when its score is higher by this
+  // (along a weak aisle the two score alike, and a continued velocity would
+  // let the front end slide).
+  double hypothesis_min_gain = 0.03;
   double min_match_score = 0.3;
   // When the match scores below min_match_score (stale or jumping odometry),
   // a branch-and-bound search over this window around the prediction.
@@ -86,7 +99,8 @@ struct LidarSlamOptions {
 struct ScanReport {
   double stamp_s = 0.0;
   core::SE2 T_local_base;
-  bool matched = false;  // false: the prediction was kept (first scan, poor match)
+  bool matched = false;              // false: the prediction was kept (first scan, poor match)
+  bool velocity_prediction = false;  // the constant-velocity hypothesis won (step 1)
   ScanMatchResult match;
   MatchInformation information;
   bool keyframe = false;
