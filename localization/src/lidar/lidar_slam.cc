@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <string>
@@ -158,12 +159,7 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
     // The front end's motion since the previous keyframe (odometry fused
     // with the scan match): information = odometry's + the match's.
     const core::SE2 motion = node_local_.back().Between(T_local);
-    const double floor_m2 = options_.motion_floor_sigma_m * options_.motion_floor_sigma_m;
-    const double floor_rad2 = options_.motion_floor_sigma_rad * options_.motion_floor_sigma_rad;
-    const core::Matrix3 covariance =
-        IncrementCovariance(options_.odometry_noise, motion.translation().norm(), motion.yaw()) +
-        core::Vector3(floor_m2, floor_m2, floor_rad2).asDiagonal().toDenseMatrix();
-    core::Matrix3 information = covariance.inverse();
+    core::Matrix3 information = MotionCovariance(motion).inverse();
     if (report->matched) {
       const core::Matrix3& S = report->information.sqrt_information;
       information += S.transpose() * S;
@@ -195,6 +191,13 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
     report->loops_found = SearchLoops(node, scan);
     loops_since_optimization_ += report->loops_found;
   }
+}
+
+core::Matrix3 LidarSlam::MotionCovariance(const core::SE2& motion) const {
+  const double floor_m2 = options_.motion_floor_sigma_m * options_.motion_floor_sigma_m;
+  const double floor_rad2 = options_.motion_floor_sigma_rad * options_.motion_floor_sigma_rad;
+  return IncrementCovariance(options_.odometry_noise, motion.translation().norm(), motion.yaw()) +
+         core::Vector3(floor_m2, floor_m2, floor_rad2).asDiagonal().toDenseMatrix();
 }
 
 const PrecomputedGrids& LidarSlam::Precomputed(const Submap& submap) {
@@ -248,10 +251,24 @@ core::Result<PoseGraphSummary> LidarSlam::Finish() {
 core::Trajectory LidarSlam::Trajectory() const {
   core::Trajectory out;
   out.reserve(scans_.size());
+  // The graph's correction of the local frame at node n.
+  auto correction = [this](int n) {
+    return graph_.node(n) * node_local_[static_cast<std::size_t>(n)].Inverse();
+  };
   for (const ScanRecord& s : scans_) {
-    const core::SE2 T_map_node = graph_.node(s.node);
-    const core::SE2& T_local_node = node_local_[static_cast<std::size_t>(s.node)];
-    out.push_back({s.stamp_s, T_map_node * T_local_node.Between(s.T_local_base), std::nullopt});
+    core::SE2 T_map_local = correction(s.node);
+    const int next = s.node + 1;
+    if (options_.interpolate_corrections && next < graph_.num_nodes()) {
+      // Between two keyframes, the correction moves from one node's to the
+      // next's (linear in time), so that the trajectory does not jump at
+      // the next keyframe.
+      const double t0 = node_stamp_s_[static_cast<std::size_t>(s.node)];
+      const double t1 = node_stamp_s_[static_cast<std::size_t>(next)];
+      const double alpha = std::clamp((s.stamp_s - t0) / (t1 - t0), 0.0, 1.0);
+      T_map_local =
+          T_map_local * core::SE2::Exp(alpha * T_map_local.Between(correction(next)).Log());
+    }
+    out.push_back({s.stamp_s, T_map_local * s.T_local_base, std::nullopt});
   }
   return out;
 }

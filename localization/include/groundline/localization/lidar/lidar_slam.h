@@ -27,8 +27,10 @@
 //      PoseGraph::Optimize);
 //   5. the graph is solved every optimize_every_n_nodes nodes when new loop
 //      constraints arrived, and in Finish().
-// Every scan's global pose is that of the last keyframe node at or before it
-// composed with the local motion since: T_map_node * T_local_node^-1 * T_local_base.
+// Every scan's global pose is its local pose corrected by the graph:
+// T_map_base = C * T_local_base, C = T_map_node * T_local_node^-1 of the last
+// keyframe node at or before it, moving toward the next node's C linearly in
+// time (interpolate_corrections).
 //
 // Frames: T_odom_base (the log's odometry), T_local_base (the front end's
 // drift-prone frame), T_map_base (the graph's frame; equal to the local frame
@@ -59,7 +61,10 @@ namespace groundline::localization::lidar {
 struct LidarSlamOptions {
   ProbabilityGridOptions grid;
   ScanMatcherOptions matcher;
-  MatchInformationOptions information;
+  // Degenerate below 1 % of the largest scaled eigenvalue (the default 5 %
+  // discarded the information that corridor scans do carry along the aisle,
+  // docs/lidar_slam.md).
+  MatchInformationOptions information{0.05, 50.0, 0.01, 100.0};
   BranchAndBoundOptions loop_search;
   PoseGraphOptions graph;
   // Odometry increment noise of a typical indoor research robot, far looser
@@ -84,6 +89,9 @@ struct LidarSlamOptions {
   // (along a weak aisle the two score alike, and a continued velocity would
   // let the front end slide).
   double hypothesis_min_gain = 0.03;
+  // Trajectory(): between keyframes, interpolate the graph's correction
+  // (see the top of this file); false: the last node's.
+  bool interpolate_corrections = true;
   double min_match_score = 0.3;
   // When the match scores below min_match_score (stale or jumping odometry),
   // a branch-and-bound search over this window around the prediction.
@@ -134,6 +142,8 @@ class LidarSlam {
   void AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan, ScanReport* report);
   int SearchLoops(int node, const ScanPoints& scan);
   const PrecomputedGrids& Precomputed(const Submap& submap);
+  // Odometry increment covariance of a motion, with the floor.
+  core::Matrix3 MotionCovariance(const core::SE2& motion) const;
 
   LidarSlamOptions options_;
   ActiveSubmaps submaps_;
