@@ -40,6 +40,7 @@ nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T
   line["local_y_m"] = r.T_local_base.y();
   line["local_yaw_deg"] = r.T_local_base.yaw() * kDegPerRad;
   line["matched"] = r.matched;
+  line["velocity_prediction"] = r.velocity_prediction;
   line["score"] = r.match.score;
   line["correlative_score"] = r.match.correlative_score;
   line["points_used"] = r.match.points_used;

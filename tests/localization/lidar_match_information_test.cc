@@ -1,5 +1,6 @@
 // The Fisher information of a scan match: rank 2 with the null direction
-// along the aisle in a corridor, rank 3 in a room; and the grid's log-odds.
+// along the aisle in a corridor, rank 3 in a room; and the grid's log-odds
+// and its compression.
 #include "groundline/localization/lidar/match_information.h"
 
 #include <gtest/gtest.h>
@@ -71,6 +72,27 @@ TEST(LidarProbabilityGrid, HitsMissesClampingAndGrowth) {
   EXPECT_LE(grid.width() * grid.height(), 45 * 3);
   EXPECT_GE(grid.origin_m().x(), corner.x());
   EXPECT_NEAR(grid.Probability(grid.CellOf(wall)), options.max_probability, 1e-5);
+}
+
+TEST(LidarProbabilityGrid, CompressKeepsEveryCellsProbabilityAndKnownness) {
+  const auto walls = testing::RoomWorld();
+  ProbabilityGrid grid = testing::RoomMap(walls);
+  const ProbabilityGrid original = grid;
+  grid.Compress();
+  ASSERT_TRUE(grid.compressed());
+  EXPECT_TRUE(grid.probabilities().empty());  // the float copy is gone
+  EXPECT_EQ(grid.width(), original.width());
+  int known = 0;
+  for (int y = -2; y < grid.height() + 2; ++y) {
+    for (int x = -2; x < grid.width() + 2; ++x) {
+      const CellIndex c{x, y};
+      ASSERT_EQ(grid.IsKnown(c), original.IsKnown(c)) << x << " " << y;
+      ASSERT_NEAR(grid.Probability(c), original.Probability(c), 1e-5) << x << " " << y;
+      known += grid.IsKnown(c);
+    }
+  }
+  EXPECT_EQ(known, original.known_cells());
+  EXPECT_GT(known, 1000);
 }
 
 }  // namespace

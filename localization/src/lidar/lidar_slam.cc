@@ -1,5 +1,8 @@
 #include "groundline/localization/lidar/lidar_slam.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <string>
@@ -77,12 +80,16 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
     }
     double best_score = -1.0;
     core::SE2 prediction, initial;
-    for (const core::SE2& T_local_predicted : predictions) {
+    for (std::size_t h = 0; h < predictions.size(); ++h) {
       double score = 0.0;
-      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(T_local_predicted);
+      const core::SE2 T_submap_predicted = submap->T_local_submap.Between(predictions[h]);
       const core::SE2 found =
           CorrelativeSearch(submap->grid, points, T_submap_predicted, options_.matcher, &score);
-      if (score > best_score) best_score = score, prediction = T_submap_predicted, initial = found;
+      const double gain = h == 0 ? 0.0 : options_.hypothesis_min_gain;
+      if (score > best_score + gain) {
+        best_score = score, prediction = T_submap_predicted, initial = found;
+        report.velocity_prediction = h > 0;
+      }
     }
     core::Result<ScanMatchResult> match =
         MatchScan(submap->grid, points, prediction, options_.matcher, initial);
@@ -149,14 +156,18 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
   const int node = graph_.AddNode(T_map);
   report->node = node;
   if (node > 0) {
-    const core::SE2 increment = node_odom_.back().Between(T_odom_base);
-    const core::Matrix3 covariance =
-        IncrementCovariance(options_.odometry_noise, increment.translation().norm(),
-                            increment.yaw()) +
-        core::Matrix3::Identity() * 1e-6;
-    core::Result<core::Matrix3> sqrt_info = SqrtInformationFromCovariance(covariance);
-    assert(sqrt_info.ok());
-    graph_.AddConstraint({ConstraintKind::kOdometry, node - 1, node, increment, *sqrt_info});
+    // The front end's motion since the previous keyframe (odometry fused
+    // with the scan match): information = odometry's + the match's.
+    const core::SE2 motion = node_local_.back().Between(T_local);
+    core::Matrix3 information = MotionCovariance(motion).inverse();
+    if (report->matched) {
+      const core::Matrix3& S = report->information.sqrt_information;
+      information += S.transpose() * S;
+    }
+    const Eigen::LLT<core::Matrix3> llt(information);
+    assert(llt.info() == Eigen::Success);
+    graph_.AddConstraint(
+        {ConstraintKind::kOdometry, node - 1, node, motion, llt.matrixU().toDenseMatrix()});
   }
   node_local_.push_back(T_local);
   node_odom_.push_back(T_odom_base);
@@ -180,6 +191,13 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
     report->loops_found = SearchLoops(node, scan);
     loops_since_optimization_ += report->loops_found;
   }
+}
+
+core::Matrix3 LidarSlam::MotionCovariance(const core::SE2& motion) const {
+  const double floor_m2 = options_.motion_floor_sigma_m * options_.motion_floor_sigma_m;
+  const double floor_rad2 = options_.motion_floor_sigma_rad * options_.motion_floor_sigma_rad;
+  return IncrementCovariance(options_.odometry_noise, motion.translation().norm(), motion.yaw()) +
+         core::Vector3(floor_m2, floor_m2, floor_rad2).asDiagonal().toDenseMatrix();
 }
 
 const PrecomputedGrids& LidarSlam::Precomputed(const Submap& submap) {
@@ -233,10 +251,24 @@ core::Result<PoseGraphSummary> LidarSlam::Finish() {
 core::Trajectory LidarSlam::Trajectory() const {
   core::Trajectory out;
   out.reserve(scans_.size());
+  // The graph's correction of the local frame at node n.
+  auto correction = [this](int n) {
+    return graph_.node(n) * node_local_[static_cast<std::size_t>(n)].Inverse();
+  };
   for (const ScanRecord& s : scans_) {
-    const core::SE2 T_map_node = graph_.node(s.node);
-    const core::SE2& T_local_node = node_local_[static_cast<std::size_t>(s.node)];
-    out.push_back({s.stamp_s, T_map_node * T_local_node.Between(s.T_local_base), std::nullopt});
+    core::SE2 T_map_local = correction(s.node);
+    const int next = s.node + 1;
+    if (options_.interpolate_corrections && next < graph_.num_nodes()) {
+      // Between two keyframes, the correction moves from one node's to the
+      // next's (linear in time), so that the trajectory does not jump at
+      // the next keyframe.
+      const double t0 = node_stamp_s_[static_cast<std::size_t>(s.node)];
+      const double t1 = node_stamp_s_[static_cast<std::size_t>(next)];
+      const double alpha = std::clamp((s.stamp_s - t0) / (t1 - t0), 0.0, 1.0);
+      T_map_local =
+          T_map_local * core::SE2::Exp(alpha * T_map_local.Between(correction(next)).Log());
+    }
+    out.push_back({s.stamp_s, T_map_local * s.T_local_base, std::nullopt});
   }
   return out;
 }

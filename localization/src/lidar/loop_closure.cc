@@ -21,9 +21,11 @@ PrecomputedGrids::PrecomputedGrids(const ProbabilityGrid& grid, int depth) {
   base.width = 1;
   base.size_x = grid.width();
   base.size_y = grid.height();
-  base.values.resize(grid.probabilities().size());
-  for (std::size_t i = 0; i < base.values.size(); ++i) {
-    base.values[i] = static_cast<uint8_t>(std::lround(grid.probabilities()[i] * 255.0f));
+  base.values.resize(static_cast<std::size_t>(grid.width()) * grid.height());
+  for (int y = 0, i = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x, ++i) {
+      base.values[i] = static_cast<uint8_t>(std::lround(grid.Probability({x, y}) * 255.0));
+    }
   }
   const auto floor_value =
       static_cast<uint8_t>(std::lround(grid.options().min_probability * 255.0));
@@ -53,13 +55,6 @@ PrecomputedGrids::PrecomputedGrids(const ProbabilityGrid& grid, int depth) {
   }
 }
 
-float PrecomputedGrids::Value(int level, int x, int y) const {
-  const Level& l = levels_[static_cast<std::size_t>(level)];
-  const int ix = x + l.width - 1, iy = y + l.width - 1;
-  if (ix < 0 || iy < 0 || ix >= l.size_x || iy >= l.size_y) return 0.0f;  // off the grid
-  return l.values[static_cast<std::size_t>(iy) * l.size_x + ix] * (1.0f / 255.0f);
-}
-
 namespace {
 
 struct Candidate {
@@ -75,11 +70,10 @@ struct Search {
   int window_cells;
 
   double Score(int level, const Candidate& c) const {
-    double sum = 0.0;
-    for (const CellIndex& cell : scans[static_cast<std::size_t>(c.angle)]) {
-      sum += grids.Value(level, cell.x + c.x, cell.y + c.y);
-    }
-    return sum / static_cast<double>(scans[static_cast<std::size_t>(c.angle)].size());
+    int sum = 0;  // of bytes: exact, and faster than floats
+    const std::vector<CellIndex>& cells = scans[static_cast<std::size_t>(c.angle)];
+    for (const CellIndex& cell : cells) sum += grids.ByteValue(level, cell.x + c.x, cell.y + c.y);
+    return sum / (255.0 * static_cast<double>(cells.size()));
   }
 
   // Algorithm 3 of Hess et al.: depth-first, best child first, pruned by the

@@ -52,12 +52,25 @@ CellIndex ProbabilityGrid::CellOf(const core::Vector2& point_m) const {
 }
 
 bool ProbabilityGrid::IsKnown(const CellIndex& cell) const {
-  return Contains(cell) && !std::isnan(log_odds_[Index(cell)]);
+  if (!Contains(cell)) return false;
+  return compressed_ ? compressed_probability_[Index(cell)] != 0
+                     : !std::isnan(log_odds_[Index(cell)]);
 }
 
-double ProbabilityGrid::Probability(const CellIndex& cell) const {
-  if (!Contains(cell)) return options_.min_probability;
-  return probability_[Index(cell)];
+void ProbabilityGrid::Compress() {
+  if (compressed_) return;
+  compressed_probability_.resize(probability_.size());
+  for (std::size_t i = 0; i < probability_.size(); ++i) {
+    compressed_probability_[i] =
+        std::isnan(log_odds_[i])
+            ? uint16_t{0}
+            : static_cast<uint16_t>(
+                  1 + std::lround(std::clamp(probability_[i], 0.0f, 1.0f) * 65534.0f));
+  }
+  std::vector<float>().swap(log_odds_);
+  std::vector<float>().swap(probability_);
+  std::vector<uint32_t>().swap(last_scan_);
+  compressed_ = true;
 }
 
 void ProbabilityGrid::Update(int index, float delta_log_odds) {
@@ -106,6 +119,7 @@ void ProbabilityGrid::GrowToContain(const core::Vector2& min_m, const core::Vect
 void ProbabilityGrid::InsertScan(const core::Vector2& sensor_origin_m,
                                  const std::vector<core::Vector2>& hits_m,
                                  const std::vector<core::Vector2>& misses_only_m) {
+  assert(!compressed_);
   core::Vector2 lo = sensor_origin_m, hi = sensor_origin_m;
   for (const auto* points : {&hits_m, &misses_only_m}) {
     for (const core::Vector2& p : *points) {
@@ -139,6 +153,7 @@ void ProbabilityGrid::InsertScan(const core::Vector2& sensor_origin_m,
 }
 
 void ProbabilityGrid::CropToKnown() {
+  assert(!compressed_);
   int min_x = width_, min_y = height_, max_x = -1, max_y = -1;
   for (int y = 0; y < height_; ++y) {
     for (int x = 0; x < width_; ++x) {

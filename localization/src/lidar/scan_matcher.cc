@@ -36,11 +36,8 @@ class PriorCost final : public ceres::SizedCostFunction<3, 3> {
   double w_t_, w_r_;
 };
 
-float CellProbability(const ProbabilityGrid& grid, int x, int y) {
-  if (x < 0 || y < 0 || x >= grid.width() || y >= grid.height()) {
-    return static_cast<float>(grid.options().min_probability);
-  }
-  return grid.probabilities()[static_cast<std::size_t>(y) * grid.width() + x];
+double CellProbability(const ProbabilityGrid& grid, int x, int y) {
+  return grid.Probability({x, y});
 }
 
 }  // namespace
@@ -48,8 +45,8 @@ float CellProbability(const ProbabilityGrid& grid, int x, int y) {
 GridInterpolator::GridInterpolator(const ProbabilityGrid& grid)
     : inverse_resolution_(1.0 / grid.resolution_m()),
       origin_m_(grid.origin_m()),
-      grid_(grid.probabilities().data(), 0, grid.height(), 0, grid.width()),
-      interpolator_(grid_) {}
+      reader_{&grid},
+      interpolator_(reader_) {}
 
 double GridInterpolator::Probability(const core::Vector2& point_m, core::Vector2* gradient) const {
   // Cell centres sit at origin + (i + 0.5) * resolution.
@@ -139,21 +136,45 @@ core::SE2 CorrelativeSearch(const ProbabilityGrid& grid,
   const int side = 2 * n_cells + 1;
   double best = -1.0;
   core::SE2 best_pose = prediction;
-  std::vector<double> sums(static_cast<std::size_t>(side * side));
+  // Sums of the probabilities under the points for every offset: point by
+  // point over the rows of the window (contiguous, vectorizable) where the
+  // window lies inside an uncompressed grid.
+  std::vector<float> sums(static_cast<std::size_t>(side * side));
+  std::vector<double> translation_prior(sums.size());
+  for (int dy = -n_cells, k = 0; dy <= n_cells; ++dy) {
+    for (int dx = -n_cells; dx <= n_cells; ++dx, ++k) {
+      translation_prior[k] =
+          std::exp(-options.translation_delta_weight * (dx * dx + dy * dy) * res * res);
+    }
+  }
+  const float* raw = grid.compressed() ? nullptr : grid.probabilities().data();
+  const int width = grid.width(), height = grid.height();
   std::vector<CellIndex> cells(points.size());
   for (int a = -n_angles; a <= n_angles; ++a) {
     const double dyaw = a * angle_step;
     const core::SE2 rotated(prediction.translation(), prediction.yaw() + dyaw);
     for (std::size_t i = 0; i < points.size(); ++i) cells[i] = grid.CellOf(rotated * points[i]);
-    std::fill(sums.begin(), sums.end(), 0.0);
-    for (int dy = -n_cells; dy <= n_cells; ++dy) {
-      for (int dx = -n_cells; dx <= n_cells; ++dx) {
-        double sum = 0.0;
-        for (const CellIndex& c : cells) sum += CellProbability(grid, c.x + dx, c.y + dy);
-        const double dt2 = (dx * dx + dy * dy) * res * res;
-        const double s = sum / static_cast<double>(points.size()) *
-                         std::exp(-(options.translation_delta_weight * dt2 +
-                                    options.rotation_delta_weight * dyaw * dyaw));
+    std::fill(sums.begin(), sums.end(), 0.0f);
+    for (const CellIndex& c : cells) {
+      const bool inside = raw != nullptr && c.x - n_cells >= 0 && c.y - n_cells >= 0 &&
+                          c.x + n_cells < width && c.y + n_cells < height;
+      for (int dy = -n_cells; dy <= n_cells; ++dy) {
+        float* row_sums = &sums[static_cast<std::size_t>((dy + n_cells) * side)];
+        if (inside) {
+          const float* row = raw + static_cast<std::size_t>(c.y + dy) * width + (c.x - n_cells);
+          for (int k = 0; k < side; ++k) row_sums[k] += row[k];
+        } else {
+          for (int k = 0; k < side; ++k) {
+            row_sums[k] += static_cast<float>(CellProbability(grid, c.x - n_cells + k, c.y + dy));
+          }
+        }
+      }
+    }
+    const double rotation_prior =
+        std::exp(-options.rotation_delta_weight * dyaw * dyaw) / static_cast<double>(points.size());
+    for (int dy = -n_cells, k = 0; dy <= n_cells; ++dy) {
+      for (int dx = -n_cells; dx <= n_cells; ++dx, ++k) {
+        const double s = sums[k] * translation_prior[k] * rotation_prior;
         if (s > best) {
           best = s;
           best_pose = core::SE2(prediction.translation() + core::Vector2(dx, dy) * res,

@@ -31,6 +31,7 @@ std::vector<int> ActiveSubmaps::InsertScan(const core::SE2& T_local_base, const 
   while (active_.size() > 1 && active_.front()->num_scans >= 2 * scans_per_submap_) {
     active_.front()->finished = true;
     active_.front()->grid.CropToKnown();
+    active_.front()->grid.Compress();
     if (finished != nullptr) finished->push_back(active_.front());
     active_.pop_front();
   }

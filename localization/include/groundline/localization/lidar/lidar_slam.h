@@ -14,9 +14,12 @@
 //      directions the scan constrains;
 //   3. a keyframe (moved keyframe_distance_m or turned keyframe_angle_rad
 //      since the last one, or keyframe_time_s passed) is inserted into the
-//      active submaps and becomes a pose-graph node with an odometry
-//      constraint to the previous node and one constraint per submap it went
-//      into (weighted by the match information);
+//      active submaps and becomes a pose-graph node with a constraint to the
+//      previous node (the front end's motion between them, weighted by the
+//      odometry noise and the match information: raw odometry increments
+//      would carry the log's stale-then-jumping odometry into the graph) and
+//      one constraint per submap it went into (weighted by the match
+//      information);
 //   4. every loop_search_every_n_nodes-th node is searched (branch and bound,
 //      loop_closure.h) in each finished submap whose area contains its
 //      current global estimate; a match scoring at least loop_min_score after
@@ -24,8 +27,10 @@
 //      PoseGraph::Optimize);
 //   5. the graph is solved every optimize_every_n_nodes nodes when new loop
 //      constraints arrived, and in Finish().
-// Every scan's global pose is that of the last keyframe node at or before it
-// composed with the local motion since: T_map_node * T_local_node^-1 * T_local_base.
+// Every scan's global pose is its local pose corrected by the graph:
+// T_map_base = C * T_local_base, C = T_map_node * T_local_node^-1 of the last
+// keyframe node at or before it, moving toward the next node's C linearly in
+// time (interpolate_corrections).
 //
 // Frames: T_odom_base (the log's odometry), T_local_base (the front end's
 // drift-prone frame), T_map_base (the graph's frame; equal to the local frame
@@ -56,12 +61,21 @@ namespace groundline::localization::lidar {
 struct LidarSlamOptions {
   ProbabilityGridOptions grid;
   ScanMatcherOptions matcher;
-  MatchInformationOptions information;
+  // Degenerate below 1 % of the largest scaled eigenvalue (the default 5 %
+  // discarded the information that corridor scans do carry along the aisle,
+  // docs/lidar_slam.md).
+  MatchInformationOptions information{0.05, 50.0, 0.01, 100.0};
   BranchAndBoundOptions loop_search;
   PoseGraphOptions graph;
   // Odometry increment noise of a typical indoor research robot, far looser
   // than a calibrated AGV's (diff_drive_odometry.h).
   OdometryNoiseParams odometry_noise{4e-3, 1e-3, 1e-2, 2e-3, 1e-3};
+  // The front end's motion between consecutive keyframes is a pose-graph
+  // constraint whose information is the odometry's (the noise above plus this
+  // floor: logs' odometry is sometimes stale, then jumps) plus the scan
+  // match's in the directions it constrains.
+  double motion_floor_sigma_m = 0.02;
+  double motion_floor_sigma_rad = 0.02;
 
   int scans_per_submap = 40;  // keyframes
   double keyframe_distance_m = 0.15;
@@ -71,6 +85,13 @@ struct LidarSlamOptions {
   // odometry's by more than this.
   double hypothesis_distance_m = 0.05;
   double hypothesis_angle_rad = 0.035;
+  // ... and replaces the odometry's only when its score is higher by this
+  // (along a weak aisle the two score alike, and a continued velocity would
+  // let the front end slide).
+  double hypothesis_min_gain = 0.03;
+  // Trajectory(): between keyframes, interpolate the graph's correction
+  // (see the top of this file); false: the last node's.
+  bool interpolate_corrections = true;
   double min_match_score = 0.3;
   // When the match scores below min_match_score (stale or jumping odometry),
   // a branch-and-bound search over this window around the prediction.
@@ -86,7 +107,8 @@ struct LidarSlamOptions {
 struct ScanReport {
   double stamp_s = 0.0;
   core::SE2 T_local_base;
-  bool matched = false;  // false: the prediction was kept (first scan, poor match)
+  bool matched = false;              // false: the prediction was kept (first scan, poor match)
+  bool velocity_prediction = false;  // the constant-velocity hypothesis won (step 1)
   ScanMatchResult match;
   MatchInformation information;
   bool keyframe = false;
@@ -120,6 +142,8 @@ class LidarSlam {
   void AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan, ScanReport* report);
   int SearchLoops(int node, const ScanPoints& scan);
   const PrecomputedGrids& Precomputed(const Submap& submap);
+  // Odometry increment covariance of a motion, with the floor.
+  core::Matrix3 MotionCovariance(const core::SE2& motion) const;
 
   LidarSlamOptions options_;
   ActiveSubmaps submaps_;

@@ -41,7 +41,14 @@ class PrecomputedGrids {
  public:
   PrecomputedGrids(const ProbabilityGrid& grid, int depth);
   // Level-h value at cell (x, y) of the original grid, in [0, 1].
-  float Value(int level, int x, int y) const;
+  float Value(int level, int x, int y) const { return ByteValue(level, x, y) * (1.0f / 255.0f); }
+  // The same as stored: probability * 255, 0 off the grid.
+  int ByteValue(int level, int x, int y) const {
+    const Level& l = levels_[static_cast<std::size_t>(level)];
+    const int ix = x + l.width - 1, iy = y + l.width - 1;
+    if (ix < 0 || iy < 0 || ix >= l.size_x || iy >= l.size_y) return 0;
+    return l.values[static_cast<std::size_t>(iy) * l.size_x + ix];
+  }
   int depth() const { return static_cast<int>(levels_.size()); }
 
  private:

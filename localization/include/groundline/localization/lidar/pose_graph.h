@@ -2,7 +2,8 @@
 // form of Cartographer's global SLAM): variables are the global poses
 // T_map_node of keyframe nodes and T_map_submap of submaps, each (x, y, yaw)
 // under core::SE2Manifold; constraints are RelativePoseFactor's:
-//   kOdometry:    node i -> node i+1, the wheel odometry increment;
+//   kOdometry:    node i -> node i+1, their relative motion (wheel odometry,
+//                 or the LiDAR front end's, lidar_slam.h);
 //   kIntraSubmap: submap -> node, the node's pose in a submap it was
 //                 inserted into (from local SLAM), weighted by the scan
 //                 match's information (rank deficient when degenerate);

@@ -46,10 +46,17 @@ class GridInterpolator {
   double Probability(const core::Vector2& point_m, core::Vector2* gradient = nullptr) const;
 
  private:
+  // The grid as ceres' interpolator reads it (row = y, column = x); cells
+  // outside the grid read as min_probability.
+  struct CellReader {
+    enum { DATA_DIMENSION = 1 };
+    const ProbabilityGrid* grid;
+    void GetValue(int row, int col, double* value) const { *value = grid->Probability({col, row}); }
+  };
   double inverse_resolution_;
   core::Vector2 origin_m_;
-  ceres::Grid2D<float, 1> grid_;
-  ceres::BiCubicInterpolator<ceres::Grid2D<float, 1>> interpolator_;
+  CellReader reader_;
+  ceres::BiCubicInterpolator<CellReader> interpolator_;
 };
 
 // One point's residual r = weight * (1 - P(T_grid_base * p)), parameter block
@@ -80,7 +87,7 @@ struct ScanMatcherOptions {
   // Points used by the correlative search (every k-th, at most this many).
   int max_search_points = 120;
   double translation_delta_weight = 10.0;  // [1/m^2] in the score's exp()
-  double rotation_delta_weight = 2.0;     // [1/rad^2]
+  double rotation_delta_weight = 2.0;      // [1/rad^2]
   // Refinement.
   double occupied_weight = 1.0;
   double translation_weight = 2.0;  // [1/m]

@@ -4,6 +4,8 @@
 // 2 * scans_per_submap scans, when the newer one (started after
 // scans_per_submap) takes its place. So every finished submap holds
 // 2 * scans_per_submap scans and consecutive submaps overlap by half.
+// A finished submap's grid is cropped to its known cells and compressed
+// (ProbabilityGrid::Compress).
 //
 // A submap's frame is the local frame pose of the first scan inserted into
 // it, T_local_submap; its grid is written in that frame.
