@@ -80,7 +80,7 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
 
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  double floor_median_grey, const LineExtractorOptions& options,
-                 std::vector<ExtractedLine>* out) {
+                 std::vector<ExtractedLine>* out, std::vector<CandidateLine>* unpaired_edges) {
   const double sign = polarity == LinePolarity::kBright ? 1.0 : -1.0;
   const double min_contrast = polarity == LinePolarity::kBright ? options.min_side_contrast
                                                                 : options.min_dark_side_contrast;
@@ -121,7 +121,7 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
           separation > best_separation) {
         continue;
       }
-      if (Overlap(a.line, b.line) < 0.5 * std::min(a.line.LengthM(), b.line.LengthM())) continue;
+      if (Overlap(a.line, b.line) < 0.5 * std::max(a.line.LengthM(), b.line.LengthM())) continue;
       best = edges[y];
       best_separation = separation;
     }
@@ -140,6 +140,56 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     SpanEndpoints(la, lb, &merged);
     out->push_back(merged);
   }
+  if (unpaired_edges == nullptr) return;
+  for (const int e : edges) {
+    if (!used[e]) unpaired_edges->push_back(std::move(candidates[e]));
+  }
+}
+
+std::vector<Eigen::Vector2d> LocateBarEdge(const cv::Mat& bev_float, const BevGrid& grid,
+                                           const CandidateLine& candidate, double min_step_dn) {
+  constexpr int kFirst = -2, kLast = 14;     // profile, cells from the ridge centre
+  constexpr int kDarkFrom = 2, kDarkTo = 6;  // cells beyond the edge that must stay dark
+  constexpr int kCount = kLast - kFirst + 1;
+  const Eigen::Vector2d n = candidate.line.line.Normal();
+  // The dark side is the one of the larger contrast.
+  const Eigen::Vector2d toward_dark =
+      (candidate.contrast_plus > candidate.contrast_minus ? 1.0 : -1.0) * grid.cell_m() * n;
+  std::vector<Eigen::Vector2d> edge;
+  edge.reserve(candidate.centres_m.size());
+  for (const Eigen::Vector2d& p : candidate.centres_m) {
+    float profile[kCount];
+    bool seen = true;
+    for (int k = 0; k < kCount && seen; ++k) {
+      const Eigen::Vector2d cell = grid.CellOfFloorPoint(p + (kFirst + k) * toward_dark);
+      profile[k] = SampleBilinear(bev_float, cell.x(), cell.y());
+      seen = profile[k] != 0.0f;
+    }
+    if (!seen) continue;
+    // Central differences D(k) = I(k + 1) - I(k - 1); the most negative one.
+    int best = -1;
+    float best_step = 0.0f;
+    for (int k = 1; k + 1 < kCount; ++k) {
+      const float step = profile[k + 1] - profile[k - 1];
+      if (step < best_step) {
+        best_step = step;
+        best = k;
+      }
+    }
+    if (best < 2 || best + kDarkTo >= kCount || -best_step < min_step_dn) continue;
+    // A step, not a groove (the flank of a joint crossing a bar): the far side
+    // stays darker than halfway for several cells.
+    const float halfway = profile[best - 2] + 0.5f * best_step;
+    bool step = true;
+    for (int k = best + kDarkFrom; k <= best + kDarkTo; ++k) step = step && profile[k] < halfway;
+    if (!step) continue;
+    const float dm = profile[best] - profile[best - 2];
+    const float dp = profile[best + 2] - profile[best];
+    const float curvature = dm - 2.0f * best_step + dp;
+    const double delta = curvature > 0.0f ? 0.5 * (dm - dp) / curvature : 0.0;
+    edge.push_back(p + (kFirst + best + std::clamp(delta, -0.5, 0.5)) * toward_dark);
+  }
+  return edge;
 }
 
 void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {
