@@ -1,3 +1,5 @@
+#include <cstdio>
+#include <cstdlib>
 // The per-frame line extraction pipeline (line_extractor.h).
 #include "groundline/perception/line_extractor.h"
 
@@ -39,6 +41,9 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(single_edge_min_contrast > 0.0)) return bad("single_edge_min_contrast", "a number > 0");
   if (!(single_edge_max_gap_m > 0.0)) return bad("single_edge_max_gap_m", "a number > 0");
   if (!(single_edge_min_length_m > 0.0)) return bad("single_edge_min_length_m", "a number > 0");
+  if (!(single_edge_min_relative_contrast > 0.0 && single_edge_min_relative_contrast <= 1.0)) {
+    return bad("single_edge_min_relative_contrast", "a number in (0, 1]");
+  }
   if (!(orientation_tolerance_deg > 0.0 && orientation_tolerance_deg < 45.0)) {
     return bad("orientation_tolerance_deg", "a number in (0, 45)");
   }
@@ -193,13 +198,18 @@ std::optional<internal::CandidateLine> FitSegment(
 
 // The edge line of a bar whose other edge is unseen (internal::LocateBarEdge),
 // or nothing when too few edge points line up.
-std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float,
+std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv::Mat& search_mask,
                                               const internal::CandidateLine& candidate,
                                               const cv::Mat& floor_from_pixel, const BevGrid& grid,
                                               const LineExtractorOptions& options,
                                               const LineNoiseModel& noise) {
   std::vector<Eigen::Vector2d> points =
       internal::LocateBarEdge(bev_float, grid, candidate, options.single_edge_min_contrast);
+  if (getenv("DBG"))
+    fprintf(stderr, "edge cand rho %.3f a %.3f cp %.1f cm %.1f centres %zu points %zu len %.2f\n",
+            candidate.line.line.rho_m, candidate.line.line.alpha_rad, candidate.contrast_plus,
+            candidate.contrast_minus, candidate.centres_m.size(), points.size(),
+            candidate.line.LengthM());
   if (points.size() < 3 || points.size() < options.min_support * candidate.centres_m.size()) {
     return std::nullopt;
   }
@@ -229,8 +239,14 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float,
     }
   }
   points = std::vector<Eigen::Vector2d>(points.begin() + best_begin, points.begin() + best_end);
+  if (getenv("DBG"))
+    fprintf(stderr, "  run %zu len %.2f\n", points.size(), d.dot(points.back() - points.front()));
   if (points.size() < 3 ||
       d.dot(points.back() - points.front()) < options.single_edge_min_length_m) {
+    return std::nullopt;
+  }
+  if (internal::OpenBrightSideShare(bev_float, search_mask, grid, candidate, points,
+                                    options.bar_max_width_m) < 0.5) {
     return std::nullopt;
   }
   ExtractedLine line = candidate.line;
@@ -283,8 +299,8 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       if (std::max(edge.contrast_plus, edge.contrast_minus) < options_.single_edge_min_contrast) {
         continue;
       }
-      std::optional<ExtractedLine> line =
-          FitSingleBarEdge(bev_float, edge, floor_from_pixel_, grid_, options_, noise_);
+      std::optional<ExtractedLine> line = FitSingleBarEdge(
+          bev_float, search_mask_, edge, floor_from_pixel_, grid_, options_, noise_);
       if (line) result.lines.push_back(*line);
     }
   }

@@ -1,3 +1,5 @@
+#include <cstdio>
+#include <cstdlib>
 // Side contrast and wide-bar edge pairing (line_sides.h).
 #include "line_sides.h"
 
@@ -88,13 +90,27 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
   for (size_t i = 0; i < candidates.size(); ++i) {
     const double plus = sign * candidates[i].contrast_plus;
     const double minus = sign * candidates[i].contrast_minus;
-    if (polarity == LinePolarity::kBright &&
+    if (getenv("DBG"))
+      fprintf(stderr, "cand pol %d rho %.3f a %.3f len %.2f cp %.1f cm %.1f grey %.1f med %.1f\n",
+              (int)polarity, candidates[i].line.line.rho_m, candidates[i].line.line.alpha_rad,
+              candidates[i].line.LengthM(), plus, minus, candidates[i].centre_grey,
+              floor_median_grey);
+    // Where bright markings fill most of the view the median floor grey is
+    // theirs: an edge whose dark side is less than half as bright passes too
+    // (the edge of an oil stain darkens concrete by <= 40 %).
+    const bool strong_edge = std::max(plus, minus) >=
+                             options.single_edge_min_relative_contrast * candidates[i].centre_grey;
+    if (polarity == LinePolarity::kBright && !strong_edge &&
         candidates[i].centre_grey < floor_median_grey + options.min_side_contrast) {
       continue;
     }
     if (std::min(plus, minus) >= min_contrast) {
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {
+      if (getenv("DBG"))
+        fprintf(stderr, "bright edge rho %.3f a %.3f len %.2f cp %.1f cm %.1f\n",
+                candidates[i].line.line.rho_m, candidates[i].line.line.alpha_rad,
+                candidates[i].line.LengthM(), plus, minus);
       edges.push_back(static_cast<int>(i));
     }
   }
@@ -190,6 +206,43 @@ std::vector<Eigen::Vector2d> LocateBarEdge(const cv::Mat& bev_float, const BevGr
     edge.push_back(p + (kFirst + best + std::clamp(delta, -0.5, 0.5)) * toward_dark);
   }
   return edge;
+}
+
+double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
+                           const BevGrid& grid, const CandidateLine& candidate,
+                           const std::vector<Eigen::Vector2d>& edge_points_m, double max_width_m) {
+  if (edge_points_m.empty()) return 0.0;
+  const Eigen::Vector2d toward_bright =
+      (candidate.contrast_plus > candidate.contrast_minus ? -1.0 : 1.0) * grid.cell_m() *
+      candidate.line.line.Normal();
+  const double contrast = std::max(candidate.contrast_plus, candidate.contrast_minus);
+  const int steps = static_cast<int>(std::ceil(max_width_m / grid.cell_m())) + 3;
+  auto sample = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    return SampleBilinear(bev_float, cell.x(), cell.y());
+  };
+  auto searched = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    const int c = static_cast<int>(std::lround(cell.x()));
+    const int r = static_cast<int>(std::lround(cell.y()));
+    return c >= 0 && r >= 0 && c < search_mask.cols && r < search_mask.rows &&
+           search_mask.at<std::uint8_t>(r, c) != 0;
+  };
+  int open = 0;
+  for (const Eigen::Vector2d& p : edge_points_m) {
+    const float bright = sample(p + 3.0 * toward_bright);
+    if (bright == 0.0f) continue;
+    const double halfway = bright - 0.5 * contrast;
+    for (int k = 4; k <= steps; ++k) {
+      const Eigen::Vector2d q = p + static_cast<double>(k) * toward_bright;
+      if (!searched(q)) {
+        ++open;
+        break;
+      }
+      if (sample(q) < halfway) break;
+    }
+  }
+  return static_cast<double>(open) / static_cast<double>(edge_points_m.size());
 }
 
 void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {

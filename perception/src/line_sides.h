@@ -53,6 +53,15 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
 std::vector<Eigen::Vector2d> LocateBarEdge(const cv::Mat& bev_float, const BevGrid& grid,
                                            const CandidateLine& candidate, double min_step_dn);
 
+// The share of edge points (base_link) from which the bright side stays
+// bright until it leaves search_mask (CV_8U) within max_width_m: the bar goes
+// on out of view. Its other edge in view (a fall to halfway to the dark side)
+// or bright floor wider than any bar (concrete next to a dark object) does
+// not count.
+double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
+                           const BevGrid& grid, const CandidateLine& candidate,
+                           const std::vector<Eigen::Vector2d>& edge_points_m, double max_width_m);
+
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
 

@@ -80,6 +80,10 @@ struct LineExtractorOptions {
   double single_edge_min_contrast = 10.0;  // grey levels
   double single_edge_max_gap_m = 0.1;
   double single_edge_min_length_m = 0.6;
+  // A bright edge whose dark side is darker than its bright side by this
+  // fraction of the bright grey is kept even where the frame's median floor
+  // grey is that of the markings filling most of the view.
+  double single_edge_min_relative_contrast = 0.5;
   double orientation_tolerance_deg = 20.0;
   // Covariance (line_covariance.h, LineNoiseModel): the pixel noise of the
   // centres is measured on each line, at least min_sigma_px; samples per
