@@ -1,5 +1,3 @@
-#include <cstdio>
-#include <cstdlib>
 // The per-frame line extraction pipeline (line_extractor.h).
 #include "groundline/perception/line_extractor.h"
 
@@ -38,6 +36,9 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(bar_max_width_m > bar_min_width_m && bar_min_width_m >= 0.0)) {
     return bad("bar_min_width_m / bar_max_width_m", "0 <= min < max");
   }
+  if (!(min_bright_excess >= 0.0)) return bad("min_bright_excess", "a number >= 0");
+  if (!(side_lobe_distance_cells >= 0.0)) return bad("side_lobe_distance_cells", "a number >= 0");
+  if (!(side_lobe_angle_deg >= 0.0)) return bad("side_lobe_angle_deg", "a number >= 0");
   if (!(single_edge_min_contrast > 0.0)) return bad("single_edge_min_contrast", "a number > 0");
   if (!(single_edge_max_gap_m > 0.0)) return bad("single_edge_max_gap_m", "a number > 0");
   if (!(single_edge_min_length_m > 0.0)) return bad("single_edge_min_length_m", "a number > 0");
@@ -99,7 +100,7 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   noise_.correlation_samples =
       std::max(1.0, options.correlation_samples > 0.0
                         ? options.correlation_samples
-                        : 2.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
+                        : 4.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
   noise_.min_sigma_px = options.min_sigma_px;
   noise_.rho_floor_m = options.rho_floor_m;
   noise_.alpha_floor_rad = options.alpha_floor_rad;
@@ -205,11 +206,6 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
                                               const LineNoiseModel& noise) {
   std::vector<Eigen::Vector2d> points =
       internal::LocateBarEdge(bev_float, grid, candidate, options.single_edge_min_contrast);
-  if (getenv("DBG"))
-    fprintf(stderr, "edge cand rho %.3f a %.3f cp %.1f cm %.1f centres %zu points %zu len %.2f\n",
-            candidate.line.line.rho_m, candidate.line.line.alpha_rad, candidate.contrast_plus,
-            candidate.contrast_minus, candidate.centres_m.size(), points.size(),
-            candidate.line.LengthM());
   if (points.size() < 3 || points.size() < options.min_support * candidate.centres_m.size()) {
     return std::nullopt;
   }
@@ -239,8 +235,6 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
     }
   }
   points = std::vector<Eigen::Vector2d>(points.begin() + best_begin, points.begin() + best_end);
-  if (getenv("DBG"))
-    fprintf(stderr, "  run %zu len %.2f\n", points.size(), d.dot(points.back() - points.front()));
   if (points.size() < 3 ||
       d.dot(points.back() - points.front()) < options.single_edge_min_length_m) {
     return std::nullopt;
@@ -249,8 +243,12 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
                                     options.bar_max_width_m) < 0.5) {
     return std::nullopt;
   }
+  // Each edge point comes from its own profile, unsmoothed along the line:
+  // the points are independent.
+  LineNoiseModel independent = noise;
+  independent.correlation_samples = 1.0;
   ExtractedLine line = candidate.line;
-  if (!FitFloorPoints(points, grid, floor_from_pixel, noise, &line)) {
+  if (!FitFloorPoints(points, grid, floor_from_pixel, independent, &line)) {
     return std::nullopt;
   }
   line.single_bar_edge = true;
@@ -304,6 +302,8 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       if (line) result.lines.push_back(*line);
     }
   }
+  internal::DropSideLobes(options_.side_lobe_distance_cells * grid_.cell_m(),
+                          options_.side_lobe_angle_deg * std::numbers::pi / 180.0, &result.lines);
   internal::MergeDuplicateLines(&result.lines);
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;
   std::vector<LineSegmentEstimate> estimates;

@@ -1,5 +1,3 @@
-#include <cstdio>
-#include <cstdlib>
 // Side contrast and wide-bar edge pairing (line_sides.h).
 #include "line_sides.h"
 
@@ -90,27 +88,18 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
   for (size_t i = 0; i < candidates.size(); ++i) {
     const double plus = sign * candidates[i].contrast_plus;
     const double minus = sign * candidates[i].contrast_minus;
-    if (getenv("DBG"))
-      fprintf(stderr, "cand pol %d rho %.3f a %.3f len %.2f cp %.1f cm %.1f grey %.1f med %.1f\n",
-              (int)polarity, candidates[i].line.line.rho_m, candidates[i].line.line.alpha_rad,
-              candidates[i].line.LengthM(), plus, minus, candidates[i].centre_grey,
-              floor_median_grey);
     // Where bright markings fill most of the view the median floor grey is
     // theirs: an edge whose dark side is less than half as bright passes too
     // (the edge of an oil stain darkens concrete by <= 40 %).
     const bool strong_edge = std::max(plus, minus) >=
                              options.single_edge_min_relative_contrast * candidates[i].centre_grey;
     if (polarity == LinePolarity::kBright && !strong_edge &&
-        candidates[i].centre_grey < floor_median_grey + options.min_side_contrast) {
+        candidates[i].centre_grey < floor_median_grey + options.min_bright_excess) {
       continue;
     }
     if (std::min(plus, minus) >= min_contrast) {
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {
-      if (getenv("DBG"))
-        fprintf(stderr, "bright edge rho %.3f a %.3f len %.2f cp %.1f cm %.1f\n",
-                candidates[i].line.line.rho_m, candidates[i].line.line.alpha_rad,
-                candidates[i].line.LengthM(), plus, minus);
       edges.push_back(static_cast<int>(i));
     }
   }
@@ -243,6 +232,32 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
     }
   }
   return static_cast<double>(open) / static_cast<double>(edge_points_m.size());
+}
+
+void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines) {
+  std::vector<bool> drop(lines->size(), false);
+  for (size_t b = 0; b < lines->size(); ++b) {
+    const ExtractedLine& bright = (*lines)[b];
+    if (bright.kind.polarity != LinePolarity::kBright || bright.from_bar_edges ||
+        bright.single_bar_edge) {
+      continue;
+    }
+    for (const ExtractedLine& dark : *lines) {
+      if (dark.kind.polarity != LinePolarity::kDark) continue;
+      const Eigen::Vector2d r = LineDifference(bright.line, dark.line);
+      if (std::abs(r(1)) > max_angle_rad) continue;
+      const Eigen::Vector2d mid = 0.5 * (bright.start_m + bright.end_m);
+      if (std::abs(SignedDistance(dark.line, mid)) > max_distance_m) continue;
+      if (Overlap(bright, dark) < 0.5 * bright.LengthM()) continue;
+      drop[b] = true;
+      break;
+    }
+  }
+  size_t kept = 0;
+  for (size_t i = 0; i < lines->size(); ++i) {
+    if (!drop[i]) (*lines)[kept++] = (*lines)[i];
+  }
+  lines->resize(kept);
 }
 
 void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {

@@ -65,6 +65,12 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
 
+// The ridge filter's response to a dark line has bright side lobes about
+// sqrt(3) sigma to either side: bright lines (not bars) within max_distance_m
+// and max_angle_rad of a dark line, overlapping it over half their length,
+// are dropped.
+void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines);
+
 // Lines of one polarity closer than these are one line (pieces of a marking
 // interrupted by a crossing one): the one with more samples is kept, spanning both.
 inline constexpr double kDuplicateRhoM = 0.01;

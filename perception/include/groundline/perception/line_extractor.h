@@ -66,6 +66,7 @@ struct LineExtractorOptions {
   double max_width_variation = 0.35;  // std / mean of the peak width along the line
   double side_offset_cells = 7.0;
   double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
+  double min_bright_excess = 10.0;       // bright line centre over the frame's median grey
   double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
   double bar_min_width_m = 0.08;         // two facing edges of a wide bar this far apart ..
   double bar_max_width_m = 0.70;         // .. up to this ..
@@ -84,16 +85,21 @@ struct LineExtractorOptions {
   // fraction of the bright grey is kept even where the frame's median floor
   // grey is that of the markings filling most of the view.
   double single_edge_min_relative_contrast = 0.5;
+  // Bright side lobes of dark lines (see line_sides.h, DropSideLobes).
+  double side_lobe_distance_cells = 8.0;
+  double side_lobe_angle_deg = 3.0;
   double orientation_tolerance_deg = 20.0;
   // Covariance (line_covariance.h, LineNoiseModel): the pixel noise of the
-  // centres is measured on each line, at least min_sigma_px; samples per
-  // independent sample (<= 0: 2 sqrt(pi) sigma_cells); the floor of errors
-  // constant along a line. Calibrated on the simulator datasets
-  // (docs/perception.md).
+  // centres is measured on each line, at least min_sigma_px; ridge centres
+  // per independent one (<= 0: 4 sqrt(pi) sigma_cells, twice the ridge
+  // filter's own correlation length: the BEV is smoothed before it, by the
+  // camera's blur and the supersampling; single-edge points are independent);
+  // the floor of errors constant along a line. Calibrated on the simulator
+  // datasets of seed 1, validated on seed 2 (docs/perception.md).
   double min_sigma_px = 0.3;
   double correlation_samples = 0.0;
   double rho_floor_m = 0.0;
-  double alpha_floor_rad = 0.0;
+  double alpha_floor_rad = 0.0007;  // 0.04 deg
 
   core::Status Validate() const;
 };
