@@ -245,10 +245,15 @@ int RunExtract(const ExtractFlags& flags) {
       if (pose) {
         truths = perception::VisibleMarkingLines(*input->floor_map, *pose, footprint, {});
         std::vector<perception::LineSegmentEstimate> estimates;
+        std::vector<core::MarkingPolarity> polarities;
         for (const perception::ExtractedLine& l : extraction.lines) {
           estimates.push_back({l.line, l.covariance, l.start_m, l.end_m});
+          polarities.push_back(l.kind.polarity == perception::LinePolarity::kBright
+                                   ? core::MarkingPolarity::kBright
+                                   : core::MarkingPolarity::kDark);
         }
-        const perception::LineMatches matches = perception::MatchLines(estimates, truths, {});
+        const perception::LineMatches matches =
+            perception::MatchLines(estimates, truths, {}, polarities);
         evaluation.AddFrame(extraction.lines, truths, matches);
         for (size_t j = 0; j < truths.size(); ++j) {
           if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {

@@ -2,6 +2,7 @@
 #include "groundline/perception/ground_truth_lines.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace groundline::perception {
@@ -108,7 +109,9 @@ double OverlapAlong(const Eigen::Vector2d& d, const Eigen::Vector2d& a0, const E
 }  // namespace
 
 LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
-                       std::span<const TrueLine> truths, const MatchGates& gates) {
+                       std::span<const TrueLine> truths, const MatchGates& gates,
+                       std::span<const core::MarkingPolarity> extracted_polarity) {
+  assert(extracted_polarity.empty() || extracted_polarity.size() == extracted.size());
   LineMatches matches;
   matches.truth_of_extracted.assign(extracted.size(), -1);
   matches.extracted_of_truth.assign(truths.size(), -1);
@@ -116,6 +119,7 @@ LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
   for (size_t i = 0; i < extracted.size(); ++i) {
     double best = 3.0;
     for (size_t j = 0; j < truths.size(); ++j) {
+      if (!extracted_polarity.empty() && extracted_polarity[i] != truths[j].polarity) continue;
       const Eigen::Vector2d r = LineDifference(extracted[i].line, truths[j].line);
       if (std::abs(r(0)) > gates.rho_gate_m || std::abs(r(1)) > gates.alpha_gate_rad) continue;
       const Eigen::Vector2d d = truths[j].line.Direction();

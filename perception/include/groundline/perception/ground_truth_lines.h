@@ -87,8 +87,12 @@ struct LineMatches {
   std::vector<int> extracted_of_truth;  // index into extracted, -1: missed
 };
 
+// extracted_polarity: empty, or one per extracted line; then an extracted
+// line matches only true lines of its polarity (a bright line beside a joint
+// is not that joint).
 LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
-                       std::span<const TrueLine> truths, const MatchGates& gates);
+                       std::span<const TrueLine> truths, const MatchGates& gates,
+                       std::span<const core::MarkingPolarity> extracted_polarity = {});
 
 }  // namespace groundline::perception
 
