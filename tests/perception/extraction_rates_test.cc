@@ -118,8 +118,8 @@ TEST(ExtractionRates, NuisancesAloneGiveNoLines) {
   const BevRemap remap(camera, camera_options.mount, remap_options);
   const LineExtractor extractor(remap, LineExtractorOptions{});
   int frame = 0;
-  for (int i = 0; i < 12; ++i) {
-    const core::SE2 T_map_base(-30.0 + 5.1 * i, 2.7 * (i % 5) - 6.0, 0.5 * i);
+  for (int i = 0; i < 8; ++i) {
+    const core::SE2 T_map_base(-30.0 + 7.7 * i, 2.7 * (i % 5) - 6.0, 0.8 * i);
     const sim::GreyImage image = renderer.Render(T_map_base, {1.0, 0.0}, frame++);
     const cv::Mat frame_mat(image.height_px, image.width_px, CV_8U,
                             const_cast<std::uint8_t*>(image.pixels.data()));
