@@ -35,7 +35,10 @@ struct ExtractFlags {
   std::string out;
   int png_every = 10;
   int max_frames = 0;
-  double sigma_px = perception::LineExtractorOptions{}.sigma_px;
+  double min_sigma_px = perception::LineExtractorOptions{}.min_sigma_px;
+  double rho_floor_mm = 1e3 * perception::LineExtractorOptions{}.rho_floor_m;
+  double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
+  bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
   int supersampling = 2;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
 };
@@ -57,9 +60,13 @@ Writes into --out:
   lines.jsonl    one object per image: image, ms (BEV + extraction time), lines
                  [rho_m, alpha_rad (Hesse normal form in base_link, rho >= 0),
                  cov (2x2 row-major covariance of rho [m] and alpha [rad]), kind,
-                 start_m, end_m, length_m, bar], junctions [point_m, cov, lines,
-                 shape L/T/X]; with ground truth also missed_marking_ids (visible
-                 markings 1.0-2.5 m ahead that no line matched)
+                 start_m, end_m, length_m, bar (centre of two bar edges), edge
+                 (the one visible edge of a wide bar), samples, rms_residual_m],
+                 junctions [point_m, cov, lines, shape L/T/X]; with ground
+                 truth also each line's truth
+                 (marking_id, kind, edge, evaluated, error [d rho m, d alpha
+                 rad], nees; null when unmatched) and missed_marking_ids
+                 (visible markings 1.0-2.5 m ahead that no line matched)
   bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
@@ -177,7 +184,14 @@ int RunExtract(const ExtractFlags& flags) {
     return 1;
   }
   perception::LineExtractorOptions options;
-  options.sigma_px = flags.sigma_px;
+  options.min_sigma_px = flags.min_sigma_px;
+  options.rho_floor_m = 1e-3 * flags.rho_floor_mm;
+  options.alpha_floor_rad = flags.alpha_floor_deg * M_PI / 180.0;
+  options.single_bar_edges = flags.single_bar_edges;
+  if (core::Status s = options.Validate(); !s.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
+    return 2;
+  }
   options.min_dark_side_contrast = flags.min_dark_contrast;
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = flags.supersampling;
@@ -225,25 +239,40 @@ int RunExtract(const ExtractFlags& flags) {
 
     std::vector<perception::TrueLine> truths;
     std::vector<std::int64_t> missed;
+    std::vector<nlohmann::ordered_json> line_truths(extraction.lines.size());
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
       if (pose) {
         truths = perception::VisibleMarkingLines(*input->floor_map, *pose, footprint, {});
         std::vector<perception::LineSegmentEstimate> estimates;
+        std::vector<core::MarkingPolarity> polarities;
         for (const perception::ExtractedLine& l : extraction.lines) {
           estimates.push_back({l.line, l.covariance, l.start_m, l.end_m});
+          polarities.push_back(l.kind.polarity == perception::LinePolarity::kBright
+                                   ? core::MarkingPolarity::kBright
+                                   : core::MarkingPolarity::kDark);
         }
-        const perception::LineMatches matches = perception::MatchLines(estimates, truths, {});
+        const perception::LineMatches matches =
+            perception::MatchLines(estimates, truths, {}, polarities);
         evaluation.AddFrame(extraction.lines, truths, matches);
         for (size_t j = 0; j < truths.size(); ++j) {
           if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
             missed.push_back(truths[j].marking_id);
           }
         }
+        for (size_t k = 0; k < extraction.lines.size(); ++k) {
+          const int j = matches.truth_of_extracted[k];
+          if (j >= 0) line_truths[k] = TruthToJson(extraction.lines[k], truths[j]);
+        }
       }
     }
     nlohmann::ordered_json frame = FrameToJson(path.filename().string(), frame_ms, extraction);
-    if (evaluate) frame["missed_marking_ids"] = missed;
+    if (evaluate) {
+      for (size_t k = 0; k < line_truths.size(); ++k) {
+        frame["lines"][k]["truth"] = line_truths[k];
+      }
+      frame["missed_marking_ids"] = missed;
+    }
     jsonl << frame.dump() << "\n";
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
       char name[64];
@@ -326,8 +355,19 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--min-dark-contrast", flags->min_dark_contrast,
                   "A dark line (joint) is darker than both sides by this many grey levels")
       ->capture_default_str();
-  cmd->add_option("--sigma-px", flags->sigma_px,
-                  "Pixel noise of a ridge centre in the camera image [px] (line covariance)")
+  cmd->add_option("--min-sigma-px", flags->min_sigma_px,
+                  "Line covariance: least pixel noise of a ridge centre [px]; the noise is "
+                  "measured per line from the scatter of its centres")
+      ->capture_default_str();
+  cmd->add_option("--rho-floor-mm", flags->rho_floor_mm,
+                  "Line covariance: standard deviation of rho errors constant along a line [mm]")
+      ->capture_default_str();
+  cmd->add_option("--alpha-floor-deg", flags->alpha_floor_deg,
+                  "Line covariance: standard deviation of alpha errors constant along a line [deg]")
+      ->capture_default_str();
+  cmd->add_option(
+         "--single-bar-edges", flags->single_bar_edges,
+         "Report the one visible edge of a wide bar (stop bar, crosswalk stripe) as a line")
       ->capture_default_str();
   cmd->callback([cmd, flags, run]() {
     if (flags->input.empty() == flags->dataset.empty()) {

@@ -1,6 +1,7 @@
 // JSON and overlay output of `groundline extract` (extract_output.h).
 #include "extract_output.h"
 
+#include <Eigen/LU>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -34,6 +35,9 @@ nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
     line["end_m"] = Vec(l.end_m);
     line["length_m"] = l.LengthM();
     line["bar"] = l.from_bar_edges;
+    line["edge"] = l.single_bar_edge;
+    line["samples"] = l.samples;
+    line["rms_residual_m"] = l.rms_residual_m;
     lines.push_back(line);
   }
   frame["lines"] = lines;
@@ -49,6 +53,19 @@ nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
   frame["junctions"] = junctions;
   frame["energy_thresholds"] = {extraction.bright_threshold, extraction.dark_threshold};
   return frame;
+}
+
+nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
+                                   const perception::TrueLine& truth) {
+  const Eigen::Vector2d r = perception::LineDifference(line.line, truth.line);
+  nlohmann::ordered_json out;
+  out["marking_id"] = truth.marking_id;
+  out["kind"] = std::string(core::MarkingKindName(truth.kind));
+  out["edge"] = truth.edge;
+  out["evaluated"] = truth.evaluated;
+  out["error"] = Vec(r);
+  out["nees"] = Number(r.dot(line.covariance.inverse() * r));
+  return out;
 }
 
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s) {
@@ -83,7 +100,9 @@ cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,
   }
   for (const perception::ExtractedLine& l : extraction.lines) {
     const bool bright = l.kind.polarity == perception::LinePolarity::kBright;
-    const cv::Scalar c = bright ? cv::Scalar(0, 220, 0) : cv::Scalar(255, 0, 255);
+    const cv::Scalar c = l.single_bar_edge ? cv::Scalar(255, 255, 0)
+                         : bright          ? cv::Scalar(0, 220, 0)
+                                           : cv::Scalar(255, 0, 255);
     cv::line(colour, pixel(l.start_m), pixel(l.end_m), c, l.from_bar_edges ? 3 : 1, cv::LINE_AA);
   }
   for (const perception::Junction& j : extraction.junctions) {

@@ -16,9 +16,15 @@
 namespace groundline::tools {
 
 // {"image", "ms", "lines": [{rho_m, alpha_rad, cov, kind, start_m, end_m,
-// length_m, bar}], "junctions": [{point_m, cov, lines, shape}]}.
+// length_m, bar, edge, samples, rms_residual_m}], "junctions": [{point_m, cov,
+// lines, shape}]}.
 nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
                                    const perception::LineExtraction& extraction);
+
+// The matched true line of an extracted one: {marking_id, kind, edge,
+// evaluated, error: [d rho m, d alpha rad] (extracted - true), nees}.
+nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
+                                   const perception::TrueLine& truth);
 
 // The summary's rate fields of one breakdown.
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);

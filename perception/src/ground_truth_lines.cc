@@ -2,9 +2,33 @@
 #include "groundline/perception/ground_truth_lines.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace groundline::perception {
+
+namespace {
+
+// Accumulates the seen samples of one true line.
+struct SeenLine {
+  TrueLine line;
+  bool any = false;
+
+  void Add(const Eigen::Vector2d& p, const VisibleLineOptions& options) {
+    if (!any) line.start_m = p;
+    line.end_m = p;
+    any = true;
+    line.seen_length_m += options.sample_step_m;
+    if (p.x() >= options.eval_x_min_m && p.x() <= options.eval_x_max_m) {
+      line.evaluated_length_m += options.sample_step_m;
+    }
+  }
+  bool LongEnough(const VisibleLineOptions& options) const {
+    return line.evaluated_length_m >= options.min_evaluated_length_m - 1e-9;
+  }
+};
+
+}  // namespace
 
 std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core::SE2& T_map_base,
                                           const FootprintPredicate& footprint,
@@ -14,39 +38,59 @@ std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core:
   for (const core::FloorMarking& marking : map.markings) {
     const bool dashed =
         marking.kind == core::MarkingKind::kTapeDashed && marking.dash_m && marking.gap_m;
+    const bool wide = marking.width_m >= options.edge_min_width_m;
+    const double half_width = 0.5 * marking.width_m;
     double arc_m = 0.0;  // arc length at the start of the piece
     for (size_t k = 0; k + 1 < marking.polyline_m.size(); ++k) {
       const Eigen::Vector2d a = T_base_map * marking.polyline_m[k];
       const Eigen::Vector2d b = T_base_map * marking.polyline_m[k + 1];
       const double length = (b - a).norm();
       const Eigen::Vector2d d = (b - a) / length;
-      TrueLine line;
-      bool any = false;
+      const Eigen::Vector2d left(-d.y(), d.x());
+      // [0]: the centre line, [1]: the left edge, [2]: the right edge (wide only).
+      SeenLine seen[3];
       for (double s = 0.0; s <= length; s += options.sample_step_m) {
         if (dashed && std::fmod(arc_m + s, *marking.dash_m + *marking.gap_m) > *marking.dash_m) {
           continue;
         }
         const Eigen::Vector2d p = a + s * d;
-        if (!footprint(p)) continue;
-        if (!any) line.start_m = p;
-        line.end_m = p;
-        any = true;
-        line.seen_length_m += options.sample_step_m;
-        if (p.x() >= options.eval_x_min_m && p.x() <= options.eval_x_max_m) {
-          line.evaluated_length_m += options.sample_step_m;
+        if (!wide) {
+          if (footprint(p)) seen[0].Add(p, options);
+          continue;
         }
+        const Eigen::Vector2d pl = p + half_width * left, pr = p - half_width * left;
+        const bool seen_left = footprint(pl), seen_right = footprint(pr);
+        if (seen_left && seen_right) seen[0].Add(p, options);
+        if (seen_left) seen[1].Add(pl, options);
+        if (seen_right) seen[2].Add(pr, options);
       }
       arc_m += length;
-      if (!any) continue;
-      core::Result<HesseLine> hesse = LineFromPoints(a, b);
-      if (!hesse.ok()) continue;
-      line.marking_id = marking.id;
-      line.piece = static_cast<int>(k);
-      line.kind = marking.kind;
-      line.polarity = marking.polarity;
-      line.line = *hesse;
-      line.evaluated = line.evaluated_length_m >= options.min_evaluated_length_m - 1e-9;
-      lines.push_back(line);
+      // Which one line the extractor reports (see the header).
+      int reported = 0;
+      if (wide) {
+        const double longer = std::max(seen[1].line.seen_length_m, seen[2].line.seen_length_m);
+        if (seen[0].line.seen_length_m < 0.5 * longer - 1e-9) {
+          reported = seen[1].line.seen_length_m >= seen[2].line.seen_length_m ? 1 : 2;
+          if (seen[reported].line.seen_length_m < options.edge_min_seen_length_m - 1e-9) {
+            reported = -1;
+          }
+        }
+      }
+      for (int e = 0; e < 3; ++e) {
+        if (!seen[e].any) continue;
+        const double offset = e == 0 ? 0.0 : (e == 1 ? half_width : -half_width);
+        core::Result<HesseLine> hesse = LineFromPoints(a + offset * left, b + offset * left);
+        if (!hesse.ok()) continue;
+        TrueLine line = seen[e].line;
+        line.marking_id = marking.id;
+        line.piece = static_cast<int>(k);
+        line.kind = marking.kind;
+        line.polarity = marking.polarity;
+        line.edge = e == 0 ? 0 : (e == 1 ? 1 : -1);
+        line.line = *hesse;
+        line.evaluated = e == reported && seen[e].LongEnough(options);
+        lines.push_back(line);
+      }
     }
   }
   return lines;
@@ -65,7 +109,9 @@ double OverlapAlong(const Eigen::Vector2d& d, const Eigen::Vector2d& a0, const E
 }  // namespace
 
 LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
-                       std::span<const TrueLine> truths, const MatchGates& gates) {
+                       std::span<const TrueLine> truths, const MatchGates& gates,
+                       std::span<const core::MarkingPolarity> extracted_polarity) {
+  assert(extracted_polarity.empty() || extracted_polarity.size() == extracted.size());
   LineMatches matches;
   matches.truth_of_extracted.assign(extracted.size(), -1);
   matches.extracted_of_truth.assign(truths.size(), -1);
@@ -73,6 +119,7 @@ LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
   for (size_t i = 0; i < extracted.size(); ++i) {
     double best = 3.0;
     for (size_t j = 0; j < truths.size(); ++j) {
+      if (!extracted_polarity.empty() && extracted_polarity[i] != truths[j].polarity) continue;
       const Eigen::Vector2d r = LineDifference(extracted[i].line, truths[j].line);
       if (std::abs(r(0)) > gates.rho_gate_m || std::abs(r(1)) > gates.alpha_gate_rad) continue;
       const Eigen::Vector2d d = truths[j].line.Direction();

@@ -75,4 +75,50 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
   return fit;
 }
 
+core::Status LineNoiseModel::Validate() const {
+  auto bad = [](const std::string& field, const std::string& expected) {
+    return core::Status::Error("LineNoiseModel." + field + ": expected " + expected);
+  };
+  if (!(min_sigma_px > 0.0) || !std::isfinite(min_sigma_px)) {
+    return bad("min_sigma_px", "a number > 0");
+  }
+  if (!(correlation_samples >= 1.0) || !std::isfinite(correlation_samples)) {
+    return bad("correlation_samples", "a number >= 1");
+  }
+  if (!(rho_floor_m >= 0.0) || !std::isfinite(rho_floor_m)) {
+    return bad("rho_floor_m", "a number >= 0");
+  }
+  if (!(alpha_floor_rad >= 0.0) || !std::isfinite(alpha_floor_rad)) {
+    return bad("alpha_floor_rad", "a number >= 0");
+  }
+  return core::Status::Ok();
+}
+
+core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> points_m,
+                                               std::span<const Eigen::Matrix2d> J_floor_pixel,
+                                               const LineNoiseModel& model, double* sigma_px) {
+  if (core::Status s = model.Validate(); !s.ok()) return s;
+  if (points_m.size() < 3) {
+    return core::Status::Error("FitLineWithMeasuredNoise: need at least 3 points, got " +
+                               std::to_string(points_m.size()));
+  }
+  core::Result<LineFit> fit = FitLineWithPixelNoise(points_m, J_floor_pixel, 1.0, 1.0);
+  if (!fit.ok()) return fit;
+  const Eigen::Vector2d n = fit->line.Normal();
+  double sum = 0.0;
+  for (size_t i = 0; i < points_m.size(); ++i) {
+    const double d = SignedDistance(fit->line, points_m[i]);
+    sum += d * d / (J_floor_pixel[i].transpose() * n).squaredNorm();
+  }
+  const double count = static_cast<double>(points_m.size());
+  const double independent = std::max(3.0, count / model.correlation_samples);
+  const double lambda2 = sum / count * independent / (independent - 2.0);
+  const double sigma2 = std::max(lambda2, model.min_sigma_px * model.min_sigma_px);
+  fit->covariance *= model.correlation_samples * sigma2;
+  fit->covariance(0, 0) += model.rho_floor_m * model.rho_floor_m;
+  fit->covariance(1, 1) += model.alpha_floor_rad * model.alpha_floor_rad;
+  if (sigma_px != nullptr) *sigma_px = std::sqrt(sigma2);
+  return fit;
+}
+
 }  // namespace groundline::perception

@@ -37,7 +37,9 @@ void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
                               std::span<const TrueLine> truths, const LineMatches& matches) {
   for (size_t j = 0; j < truths.size(); ++j) {
     if (!truths[j].evaluated) continue;
-    LineErrorSummary& kind = by_truth_kind_[std::string(core::MarkingKindName(truths[j].kind))];
+    std::string key(core::MarkingKindName(truths[j].kind));
+    if (truths[j].edge != 0) key += "_edge";
+    LineErrorSummary& kind = by_truth_kind_[key];
     const bool detected = matches.extracted_of_truth[j] >= 0;
     for (LineErrorSummary* s : {&overall_, &kind}) {
       ++s->evaluated_truths;

@@ -36,11 +36,24 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(bar_max_width_m > bar_min_width_m && bar_min_width_m >= 0.0)) {
     return bad("bar_min_width_m / bar_max_width_m", "0 <= min < max");
   }
+  if (!(min_bright_excess >= 0.0)) return bad("min_bright_excess", "a number >= 0");
+  if (!(side_lobe_distance_cells >= 0.0)) return bad("side_lobe_distance_cells", "a number >= 0");
+  if (!(side_lobe_angle_deg >= 0.0)) return bad("side_lobe_angle_deg", "a number >= 0");
+  if (!(single_edge_min_contrast > 0.0)) return bad("single_edge_min_contrast", "a number > 0");
+  if (!(single_edge_max_gap_m > 0.0)) return bad("single_edge_max_gap_m", "a number > 0");
+  if (!(single_edge_min_length_m > 0.0)) return bad("single_edge_min_length_m", "a number > 0");
+  if (!(single_edge_min_relative_contrast > 0.0 && single_edge_min_relative_contrast <= 1.0)) {
+    return bad("single_edge_min_relative_contrast", "a number in (0, 1]");
+  }
   if (!(orientation_tolerance_deg > 0.0 && orientation_tolerance_deg < 45.0)) {
     return bad("orientation_tolerance_deg", "a number in (0, 45)");
   }
-  if (!(sigma_px > 0.0) || !std::isfinite(sigma_px)) return bad("sigma_px", "a number > 0");
   if (!std::isfinite(correlation_samples)) return bad("correlation_samples", "a finite number");
+  LineNoiseModel noise;
+  noise.min_sigma_px = min_sigma_px;
+  noise.rho_floor_m = rho_floor_m;
+  noise.alpha_floor_rad = alpha_floor_rad;
+  if (core::Status s = noise.Validate(); !s.ok()) return s;
   return core::Status::Ok();
 }
 
@@ -84,10 +97,13 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   cv::rectangle(valid, cv::Rect(0, 0, valid.cols, valid.rows), cv::Scalar(0), 1);
   cv::erode(valid, search_mask_,
             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
-  correlation_samples_ = options.correlation_samples > 0.0
-                             ? options.correlation_samples
-                             : 2.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells;
-  correlation_samples_ = std::max(1.0, correlation_samples_);
+  noise_.correlation_samples =
+      std::max(1.0, options.correlation_samples > 0.0
+                        ? options.correlation_samples
+                        : 4.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
+  noise_.min_sigma_px = options.min_sigma_px;
+  noise_.rho_floor_m = options.rho_floor_m;
+  noise_.alpha_floor_rad = options.alpha_floor_rad;
 }
 
 namespace {
@@ -98,11 +114,44 @@ double Mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / static_cast<double>(v.size());
 }
 
+// The weighted TLS line through floor points (base_link) with the covariance
+// of line_covariance.h from the back-projection Jacobian of each point's BEV
+// cell; fills line, covariance, rms_residual_m, samples and the endpoints
+// (the first and last point projected onto the line). False when a point is
+// off the grid or the fit fails.
+bool FitFloorPoints(const std::vector<Eigen::Vector2d>& points_m, const BevGrid& grid,
+                    const cv::Mat& floor_from_pixel, const LineNoiseModel& noise,
+                    ExtractedLine* line) {
+  std::vector<Eigen::Matrix2d> jacobians;
+  jacobians.reserve(points_m.size());
+  for (const Eigen::Vector2d& p : points_m) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    const int c = static_cast<int>(std::lround(cell.x()));
+    const int r = static_cast<int>(std::lround(cell.y()));
+    if (c < 0 || r < 0 || c >= floor_from_pixel.cols || r >= floor_from_pixel.rows) return false;
+    const cv::Vec4d& j = floor_from_pixel.at<cv::Vec4d>(r, c);
+    Eigen::Matrix2d J;
+    J << j[0], j[1], j[2], j[3];
+    jacobians.push_back(J);
+  }
+  core::Result<LineFit> fit = FitLineWithMeasuredNoise(points_m, jacobians, noise);
+  if (!fit.ok()) return false;
+  line->line = fit->line;
+  line->covariance = fit->covariance;
+  line->rms_residual_m = fit->rms_residual_m;
+  line->samples = static_cast<int>(points_m.size());
+  const Eigen::Vector2d foot = line->line.rho_m * line->line.Normal();
+  const Eigen::Vector2d d = line->line.Direction();
+  line->start_m = foot + d.dot(points_m.front()) * d;
+  line->end_m = foot + d.dot(points_m.back()) * d;
+  return true;
+}
+
 // One merged segment -> a fitted line, or nothing when it fails a test.
 std::optional<internal::CandidateLine> FitSegment(
     const RidgeImagesView& view, const RidgeSegment& segment, double threshold,
     const cv::Mat& search_mask, const cv::Mat& floor_from_pixel, const BevGrid& grid,
-    const LineExtractorOptions& options, double correlation_samples) {
+    const LineExtractorOptions& options, const LineNoiseModel& noise) {
   int positions = 0;
   std::vector<RidgeSample> samples = RefineRidgeCentres(
       view, segment, options.sample_energy_fraction * threshold, options.refinement, &positions);
@@ -138,30 +187,72 @@ std::optional<internal::CandidateLine> FitSegment(
   if (std::sqrt(width_var) > options.max_width_variation * mean_width) return std::nullopt;
 
   internal::CandidateLine candidate;
-  std::vector<Eigen::Matrix2d> jacobians;
   for (const RidgeSample& s : samples) {
     candidate.centres_m.push_back(grid.FloorPointOfCell(s.centre_cell));
-    const cv::Vec4d& j =
-        floor_from_pixel.at<cv::Vec4d>(static_cast<int>(std::lround(s.centre_cell.y())),
-                                       static_cast<int>(std::lround(s.centre_cell.x())));
-    Eigen::Matrix2d J;
-    J << j[0], j[1], j[2], j[3];
-    jacobians.push_back(J);
   }
-  core::Result<LineFit> fit =
-      FitLineWithPixelNoise(candidate.centres_m, jacobians, options.sigma_px, correlation_samples);
-  if (!fit.ok()) return std::nullopt;
-  ExtractedLine& line = candidate.line;
-  line.line = fit->line;
-  line.covariance = fit->covariance;
-  line.rms_residual_m = fit->rms_residual_m;
-  line.samples = static_cast<int>(samples.size());
-  line.energy = Mean(energies);
-  const Eigen::Vector2d foot = line.line.rho_m * line.line.Normal();
-  const Eigen::Vector2d d = line.line.Direction();
-  line.start_m = foot + d.dot(candidate.centres_m.front()) * d;
-  line.end_m = foot + d.dot(candidate.centres_m.back()) * d;
+  if (!FitFloorPoints(candidate.centres_m, grid, floor_from_pixel, noise, &candidate.line)) {
+    return std::nullopt;
+  }
+  candidate.line.energy = Mean(energies);
   return candidate;
+}
+
+// The edge line of a bar whose other edge is unseen (internal::LocateBarEdge),
+// or nothing when too few edge points line up.
+std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv::Mat& search_mask,
+                                              const internal::CandidateLine& candidate,
+                                              const cv::Mat& floor_from_pixel, const BevGrid& grid,
+                                              const LineExtractorOptions& options,
+                                              const LineNoiseModel& noise) {
+  std::vector<Eigen::Vector2d> points =
+      internal::LocateBarEdge(bev_float, grid, candidate, options.single_edge_min_contrast);
+  if (points.size() < 3 || points.size() < options.min_support * candidate.centres_m.size()) {
+    return std::nullopt;
+  }
+  core::Result<LineFit> first = FitLineTls(points, {}, 1.0);
+  if (!first.ok()) return std::nullopt;
+  const double outlier_m = options.outlier_cells * grid.cell_m();
+  std::erase_if(points, [&](const Eigen::Vector2d& p) {
+    return std::abs(SignedDistance(first->line, p)) > outlier_m;
+  });
+  if (points.size() < 3) return std::nullopt;
+  // The longest run of points without a gap: the ends of bars (no longer than
+  // a bar is wide) and rows of them (a crosswalk's stripe ends) are no edge
+  // line.
+  const Eigen::Vector2d d = first->line.Direction();
+  std::sort(points.begin(), points.end(), [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return d.dot(a) < d.dot(b);
+  });
+  size_t run_begin = 0, best_begin = 0, best_end = 1;
+  for (size_t i = 1; i <= points.size(); ++i) {
+    if (i == points.size() || d.dot(points[i] - points[i - 1]) > options.single_edge_max_gap_m) {
+      if (d.dot(points[i - 1] - points[run_begin]) >
+          d.dot(points[best_end - 1] - points[best_begin])) {
+        best_begin = run_begin;
+        best_end = i;
+      }
+      run_begin = i;
+    }
+  }
+  points = std::vector<Eigen::Vector2d>(points.begin() + best_begin, points.begin() + best_end);
+  if (points.size() < 3 ||
+      d.dot(points.back() - points.front()) < options.single_edge_min_length_m) {
+    return std::nullopt;
+  }
+  if (internal::OpenBrightSideShare(bev_float, search_mask, grid, candidate, points,
+                                    options.bar_max_width_m) < 0.5) {
+    return std::nullopt;
+  }
+  // Each edge point comes from its own profile, unsmoothed along the line:
+  // the points are independent.
+  LineNoiseModel independent = noise;
+  independent.correlation_samples = 1.0;
+  ExtractedLine line = candidate.line;
+  if (!FitFloorPoints(points, grid, floor_from_pixel, independent, &line)) {
+    return std::nullopt;
+  }
+  line.single_bar_edge = true;
+  return line;
 }
 
 }  // namespace
@@ -192,17 +283,27 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     const RidgeImagesView view{&energy, &ridges.eigen_ratio, &ridges.normal_rad};
     std::vector<internal::CandidateLine> candidates;
     for (const RidgeSegment& segment : segments) {
-      std::optional<internal::CandidateLine> candidate =
-          FitSegment(view, segment, threshold, search_mask_, floor_from_pixel_, grid_, options_,
-                     correlation_samples_);
+      std::optional<internal::CandidateLine> candidate = FitSegment(
+          view, segment, threshold, search_mask_, floor_from_pixel_, grid_, options_, noise_);
       if (!candidate) continue;
       candidate->line.kind.polarity = polarity;
       internal::MeasureSideContrast(bev_float, grid_, side_offset_m, &*candidate);
       candidates.push_back(std::move(*candidate));
     }
+    std::vector<internal::CandidateLine> unpaired_edges;
     internal::SelectLines(std::move(candidates), polarity, floor_median_grey, options_,
-                          &result.lines);
+                          &result.lines, options_.single_bar_edges ? &unpaired_edges : nullptr);
+    for (const internal::CandidateLine& edge : unpaired_edges) {
+      if (std::max(edge.contrast_plus, edge.contrast_minus) < options_.single_edge_min_contrast) {
+        continue;
+      }
+      std::optional<ExtractedLine> line = FitSingleBarEdge(
+          bev_float, search_mask_, edge, floor_from_pixel_, grid_, options_, noise_);
+      if (line) result.lines.push_back(*line);
+    }
   }
+  internal::DropSideLobes(options_.side_lobe_distance_cells * grid_.cell_m(),
+                          options_.side_lobe_angle_deg * std::numbers::pi / 180.0, &result.lines);
   internal::MergeDuplicateLines(&result.lines);
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;
   std::vector<LineSegmentEstimate> estimates;

@@ -80,7 +80,7 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
 
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  double floor_median_grey, const LineExtractorOptions& options,
-                 std::vector<ExtractedLine>* out) {
+                 std::vector<ExtractedLine>* out, std::vector<CandidateLine>* unpaired_edges) {
   const double sign = polarity == LinePolarity::kBright ? 1.0 : -1.0;
   const double min_contrast = polarity == LinePolarity::kBright ? options.min_side_contrast
                                                                 : options.min_dark_side_contrast;
@@ -88,8 +88,13 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
   for (size_t i = 0; i < candidates.size(); ++i) {
     const double plus = sign * candidates[i].contrast_plus;
     const double minus = sign * candidates[i].contrast_minus;
-    if (polarity == LinePolarity::kBright &&
-        candidates[i].centre_grey < floor_median_grey + options.min_side_contrast) {
+    // Where bright markings fill most of the view the median floor grey is
+    // theirs: an edge whose dark side is less than half as bright passes too
+    // (the edge of an oil stain darkens concrete by <= 40 %).
+    const bool strong_edge = std::max(plus, minus) >=
+                             options.single_edge_min_relative_contrast * candidates[i].centre_grey;
+    if (polarity == LinePolarity::kBright && !strong_edge &&
+        candidates[i].centre_grey < floor_median_grey + options.min_bright_excess) {
       continue;
     }
     if (std::min(plus, minus) >= min_contrast) {
@@ -121,7 +126,7 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
           separation > best_separation) {
         continue;
       }
-      if (Overlap(a.line, b.line) < 0.5 * std::min(a.line.LengthM(), b.line.LengthM())) continue;
+      if (Overlap(a.line, b.line) < 0.5 * std::max(a.line.LengthM(), b.line.LengthM())) continue;
       best = edges[y];
       best_separation = separation;
     }
@@ -140,6 +145,119 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     SpanEndpoints(la, lb, &merged);
     out->push_back(merged);
   }
+  if (unpaired_edges == nullptr) return;
+  for (const int e : edges) {
+    if (!used[e]) unpaired_edges->push_back(std::move(candidates[e]));
+  }
+}
+
+std::vector<Eigen::Vector2d> LocateBarEdge(const cv::Mat& bev_float, const BevGrid& grid,
+                                           const CandidateLine& candidate, double min_step_dn) {
+  constexpr int kFirst = -2, kLast = 14;     // profile, cells from the ridge centre
+  constexpr int kDarkFrom = 2, kDarkTo = 6;  // cells beyond the edge that must stay dark
+  constexpr int kCount = kLast - kFirst + 1;
+  const Eigen::Vector2d n = candidate.line.line.Normal();
+  // The dark side is the one of the larger contrast.
+  const Eigen::Vector2d toward_dark =
+      (candidate.contrast_plus > candidate.contrast_minus ? 1.0 : -1.0) * grid.cell_m() * n;
+  std::vector<Eigen::Vector2d> edge;
+  edge.reserve(candidate.centres_m.size());
+  for (const Eigen::Vector2d& p : candidate.centres_m) {
+    float profile[kCount];
+    bool seen = true;
+    for (int k = 0; k < kCount && seen; ++k) {
+      const Eigen::Vector2d cell = grid.CellOfFloorPoint(p + (kFirst + k) * toward_dark);
+      profile[k] = SampleBilinear(bev_float, cell.x(), cell.y());
+      seen = profile[k] != 0.0f;
+    }
+    if (!seen) continue;
+    // Central differences D(k) = I(k + 1) - I(k - 1); the most negative one.
+    int best = -1;
+    float best_step = 0.0f;
+    for (int k = 1; k + 1 < kCount; ++k) {
+      const float step = profile[k + 1] - profile[k - 1];
+      if (step < best_step) {
+        best_step = step;
+        best = k;
+      }
+    }
+    if (best < 2 || best + kDarkTo >= kCount || -best_step < min_step_dn) continue;
+    // A step, not a groove (the flank of a joint crossing a bar): the far side
+    // stays darker than halfway for several cells.
+    const float halfway = profile[best - 2] + 0.5f * best_step;
+    bool step = true;
+    for (int k = best + kDarkFrom; k <= best + kDarkTo; ++k) step = step && profile[k] < halfway;
+    if (!step) continue;
+    const float dm = profile[best] - profile[best - 2];
+    const float dp = profile[best + 2] - profile[best];
+    const float curvature = dm - 2.0f * best_step + dp;
+    const double delta = curvature > 0.0f ? 0.5 * (dm - dp) / curvature : 0.0;
+    edge.push_back(p + (kFirst + best + std::clamp(delta, -0.5, 0.5)) * toward_dark);
+  }
+  return edge;
+}
+
+double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
+                           const BevGrid& grid, const CandidateLine& candidate,
+                           const std::vector<Eigen::Vector2d>& edge_points_m, double max_width_m) {
+  if (edge_points_m.empty()) return 0.0;
+  const Eigen::Vector2d toward_bright =
+      (candidate.contrast_plus > candidate.contrast_minus ? -1.0 : 1.0) * grid.cell_m() *
+      candidate.line.line.Normal();
+  const double contrast = std::max(candidate.contrast_plus, candidate.contrast_minus);
+  const int steps = static_cast<int>(std::ceil(max_width_m / grid.cell_m())) + 3;
+  auto sample = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    return SampleBilinear(bev_float, cell.x(), cell.y());
+  };
+  auto searched = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    const int c = static_cast<int>(std::lround(cell.x()));
+    const int r = static_cast<int>(std::lround(cell.y()));
+    return c >= 0 && r >= 0 && c < search_mask.cols && r < search_mask.rows &&
+           search_mask.at<std::uint8_t>(r, c) != 0;
+  };
+  int open = 0;
+  for (const Eigen::Vector2d& p : edge_points_m) {
+    const float bright = sample(p + 3.0 * toward_bright);
+    if (bright == 0.0f) continue;
+    const double halfway = bright - 0.5 * contrast;
+    for (int k = 4; k <= steps; ++k) {
+      const Eigen::Vector2d q = p + static_cast<double>(k) * toward_bright;
+      if (!searched(q)) {
+        ++open;
+        break;
+      }
+      if (sample(q) < halfway) break;
+    }
+  }
+  return static_cast<double>(open) / static_cast<double>(edge_points_m.size());
+}
+
+void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines) {
+  std::vector<bool> drop(lines->size(), false);
+  for (size_t b = 0; b < lines->size(); ++b) {
+    const ExtractedLine& bright = (*lines)[b];
+    if (bright.kind.polarity != LinePolarity::kBright || bright.from_bar_edges ||
+        bright.single_bar_edge) {
+      continue;
+    }
+    for (const ExtractedLine& dark : *lines) {
+      if (dark.kind.polarity != LinePolarity::kDark) continue;
+      const Eigen::Vector2d r = LineDifference(bright.line, dark.line);
+      if (std::abs(r(1)) > max_angle_rad) continue;
+      const Eigen::Vector2d mid = 0.5 * (bright.start_m + bright.end_m);
+      if (std::abs(SignedDistance(dark.line, mid)) > max_distance_m) continue;
+      if (Overlap(bright, dark) < 0.5 * bright.LengthM()) continue;
+      drop[b] = true;
+      break;
+    }
+  }
+  size_t kept = 0;
+  for (size_t i = 0; i < lines->size(); ++i) {
+    if (!drop[i]) (*lines)[kept++] = (*lines)[i];
+  }
+  lines->resize(kept);
 }
 
 void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {

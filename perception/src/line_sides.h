@@ -33,13 +33,43 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
 // facing edge pairs (see line_extractor.h). Bright lines must also be
 // brighter than the frame's median floor grey level by min_side_contrast
 // (concrete between two dark scuffs or oil stains is a ridge, but no tape).
-// Appends to *out.
+// Appends to *out; bright edges without a facing partner go to
+// *unpaired_edges if not null.
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  double floor_median_grey, const LineExtractorOptions& options,
-                 std::vector<ExtractedLine>* out);
+                 std::vector<ExtractedLine>* out,
+                 std::vector<CandidateLine>* unpaired_edges = nullptr);
+
+// The step edge next to a one-sided bright ridge (the inner flank of a wide
+// bar whose other edge is unseen): from each ridge centre the BEV (CV_32FC1)
+// is sampled every cell toward the dark side (the side of the larger
+// contrast), -2..14 cells; the steepest bright-to-dark central difference,
+// refined by a parabola through it and its neighbours, is the edge point.
+// Points whose steepest step is smaller than min_step_dn grey levels per 2
+// cells, at the ends of the profile, whose far side does not stay darker than
+// halfway for 2-6 cells beyond the edge (a groove, not a step), or off the
+// seen floor are skipped.
+// Floor points in base_link, in the order of the centres.
+std::vector<Eigen::Vector2d> LocateBarEdge(const cv::Mat& bev_float, const BevGrid& grid,
+                                           const CandidateLine& candidate, double min_step_dn);
+
+// The share of edge points (base_link) from which the bright side stays
+// bright until it leaves search_mask (CV_8U) within max_width_m: the bar goes
+// on out of view. Its other edge in view (a fall to halfway to the dark side)
+// or bright floor wider than any bar (concrete next to a dark object) does
+// not count.
+double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
+                           const BevGrid& grid, const CandidateLine& candidate,
+                           const std::vector<Eigen::Vector2d>& edge_points_m, double max_width_m);
 
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
+
+// The ridge filter's response to a dark line has bright side lobes about
+// sqrt(3) sigma to either side: bright lines (not bars) within max_distance_m
+// and max_angle_rad of a dark line, overlapping it over half their length,
+// are dropped.
+void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines);
 
 // Lines of one polarity closer than these are one line (pieces of a marking
 // interrupted by a crossing one): the one with more samples is kept, spanning both.

@@ -110,6 +110,43 @@ struct CoarseFields {
   static constexpr int kCount = 6;
 };
 
+// Tire scuffs: curved dark streaks of random orientation (floor_camera.h).
+// Arcs of radius 1-4 m (either turn), 0.8-3 m long, 2-4 cm wide with soft
+// edges, tapering at both ends, of strength 0.6-1; their density makes the
+// same mean darkening (~7.5 % of the scuff mask's area at full darkness) as the
+// former straight streaks. Generated once per seed on a 64 m periodic tile
+// (arcs wrap across its border), indexed by 25 cm cells; the scuff mask's
+// non-periodic 4 m patches hide the period.
+class ScuffField {
+ public:
+  // No arcs (Darkening 0) unless enabled.
+  ScuffField(std::uint32_t seed, bool enabled);
+  // Darkening in [0, 1] at p (1: a full scuff's centre): the maximum over the arcs.
+  float Darkening(const Vector2& p_m) const;
+
+  static constexpr double kPeriodM = 64.0;
+  static constexpr double kCellM = 0.25;
+  // Expected mean darkening of the arcs (the former streaks': 0.0747).
+  static constexpr double kMeanDarkening = 0.0747;
+
+ private:
+  struct Arc {
+    Vector2 centre_m;  // centre of curvature
+    Vector2 mid_dir;   // unit, centre -> the arc's midpoint
+    double radius_m;
+    double half_angle_rad;
+    double half_width_m;
+    float strength;
+  };
+  float ArcDarkening(const Arc& arc, const Vector2& p_m) const;
+
+  std::vector<Arc> arcs_;
+  int cells_ = 0;  // per side of the tile
+  // Per cell: entries arc * 9 + shift, shift = (sx + 1) + 3 (sy + 1) for the
+  // arc's copy moved by (sx, sy) * kPeriodM.
+  std::vector<std::vector<std::uint32_t>> cell_entries_;
+};
+
 struct FloorFields {
   explicit FloorFields(const FloorRenderOptions& options);
   CoarseFields Coarse(const Vector2& p_m) const;
@@ -124,6 +161,7 @@ struct FloorFields {
   std::uint32_t seed;
   std::vector<float> wear_quantiles;  // sorted samples of the wear field
   float shadow_threshold = 1.0f;
+  ScuffField scuff_field;
 
  private:
   float Glare(const Vector2& p_m) const;

@@ -129,8 +129,8 @@ float Fbm(double x, double y, int octaves, std::uint32_t seed) {
 }
 
 namespace {
-constexpr std::uint32_t kTexture = 11, kScuffX = 12, kScuffY = 13, kScuffMask = 14, kOil = 15,
-                        kWear = 16, kLight = 17, kShadow = 18, kGlare = 19;
+constexpr std::uint32_t kTexture = 11, kScuffMask = 14, kOil = 15, kWear = 16, kLight = 17,
+                        kShadow = 18, kGlare = 19;
 float SmoothStep(float lo, float hi, float x) {
   const float t = std::clamp((x - lo) / (hi - lo), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -138,7 +138,9 @@ float SmoothStep(float lo, float hi, float x) {
 }  // namespace
 
 FloorFields::FloorFields(const FloorRenderOptions& o)
-    : options(o), seed(static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32))) {
+    : options(o),
+      seed(static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32))),
+      scuff_field(seed, o.scuffs) {
   // Empirical quantiles make wear_fraction and shadow_cover area fractions.
   constexpr int kN = 4096;
   std::vector<float> shadow;
@@ -175,11 +177,9 @@ float FloorFields::Concrete(const Vector2& p, const CoarseFields& c) const {
                     (1.4f * (c.texture - 0.5f) + 0.8f * (fine - 0.5f));
   }
   if (options.scuffs && c.scuff_mask > 0.0f) {
-    // Streaks 2 m long, 3 cm wide, along x and along y, in some 40 % of the floor.
-    const float sx = ValueNoise(p.x() / 2.0, p.y() / 0.03, seed + kScuffX);
-    const float sy = ValueNoise(p.x() / 0.03, p.y() / 2.0, seed + kScuffY);
-    const float streak = std::max(SmoothStep(0.8f, 0.95f, sx), SmoothStep(0.8f, 0.95f, sy));
-    r *= 1.0f - static_cast<float>(options.scuff_darkness) * c.scuff_mask * streak;
+    // Curved streaks (ScuffField) in some 40 % of the floor.
+    r *=
+        1.0f - static_cast<float>(options.scuff_darkness) * c.scuff_mask * scuff_field.Darkening(p);
   }
   if (options.oil) {
     r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStep(0.77f, 0.79f, c.oil);

@@ -97,5 +97,41 @@ TEST(ExtractionRates, SimulatedSequenceWithNuisances) {
   }
 }
 
+// Every nuisance on, no markings: tire scuffs (curved streaks of any
+// orientation), oil, texture, glare give no line.
+TEST(ExtractionRates, NuisancesAloneGiveNoLines) {
+  sim::FloorCameraOptions camera_options;
+  camera_options.width_px = 640;
+  camera_options.height_px = 512;
+  camera_options.focal_px = 566.0;
+  const calibration::CameraModel camera = *camera_options.MakeCameraModel();
+  sim::World world;
+  world.name = "bare_floor";
+  world.floor_min_m = core::Vector2(-40, -40);
+  world.floor_max_m = core::Vector2(40, 40);
+  sim::FloorRenderOptions render;
+  render.seed = 8;
+  const sim::FloorRenderer renderer =
+      *sim::FloorRenderer::Create(world, camera, camera_options.mount, render);
+  BevRemap::Options remap_options;
+  remap_options.supersampling = 2;
+  const BevRemap remap(camera, camera_options.mount, remap_options);
+  const LineExtractor extractor(remap, LineExtractorOptions{});
+  int frame = 0;
+  for (int i = 0; i < 8; ++i) {
+    const core::SE2 T_map_base(-30.0 + 7.7 * i, 2.7 * (i % 5) - 6.0, 0.8 * i);
+    const sim::GreyImage image = renderer.Render(T_map_base, {1.0, 0.0}, frame++);
+    const cv::Mat frame_mat(image.height_px, image.width_px, CV_8U,
+                            const_cast<std::uint8_t*>(image.pixels.data()));
+    cv::Mat bev;
+    remap.Apply(frame_mat, &bev);
+    for (const ExtractedLine& l : extractor.Extract(bev).lines) {
+      ADD_FAILURE() << "frame " << i << ": a line on a bare floor: " << LineKindName(l.kind)
+                    << " rho " << l.line.rho_m << " alpha " << l.line.alpha_rad << " length "
+                    << l.LengthM();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace groundline::perception

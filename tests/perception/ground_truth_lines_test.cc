@@ -62,6 +62,54 @@ TEST(GroundTruthLines, VisibleMarkingsInBaseLink) {
   EXPECT_TRUE(turned[0].evaluated);  // 2 m of it crosses the footprint at x = 1.0
 }
 
+// A 50 cm stripe is two edges: the centre line where both are seen, else the
+// one edge in view.
+TEST(GroundTruthLines, WideStripeHalfOutOfViewIsItsEdge) {
+  core::FloorMap map;
+  core::FloorMarking stripe;
+  stripe.id = 7;
+  stripe.kind = core::MarkingKind::kCrosswalkStripe;
+  stripe.width_m = 0.5;
+  stripe.polyline_m = {core::Vector2(0.0, -0.9), core::Vector2(10.0, -0.9)};
+  map.markings.push_back(stripe);
+  // Edges at y = -0.65 (left of +x, in view) and -1.15 (out of view).
+  const std::vector<TrueLine> half =
+      VisibleMarkingLines(map, core::SE2(0.0, 0.0, 0.0), Footprint, VisibleLineOptions{});
+  ASSERT_EQ(half.size(), 1u);
+  EXPECT_EQ(half[0].edge, 1);
+  EXPECT_TRUE(half[0].evaluated);
+  EXPECT_NEAR(half[0].line.rho_m, 0.65, 1e-12);
+  EXPECT_NEAR(half[0].line.alpha_rad, -kPi / 2, 1e-12);
+  EXPECT_NEAR(half[0].evaluated_length_m, 1.4, 0.02);
+  EXPECT_NEAR(half[0].start_m.y(), -0.65, 1e-12);
+
+  // Moved 0.4 m to the right: both edges in view, the centre line counts; the
+  // edges are there to be matched, not evaluated.
+  const std::vector<TrueLine> whole =
+      VisibleMarkingLines(map, core::SE2(0.0, -0.4, 0.0), Footprint, VisibleLineOptions{});
+  ASSERT_EQ(whole.size(), 3u);
+  EXPECT_EQ(whole[0].edge, 0);
+  EXPECT_TRUE(whole[0].evaluated);
+  EXPECT_NEAR(whole[0].line.rho_m, 0.5, 1e-12);
+  EXPECT_EQ(whole[1].edge, 1);
+  EXPECT_FALSE(whole[1].evaluated);
+  EXPECT_NEAR(whole[1].line.rho_m, 0.25, 1e-12);
+  EXPECT_EQ(whole[2].edge, -1);
+  EXPECT_FALSE(whole[2].evaluated);
+
+  // Turned 0.15 rad to the left: the right edge leaves the footprint's side
+  // after 0.33 m, the left one is seen over 1.83 m; both edges overlap over
+  // less than half of the longer one, so the left edge counts.
+  const std::vector<TrueLine> oblique =
+      VisibleMarkingLines(map, core::SE2(0.0, -0.3, 0.15), Footprint, VisibleLineOptions{});
+  ASSERT_EQ(oblique.size(), 3u);
+  EXPECT_NEAR(oblique[0].seen_length_m, 0.33, 0.02);
+  EXPECT_NEAR(oblique[1].seen_length_m, 1.83, 0.02);
+  EXPECT_FALSE(oblique[0].evaluated);
+  EXPECT_TRUE(oblique[1].evaluated);
+  EXPECT_FALSE(oblique[2].evaluated);
+}
+
 TEST(GroundTruthLines, MatchGatesOverlapAndDuplicates) {
   TrueLine truth;
   truth.line = {0.3, kPi / 2};

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -28,9 +29,10 @@ double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 }
 
 // The BEV of a floor, 3x3 supersampled per cell, plus Gaussian noise.
-cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5) {
+cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5,
+                  unsigned seed = 7) {
   cv::Mat bev(grid.rows(), grid.cols(), CV_8U);
-  std::mt19937 rng(7);
+  std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, noise_dn);
   for (int r = 0; r < grid.rows(); ++r) {
     for (int c = 0; c < grid.cols(); ++c) {
@@ -46,10 +48,11 @@ cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5
   return bev;
 }
 
-LineExtractor MakeExtractor(const BevGrid& grid) {
+LineExtractor MakeExtractor(const BevGrid& grid,
+                            const LineExtractorOptions& options = LineExtractorOptions{}) {
   const cv::Mat valid(grid.rows(), grid.cols(), CV_8U, cv::Scalar(255));
   const cv::Mat J(grid.rows(), grid.cols(), CV_64FC4, cv::Scalar(0.002, 0.0, 0.0, 0.002));
-  return LineExtractor(grid, valid, J, LineExtractorOptions{});
+  return LineExtractor(grid, valid, J, options);
 }
 
 struct Tape {
@@ -149,6 +152,66 @@ TEST(LineExtractor, GlareBlobsAndShortScuffsGiveNoLines) {
     ADD_FAILURE() << "line from glare or scuffs: " << LineKindName(l.kind) << " rho "
                   << l.line.rho_m << " alpha " << l.line.alpha_rad << " length " << l.LengthM();
   }
+}
+
+// A 50 cm crosswalk stripe whose outer edge lies beyond the seen floor: its
+// one visible edge is a line, at the edge (not 3-4 cm inside, where the
+// one-sided ridge peaks).
+TEST(LineExtractor, HalfVisibleStripeYieldsItsEdge) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  for (const double slope : {0.0, 0.02}) {
+    // Inner edge 0.6 m to the right, the stripe out to 1.1 m (beyond the grid).
+    const Eigen::Vector2d d(std::cos(slope), std::sin(slope)), left(-d.y(), d.x());
+    const HesseLine edge = NormalizeLine(0.6, slope - kPi / 2);
+    const Eigen::Vector2d c = -0.85 * left;
+    const Tape stripe{c - 3.0 * d, c + 3.0 * d, 0.5, 200.0};
+    const LineExtraction out = extractor.Extract(RenderBev(grid, Paint({stripe})));
+    ASSERT_EQ(out.lines.size(), 1u) << "slope " << slope;
+    const ExtractedLine& line = out.lines[0];
+    EXPECT_TRUE(line.single_bar_edge);
+    EXPECT_FALSE(line.from_bar_edges);
+    const Eigen::Vector2d r = LineDifference(line.line, edge);
+    EXPECT_LT(std::abs(r(0)), 0.003) << "slope " << slope;
+    EXPECT_LT(std::abs(r(1)), 0.1 * kPi / 180) << "slope " << slope;
+    EXPECT_GT(line.LengthM(), 1.2);
+  }
+}
+
+// NEES of the measured-noise covariance over a small Monte Carlo: tapes of
+// random offset, angle, contrast and noise; without a floor (the synthetic BEV
+// has no errors constant along a line) and with the ridge filter's own
+// correlation length (the synthetic BEV has no camera blur before it), the
+// NEES follows chi-square(2).
+TEST(LineExtractor, CovarianceIsConsistentOverMonteCarlo) {
+  const BevGrid grid(BevGridOptions{});
+  LineExtractorOptions options;
+  options.rho_floor_m = 0.0;
+  options.alpha_floor_rad = 0.0;
+  options.min_sigma_px = 0.01;
+  options.correlation_samples = 2.0 * std::sqrt(kPi) * options.ridge.sigma_cells;
+  const LineExtractor extractor = MakeExtractor(grid, options);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> rho(0.1, 0.6), angle(-0.06, 0.06), grey(110.0, 200.0),
+      noise(1.0, 4.0);
+  std::vector<double> nees;
+  for (unsigned trial = 0; trial < 40; ++trial) {
+    const HesseLine truth = NormalizeLine(rho(rng), kPi / 2 + angle(rng));
+    const Eigen::Vector2d foot = truth.rho_m * truth.Normal();
+    const Tape tape{foot - 2.6 * truth.Direction(), foot + 0.5 * truth.Direction(), 0.05,
+                    grey(rng)};
+    const LineExtraction out =
+        extractor.Extract(RenderBev(grid, Paint({tape}), noise(rng), 100 + trial));
+    ASSERT_EQ(out.lines.size(), 1u) << trial;
+    const Eigen::Vector2d r = LineDifference(out.lines[0].line, truth);
+    nees.push_back(r.dot(out.lines[0].covariance.inverse() * r));
+  }
+  const auto inside =
+      std::count_if(nees.begin(), nees.end(), [](double e) { return e >= 0.0506 && e <= 7.378; });
+  std::sort(nees.begin(), nees.end());
+  EXPECT_GE(inside, 34);                  // >= 85 % (95 % expected)
+  EXPECT_GT(nees[nees.size() / 2], 0.5);  // chi-square(2) median: 1.39
+  EXPECT_LT(nees[nees.size() / 2], 3.0);
 }
 
 }  // namespace

@@ -12,6 +12,18 @@
 // min_evaluated_length_m of it lies eval_x_min_m..eval_x_max_m ahead. Wear is
 // not in the map, so a fully worn marking still counts.
 //
+// Wide markings (width_m >= edge_min_width_m: stop bars, crosswalk stripes)
+// are seen as two step edges; the extractor reports their centre line where it
+// sees both edges over at least half of the longer one, else the longer edge
+// itself when it is seen over at least edge_min_seen_length_m (a shorter
+// bright edge cannot be told from the end of a bar). So a wide piece gives up
+// to three TrueLines: the centre line over the samples where both edges
+// (centre +- width / 2 across) are in the footprint, and each edge line
+// (edge = +1: left of the polyline's direction, -1: right) over the samples
+// where that edge is in the footprint. Only the one the extractor should
+// report can be evaluated; the others may still be matched (no false
+// positive) but do not count.
+//
 // Matching. An extracted line matches a true one when LineDifference(extracted,
 // true) is within the gates (|d rho| <= rho_gate_m, |d alpha| <= alpha_gate_rad)
 // and their extents along the true line overlap by at least min_overlap_m.
@@ -40,6 +52,8 @@ struct VisibleLineOptions {
   double eval_x_min_m = 1.0;  // the range ahead where errors and rates count
   double eval_x_max_m = 2.5;
   double min_evaluated_length_m = 0.30;
+  double edge_min_width_m = 0.12;       // wide markings: seen as two edges (see above)
+  double edge_min_seen_length_m = 0.6;  // LineExtractorOptions::single_edge_min_length_m
 };
 
 struct TrueLine {
@@ -47,7 +61,8 @@ struct TrueLine {
   int piece = 0;  // index of the polyline piece
   core::MarkingKind kind = core::MarkingKind::kTapeSolid;
   core::MarkingPolarity polarity = core::MarkingPolarity::kBright;
-  HesseLine line;                                     // base_link
+  int edge = 0;    // 0: the centre line; +1 / -1: the left / right edge of a wide marking
+  HesseLine line;  // base_link
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  // first and last seen sample, base_link
   Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
   double seen_length_m = 0.0;       // in the footprint (and on dashes)
@@ -72,8 +87,12 @@ struct LineMatches {
   std::vector<int> extracted_of_truth;  // index into extracted, -1: missed
 };
 
+// extracted_polarity: empty, or one per extracted line; then an extracted
+// line matches only true lines of its polarity (a bright line beside a joint
+// is not that joint).
 LineMatches MatchLines(std::span<const LineSegmentEstimate> extracted,
-                       std::span<const TrueLine> truths, const MatchGates& gates);
+                       std::span<const TrueLine> truths, const MatchGates& gates,
+                       std::span<const core::MarkingPolarity> extracted_polarity = {});
 
 }  // namespace groundline::perception
 

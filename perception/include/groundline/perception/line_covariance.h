@@ -71,6 +71,40 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
                                             std::span<const Eigen::Matrix2d> J_floor_pixel,
                                             double sigma_px, double correlation_samples = 1.0);
 
+// The covariance model of extracted lines, whose noise is measured on each
+// line (docs/perception.md, "Covariance model"). The centres' noise depends on
+// the marking's contrast, the image noise, the blur and the width of the
+// ridge, all of which vary per line; their joint effect is the scatter of the
+// line's own centres about its fit, expressed in pixels:
+//
+//   lambda^2 = (1/N) sum_i d_i^2 / (n^T J_i J_i^T n) * N_eff / (N_eff - 2),
+//   N_eff = N / correlation_samples  (independent samples; clamped >= 3),
+//
+// (d_i: residuals of the weighted fit, the factor undoes the fit's absorption
+// of two degrees of freedom). sigma_px^2 = max(lambda^2, min_sigma_px^2), and
+//
+//   C = correlation_samples * C_tls(sigma_px) + diag(rho_floor_m^2, alpha_floor_rad^2)
+//
+// where the floor holds what the scatter cannot show: errors constant along
+// a line (the sub-cell phase of a line running along the BEV grid, edge
+// asymmetry of wide bars).
+struct LineNoiseModel {
+  double min_sigma_px = 0.3;
+  double correlation_samples = 1.0;  // >= 1
+  double rho_floor_m = 0.0;
+  double alpha_floor_rad = 0.0;
+
+  core::Status Validate() const;
+};
+
+// FitLineWithPixelNoise with the noise of the line measured as above.
+// *sigma_px (if not null) receives the sigma_px used. Fails as
+// FitLineWithPixelNoise does, or for fewer than 3 points.
+core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> points_m,
+                                               std::span<const Eigen::Matrix2d> J_floor_pixel,
+                                               const LineNoiseModel& model,
+                                               double* sigma_px = nullptr);
+
 }  // namespace groundline::perception
 
 #endif  // GROUNDLINE_PERCEPTION_LINE_COVARIANCE_H_

@@ -50,7 +50,8 @@ class LineEvaluation {
                 const LineMatches& matches);
 
   const LineErrorSummary& overall() const { return overall_; }
-  // Keyed by core::MarkingKindName (truth) for rates and errors, and by
+  // Keyed by core::MarkingKindName (truth; "<kind>_edge" for the single
+  // visible edge of a wide marking) for rates and errors, and by
   // LineKindName (extracted) for detections / false detections.
   const std::map<std::string, LineErrorSummary>& by_truth_kind() const { return by_truth_kind_; }
   const std::map<std::string, LineErrorSummary>& by_extracted_kind() const {

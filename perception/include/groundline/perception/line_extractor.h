@@ -17,8 +17,11 @@
 //     (bright) or darker (dark) than both sides at side_offset_cells; a bright
 //     ridge that is brighter on one side only is the edge of a wide bar (a
 //     stop bar, a crosswalk stripe), and two such edges facing each other are
-//     replaced by their centre line; dark one-sided ridges are the flanks of
-//     bright bars and are dropped. A bright line must also be brighter than
+//     replaced by their centre line; a bright edge without a partner (the
+//     other edge of the bar is out of view) is located on the BEV as the
+//     steepest step next to its ridge and becomes the line of that edge
+//     (single_bar_edge); dark one-sided ridges are the flanks of bright bars
+//     and are dropped. A bright line must also be brighter than
 //     the frame's median floor grey (not just concrete between dark scuffs).
 //  5. Rejection of glare and scuffs: anisotropy (eigen_ratio), the minimum
 //     length, the support (fraction of positions along the segment with an
@@ -40,6 +43,7 @@
 #include "groundline/perception/hesse_line.h"
 #include "groundline/perception/junctions.h"
 #include "groundline/perception/line_classification.h"
+#include "groundline/perception/line_covariance.h"
 #include "groundline/perception/ridge_refinement.h"
 #include "groundline/perception/ridge_segments.h"
 #include "groundline/perception/steerable_ridge.h"
@@ -62,15 +66,40 @@ struct LineExtractorOptions {
   double max_width_variation = 0.35;  // std / mean of the peak width along the line
   double side_offset_cells = 7.0;
   double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
+  double min_bright_excess = 10.0;       // bright line centre over the frame's median grey
   double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
   double bar_min_width_m = 0.08;         // two facing edges of a wide bar this far apart ..
   double bar_max_width_m = 0.70;         // .. up to this ..
   double bar_max_angle_rad = 0.035;      // .. and parallel within this
+  // A bright edge without a facing partner (a bar whose other edge is out of
+  // view) becomes the line of its step edge when its contrast (the larger
+  // side contrast, and the steepest step per 2 cells) is at least this.
+  // Its edge points must run without a gap longer than single_edge_max_gap_m
+  // over at least single_edge_min_length_m (longer than a bar is wide: the
+  // end of a bar is no such line).
+  bool single_bar_edges = true;
+  double single_edge_min_contrast = 10.0;  // grey levels
+  double single_edge_max_gap_m = 0.1;
+  double single_edge_min_length_m = 0.6;
+  // A bright edge whose dark side is darker than its bright side by this
+  // fraction of the bright grey is kept even where the frame's median floor
+  // grey is that of the markings filling most of the view.
+  double single_edge_min_relative_contrast = 0.5;
+  // Bright side lobes of dark lines (see line_sides.h, DropSideLobes).
+  double side_lobe_distance_cells = 8.0;
+  double side_lobe_angle_deg = 3.0;
   double orientation_tolerance_deg = 20.0;
-  // Covariance: pixel noise of a ridge centre in the camera image, and the
-  // samples per independent sample (<= 0: 2 sqrt(pi) sigma_cells).
-  double sigma_px = 1.2;  // fitted to the simulator datasets (docs/perception.md)
+  // Covariance (line_covariance.h, LineNoiseModel): the pixel noise of the
+  // centres is measured on each line, at least min_sigma_px; ridge centres
+  // per independent one (<= 0: 4 sqrt(pi) sigma_cells, twice the ridge
+  // filter's own correlation length: the BEV is smoothed before it, by the
+  // camera's blur and the supersampling; single-edge points are independent);
+  // the floor of errors constant along a line. Calibrated on the simulator
+  // datasets of seed 1, validated on seed 2 (docs/perception.md).
+  double min_sigma_px = 0.3;
   double correlation_samples = 0.0;
+  double rho_floor_m = 0.0;
+  double alpha_floor_rad = 0.0007;  // 0.04 deg
 
   core::Status Validate() const;
 };
@@ -81,10 +110,11 @@ struct ExtractedLine {
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();     // endpoints on the line, base_link
   Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
   LineKind kind;
-  bool from_bar_edges = false;  // the centre line of two facing bar edges
-  double energy = 0.0;          // mean peak ridge energy
-  double rms_residual_m = 0.0;  // of the centres about the fitted line
-  int samples = 0;              // ridge centres fitted
+  bool from_bar_edges = false;   // the centre line of two facing bar edges
+  bool single_bar_edge = false;  // the step edge of a bar whose other edge is unseen
+  double energy = 0.0;           // mean peak ridge energy
+  double rms_residual_m = 0.0;   // of the centres about the fitted line
+  int samples = 0;               // ridge centres fitted
 
   double LengthM() const { return (end_m - start_m).norm(); }
 };
@@ -126,7 +156,7 @@ class LineExtractor {
   SteerableRidgeFilter filter_;
   cv::Mat search_mask_;
   cv::Mat floor_from_pixel_;  // CV_64FC4
-  double correlation_samples_ = 1.0;
+  LineNoiseModel noise_;
 };
 
 }  // namespace groundline::perception

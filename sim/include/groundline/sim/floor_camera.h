@@ -45,8 +45,12 @@
 // markings as bands of width_m around their polylines (dashed tape cut along its
 // arc length), grey from the colour's linear-sRGB luminance, worn in patches to
 // concrete where a seeded field falls below the marking's wear_fraction
-// quantile; joints are markings too (dark grooves). Nuisances: tire scuffs (dark
-// streaks along x and y) and oil stains (dark blobs) darken the concrete;
+// quantile; joints are markings too (dark grooves). Nuisances: tire scuffs and
+// oil stains (dark blobs) darken the concrete; scuffs are curved streaks of
+// random orientation as turning tires leave them: arcs of 1-4 m radius,
+// 0.8-3 m long, 2-4 cm wide with soft edges and tapered ends, in patches
+// covering ~40 % of the floor, darkening ~7.5 % of a patch's area on average
+// (by up to scuff_darkness); unlike joints and tape they follow no axis;
 // illumination is a lux level with a smooth gradient and optional hard-edged
 // shadow patches; glare blobs are isotropic bright spots on a jittered
 // luminaire grid; sensor noise is Gaussian read noise plus shot noise.
