@@ -26,6 +26,10 @@ ConvertedObservations ObservationsFromExtraction(double stamp_s,
   ConvertedObservations out;
   out.observations.stamp_s = stamp_s;
   for (const perception::ExtractedLine& line : extraction.lines) {
+    if (line.single_bar_edge) {
+      ++out.skipped_bar_edges;
+      continue;
+    }
     if (!IsSymmetricPositiveDefinite(line.covariance)) {
       ++out.dropped_lines;
       continue;

@@ -33,6 +33,10 @@ TEST(ObservationsFromExtraction, CopiesValuesMapsKindsAndDropsDegenerateCovarian
   extraction.lines.push_back(Line(0.5, 1.5707963, perception::LinePolarity::kDark,
                                   perception::LineOrientation::kLongitudinal,
                                   Eigen::Matrix2d::Zero()));  // a degenerate fit
+  perception::ExtractedLine edge = Line(2.3, 0.0, perception::LinePolarity::kBright,
+                                        perception::LineOrientation::kTransverse, spd);
+  edge.single_bar_edge = true;  // a bar's lone edge: not the atlas's centre line
+  extraction.lines.push_back(edge);
   perception::Junction junction;
   junction.point_m = {1.6, 0.9};
   junction.covariance = 1e-6 * Eigen::Matrix2d::Identity();
@@ -45,6 +49,7 @@ TEST(ObservationsFromExtraction, CopiesValuesMapsKindsAndDropsDegenerateCovarian
   EXPECT_EQ(out.observations.stamp_s, 12.5);
   ASSERT_EQ(out.observations.lines.size(), 3u);
   EXPECT_EQ(out.dropped_lines, 1);
+  EXPECT_EQ(out.skipped_bar_edges, 1);
   EXPECT_EQ(out.dropped_junctions, 1);
   EXPECT_EQ(out.observations.lines[0].kind, core::MarkingKind::kTapeSolid);
   EXPECT_EQ(out.observations.lines[1].kind, core::MarkingKind::kStopBar);

@@ -9,7 +9,10 @@
 //
 // Lines or junctions whose covariance is not symmetric positive definite
 // (a degenerate fit) are dropped and counted: the smoother requires SPD
-// covariances. Pure and thread-safe.
+// covariances. The lone visible edge of a wide bar (ExtractedLine::
+// single_bar_edge) is skipped and counted: the atlas holds a bar's centre
+// line, half a bar width (~5-25 cm) away from that edge, and the bar's width
+// is not known here. Pure and thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
 #define GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
 
@@ -22,6 +25,7 @@ struct ConvertedObservations {
   FloorObservations observations;
   int dropped_lines = 0;      // covariance not SPD
   int dropped_junctions = 0;  // covariance not SPD
+  int skipped_bar_edges = 0;  // single_bar_edge lines (not the atlas's centre line)
 };
 
 ConvertedObservations ObservationsFromExtraction(double stamp_s,
