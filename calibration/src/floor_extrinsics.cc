@@ -7,6 +7,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <map>
+#include <utility>
 
 namespace groundline::calibration {
 namespace {
@@ -56,6 +58,32 @@ class CornerCost : public ceres::SizedCostFunction<2, 6> {
   core::SE2 T_floor_base_;
   FloorCorner corner_;
 };
+
+// The survey term of the covariance for a unit survey sigma (header comment):
+// A^-1 (sum_c B_c B_c^T) A^-1 with A^-1 = unscaled_cov.
+Matrix6d SurveyCovariance(const CameraModel& camera, const std::vector<FloorImage>& images,
+                          const CameraMount& mount, const Matrix6d& unscaled_cov) {
+  std::map<std::pair<int, int>, Eigen::Matrix<double, 6, 2>> B;
+  const Eigen::Isometry3d T_base_cam = BaseFromCamera(mount);
+  for (const FloorImage& im : images) {
+    const Eigen::Matrix2d R_base_floor = im.T_floor_base.Inverse().Rotation();
+    const Eigen::Matrix<double, 3, 2> J_cam_floor =
+        T_base_cam.linear().transpose().leftCols<2>() * R_base_floor;
+    for (const FloorCorner& c : im.corners) {
+      MountJacobian J;
+      const Eigen::Vector3d p_cam = FloorPointInCamera(mount, im.T_floor_base, c.floor_m);
+      Eigen::Matrix<double, 2, 3> J_pixel_cam;
+      if (!camera.Project(p_cam, &J_pixel_cam).ok()) continue;
+      if (!PredictFloorPixel(camera, mount, im.T_floor_base, c.floor_m, &J).ok()) continue;
+      auto [it, inserted] =
+          B.try_emplace({c.tag_id, c.corner}, Eigen::Matrix<double, 6, 2>::Zero());
+      it->second += J.transpose() * (J_pixel_cam * J_cam_floor);
+    }
+  }
+  Matrix6d sum = Matrix6d::Zero();
+  for (const auto& [key, b] : B) sum += b * b.transpose();
+  return unscaled_cov * sum * unscaled_cov;
+}
 
 // Hartley-normalized DLT of the homography a -> b (both 2-D, N >= 4).
 Eigen::Matrix3d Homography(const std::vector<Eigen::Vector2d>& a,
@@ -134,6 +162,12 @@ core::Status FloorExtrinsicsOptions::Validate() const {
     return core::Status::Error("FloorExtrinsicsOptions.huber_px: expected > 0");
   if (!(corner_sigma_px >= 0.0)) {
     return core::Status::Error("FloorExtrinsicsOptions.corner_sigma_px: expected >= 0");
+  }
+  if (!(min_corner_sigma_px >= 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.min_corner_sigma_px: expected >= 0");
+  }
+  if (!(survey_sigma_m >= 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.survey_sigma_m: expected >= 0");
   }
   if (max_iterations < 1) {
     return core::Status::Error("FloorExtrinsicsOptions.max_iterations: expected >= 1");
@@ -244,9 +278,10 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
         im.corners.empty() ? 0.0 : std::sqrt(image_sq / static_cast<double>(im.corners.size())));
   }
   result.rms_px = std::sqrt(sum_sq / result.corners);
+  result.a_posteriori_sigma_px = std::sqrt(sum_sq / std::max(1, 2 * result.corners - 6));
   result.sigma_px = options.corner_sigma_px > 0.0
                         ? options.corner_sigma_px
-                        : std::sqrt(sum_sq / std::max(1, 2 * result.corners - 6));
+                        : std::max(result.a_posteriori_sigma_px, options.min_corner_sigma_px);
 
   ceres::Covariance::Options cov_options;
   cov_options.algorithm_type = ceres::DENSE_SVD;
@@ -261,6 +296,11 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
   Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov;
   covariance.GetCovarianceBlock(params.data(), params.data(), cov.data());
   result.covariance = result.sigma_px * result.sigma_px * cov;
+  result.survey_sigma_m = options.survey_sigma_m;
+  if (options.survey_sigma_m > 0.0) {
+    result.covariance += SurveyCovariance(camera, images, result.mount, cov) *
+                         (options.survey_sigma_m * options.survey_sigma_m);
+  }
   return result;
 }
 
