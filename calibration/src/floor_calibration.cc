@@ -125,6 +125,7 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
       out.bev[i].rms_mm = out.bev[i].sigma3_mm = std::numeric_limits<double>::infinity();
     }
   }
+  JudgeFloorCalibration(camera, options.thresholds, &out);
   if (options.rectify) {
     Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector2d hi = -lo;
@@ -137,6 +138,7 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
     const Eigen::Vector2d margin = Eigen::Vector2d::Constant(kRectifiedMarginM);
     std::vector<FloorImageView> views;
     for (std::size_t i = 0; i < used_images.size(); ++i) {
+      if (out.image_failed[i]) continue;  // its tags would be ghosts beside their outlines
       const cv::Mat& m = used_images[i];
       views.push_back(
           {m.data, m.cols, m.rows, static_cast<int>(m.step[0]), out.images[i].T_floor_base});
@@ -146,7 +148,6 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
     if (!raster.ok()) return raster.status().WithContext("floor report");
     out.rectified = std::move(raster).value();
   }
-  JudgeFloorCalibration(camera, options.thresholds, &out);
   return out;
 }
 

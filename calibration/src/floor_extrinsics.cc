@@ -4,9 +4,11 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -155,6 +157,45 @@ core::Result<CameraMount> InitialMount(const CameraModel& camera,
   return mount;
 }
 
+// The median corner residual norm of a mount over all images (inf when a
+// corner does not project).
+double MedianResidualPx(const CameraModel& camera, const std::vector<FloorImage>& images,
+                        const CameraMount& mount) {
+  std::vector<double> norms;
+  for (const FloorImage& im : images) {
+    for (const FloorCorner& c : im.corners) {
+      const core::Result<Eigen::Vector2d> px =
+          PredictFloorPixel(camera, mount, im.T_floor_base, c.floor_m);
+      norms.push_back(px.ok() ? (*px - c.pixel).norm() : std::numeric_limits<double>::infinity());
+    }
+  }
+  if (norms.empty()) return std::numeric_limits<double>::infinity();
+  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+  return norms[norms.size() / 2];
+}
+
+// The pooled initialization, or the one of a single image when that explains
+// the corners of all images better (smaller median residual): one image with
+// a wrong vehicle pose must not spoil the start of the refinement.
+core::Result<CameraMount> RobustInitialMount(const CameraModel& camera,
+                                             const std::vector<FloorImage>& images) {
+  core::Result<CameraMount> best = InitialMount(camera, images);
+  if (images.size() < 2) return best;
+  double best_median =
+      best.ok() ? MedianResidualPx(camera, images, *best) : std::numeric_limits<double>::infinity();
+  for (const FloorImage& im : images) {
+    if (im.corners.size() < 8) continue;
+    const core::Result<CameraMount> one = InitialMount(camera, {im});
+    if (!one.ok()) continue;
+    const double median = MedianResidualPx(camera, images, *one);
+    if (median < best_median) {
+      best = one;
+      best_median = median;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 core::Status FloorExtrinsicsOptions::Validate() const {
@@ -165,6 +206,9 @@ core::Status FloorExtrinsicsOptions::Validate() const {
   }
   if (!(min_corner_sigma_px >= 0.0)) {
     return core::Status::Error("FloorExtrinsicsOptions.min_corner_sigma_px: expected >= 0");
+  }
+  if (!(outlier_gate_px > 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.outlier_gate_px: expected > 0");
   }
   if (!(survey_sigma_m >= 0.0)) {
     return core::Status::Error("FloorExtrinsicsOptions.survey_sigma_m: expected >= 0");
@@ -225,17 +269,35 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
     return core::Status::Error("floor extrinsics: " + std::to_string(result.corners) +
                                " tag corners in all images; need at least 8 (two tags)");
   }
-  core::Result<CameraMount> initial = InitialMount(camera, images);
+  core::Result<CameraMount> initial = RobustInitialMount(camera, images);
   if (!initial.ok()) return initial.status();
   result.initial_mount = *initial;
 
   std::array<double, 6> params = ToParams(*initial);
+  // Gross outliers at the start (an image with a wrong vehicle pose, a tag
+  // surveyed far off) stay out of the solve: beyond the gate, or not in
+  // front of the camera at all.
+  const double gate_px =
+      std::max(options.outlier_gate_px, 5.0 * MedianResidualPx(camera, images, *initial));
+  std::vector<std::vector<bool>> used(images.size());
+  int used_corners = 0;
   ceres::Problem problem;
-  for (const FloorImage& im : images) {
-    for (const FloorCorner& c : im.corners) {
-      problem.AddResidualBlock(new CornerCost(&camera, im.T_floor_base, c),
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    for (const FloorCorner& c : images[i].corners) {
+      const core::Result<Eigen::Vector2d> px =
+          PredictFloorPixel(camera, *initial, images[i].T_floor_base, c.floor_m);
+      used[i].push_back(px.ok() && (*px - c.pixel).norm() <= gate_px);
+      if (!used[i].back()) continue;
+      ++used_corners;
+      problem.AddResidualBlock(new CornerCost(&camera, images[i].T_floor_base, c),
                                new ceres::HuberLoss(options.huber_px), params.data());
     }
+  }
+  result.gated_corners = result.corners - used_corners;
+  if (used_corners < 8) {
+    return core::Status::Error(
+        "floor extrinsics: the images disagree: only " + std::to_string(used_corners) +
+        " corners agree with the initial mount; check the vehicle poses and the tag survey");
   }
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
@@ -262,23 +324,23 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
     return s.WithContext("floor extrinsics: the solution is not a valid mount");
   }
 
-  double sum_sq = 0.0;
-  for (const FloorImage& im : images) {
+  double sum_sq = 0.0;  // over the corners in the solve
+  for (std::size_t i = 0; i < images.size(); ++i) {
     double image_sq = 0.0;
-    for (const FloorCorner& c : im.corners) {
+    for (std::size_t j = 0; j < images[i].corners.size(); ++j) {
+      const FloorCorner& c = images[i].corners[j];
       const core::Result<Eigen::Vector2d> px =
-          PredictFloorPixel(camera, result.mount, im.T_floor_base, c.floor_m);
-      if (!px.ok())
-        return px.status().WithContext("floor extrinsics: corner of tag " +
-                                       std::to_string(c.tag_id) + " in " + im.name);
-      image_sq += (*px - c.pixel).squaredNorm();
+          PredictFloorPixel(camera, result.mount, images[i].T_floor_base, c.floor_m);
+      const double sq =
+          px.ok() ? (*px - c.pixel).squaredNorm() : std::numeric_limits<double>::infinity();
+      image_sq += sq;
+      if (used[i][j]) sum_sq += sq;
     }
-    sum_sq += image_sq;
-    result.image_rms_px.push_back(
-        im.corners.empty() ? 0.0 : std::sqrt(image_sq / static_cast<double>(im.corners.size())));
+    const std::size_t n = images[i].corners.size();
+    result.image_rms_px.push_back(n == 0 ? 0.0 : std::sqrt(image_sq / static_cast<double>(n)));
   }
-  result.rms_px = std::sqrt(sum_sq / result.corners);
-  result.a_posteriori_sigma_px = std::sqrt(sum_sq / std::max(1, 2 * result.corners - 6));
+  result.rms_px = std::sqrt(sum_sq / used_corners);
+  result.a_posteriori_sigma_px = std::sqrt(sum_sq / std::max(1, 2 * used_corners - 6));
   result.sigma_px = options.corner_sigma_px > 0.0
                         ? options.corner_sigma_px
                         : std::max(result.a_posteriori_sigma_px, options.min_corner_sigma_px);

@@ -113,6 +113,7 @@ std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOpt
       {"bev_error", bev},
       {"rms_px", s.rms_px},
       {"corners", s.corners},
+      {"gated_corners", s.gated_corners},
       {"quadrant_corners",
        {{"top_left", c.quadrant_corners[0]},
         {"top_right", c.quadrant_corners[1]},

@@ -17,7 +17,7 @@ using internal::XmlEscape;
 constexpr const char* kStyle =
     "<style>body{font-family:sans-serif;margin:24px;max-width:1000px}"
     "table{border-collapse:collapse;margin-bottom:8px}td,th{border:1px solid #ccc;padding:3px "
-    "8px;text-align:right}th{background:#eee}td.l{text-align:left}"
+    "8px;text-align:right}th{background:#eee}td.l,th:first-child{text-align:left}"
     ".pass{color:#fff;background:#2e7d32;padding:4px 12px}"
     ".fail{color:#fff;background:#c62828;padding:4px 12px}.bad{color:#c62828;font-weight:bold}"
     "</style>";
@@ -68,11 +68,20 @@ void RectifiedSection(const FloorCalibration& c, const TagLayout& layout, std::o
     << " mm per pixel; black: seen by no image). Green: the surveyed outline of each tag's black "
        "square, with its id. With a good mount every black square fills its outline; a "
        "square shifted or turned against its outline points at that tag's survey or at the "
-       "mount.</p>\n<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 "
-    << r.width_px << " " << r.height_px << "' width='" << Fixed(shown, 0) << "' height='"
-    << Fixed(shown * r.height_px / r.width_px, 0) << "'><image width='" << r.width_px
-    << "' height='" << r.height_px << "' href='" << uri << "'/>\n";
+       "mount.";
+  std::string left_out;
+  for (std::size_t i = 0; i < c.images.size(); ++i) {
+    if (i < c.image_failed.size() && c.image_failed[i]) left_out += " " + c.images[i].name;
+  }
+  if (!left_out.empty()) h << " Left out (failed their check):" << XmlEscape(left_out) << ".";
+  h << "</p>\n";
+  // Below the raster, a strip for the ids of the nearest row and the scale bar.
   const double font = std::max(10.0, 0.05 / r.resolution_m);
+  const double total_height = r.height_px + 2.5 * font;
+  h << "<svg xmlns='http://www.w3.org/2000/svg' viewBox='0 0 " << r.width_px << " "
+    << Fixed(total_height, 0) << "' width='" << Fixed(shown, 0) << "' height='"
+    << Fixed(shown * total_height / r.width_px, 0) << "'><image width='" << r.width_px
+    << "' height='" << r.height_px << "' href='" << uri << "'/>\n";
   for (const SurveyedTag& t : layout.tags) {
     h << "<polygon fill='none' stroke='#00e676' stroke-width='2' "
          "vector-effect='non-scaling-stroke' points='";
@@ -80,19 +89,26 @@ void RectifiedSection(const FloorCalibration& c, const TagLayout& layout, std::o
       const Eigen::Vector2d q = r.RasterOfFloor(p);
       h << Fixed(q.x(), 1) << "," << Fixed(q.y(), 1) << " ";
     }
-    const Eigen::Vector2d centre = r.RasterOfFloor(
-        t.T_frame_tag * Eigen::Vector2d(0.0, -0.5 * t.size_m - 0.3 * font * r.resolution_m));
-    h << "'/><text x='" << Fixed(centre.x(), 1) << "' y='" << Fixed(centre.y(), 1)
+    // The id below the tag on the page, clear of its outline and white ring.
+    const Eigen::Vector2d centre = r.RasterOfFloor(t.T_frame_tag.translation());
+    double below = 0.0;
+    for (const Eigen::Vector2d& p : t.CornersInFrame()) {
+      below = std::max(below, r.RasterOfFloor(p).y() - centre.y());
+    }
+    h << "'/><text x='" << Fixed(centre.x(), 1) << "' y='"
+      << Fixed(centre.y() + below + 0.15 * t.size_m / r.resolution_m + 0.8 * font, 1)
       << "' font-size='" << Fixed(font, 0)
-      << "' fill='#00e676' stroke='#000' stroke-width='0.5' text-anchor='middle' "
-         "dominant-baseline='middle'>"
+      << "' font-family='sans-serif' font-weight='bold' fill='#00e676' stroke='#000' "
+         "stroke-width='3' paint-order='stroke' text-anchor='middle'>"
       << t.id << "</text>\n";
   }
   const double bar_px = 0.5 / r.resolution_m;
-  h << "<rect x='10' y='" << r.height_px - 22 << "' width='" << Fixed(bar_px, 1)
-    << "' height='8' fill='#fff' stroke='#000'/><text x='" << Fixed(14 + bar_px, 1) << "' y='"
-    << r.height_px - 13 << "' font-size='" << Fixed(font, 0)
-    << "' fill='#fff' stroke='#000' stroke-width='0.5'>0.5 m</text></svg>\n";
+  const double bar_y = total_height - 0.9 * font;
+  h << "<rect x='" << Fixed(r.width_px - bar_px - 4.0 * font, 1) << "' y='" << Fixed(bar_y, 1)
+    << "' width='" << Fixed(bar_px, 1) << "' height='" << Fixed(0.4 * font, 1)
+    << "' fill='#000'/><text x='" << Fixed(r.width_px - 0.5 * font, 1) << "' y='"
+    << Fixed(bar_y + 0.4 * font, 1) << "' font-size='" << Fixed(font, 0)
+    << "' font-family='sans-serif' text-anchor='end'>0.5 m</text></svg>\n";
 }
 
 // The detected corners back-projected to the floor, offsets enlarged.
@@ -113,7 +129,8 @@ void BackProjectedSection(const FloorCalibration& c, const TagLayout& layout,
   const auto sy = [&](const Eigen::Vector2d& p) { return (hi.x() - p.x()) * scale; };
   h << "<h3>Corner offsets on the floor</h3><p>Green: surveyed tag outlines. Red: detected "
        "corners back-projected to the floor through the solved mount and each image's vehicle "
-       "pose, their offset from the surveyed corner drawn "
+       "pose (images that failed their check left out), their offset from the surveyed corner "
+       "drawn "
     << kExaggeration << "&times; enlarged.</p>\n<svg xmlns='http://www.w3.org/2000/svg' width='"
     << Fixed((hi.y() - lo.y()) * scale, 0) << "' height='" << Fixed((hi.x() - lo.x()) * scale, 0)
     << "' style='background:#ddd'>\n";
@@ -126,7 +143,9 @@ void BackProjectedSection(const FloorCalibration& c, const TagLayout& layout,
       << "' font-size='11' text-anchor='middle'>" << t.id << "</text>\n";
   }
   const FloorProjection projection(camera, c.solution.mount);
-  for (const FloorImage& im : c.images) {
+  for (std::size_t i = 0; i < c.images.size(); ++i) {
+    if (i < c.image_failed.size() && c.image_failed[i]) continue;
+    const FloorImage& im = c.images[i];
     for (const FloorCorner& corner : im.corners) {
       const core::Result<Eigen::Vector2d> base = projection.FloorPointOfPixel(corner.pixel);
       if (!base.ok()) continue;
@@ -160,7 +179,11 @@ std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
     h << "<h1>Floor calibration " << Badge(c.pass) << "</h1>\n";
   }
   h << "<p>" << c.images.size() << " images, " << s.corners << " tag corners, " << c.tags.size()
-    << " tags seen, corner RMS " << Fixed(s.rms_px, 3) << " px.</p>\n";
+    << " tags seen, corner RMS " << Fixed(s.rms_px, 3) << " px";
+  if (s.gated_corners > 0) {
+    h << " (" << s.gated_corners << " corners far off the initial mount left out of the solve)";
+  }
+  h << ".</p>\n";
   const std::vector<double>& checked =
       c.image_rms_checked_px.size() == c.images.size() ? c.image_rms_checked_px : s.image_rms_px;
   double worst_image = 0.0;

@@ -125,6 +125,7 @@ void JudgeFloorCalibration(const CameraModel& camera, const FloorReportThreshold
                    [](const TagResidual& a, const TagResidual& b) { return a.rms_px > b.rms_px; });
   // Images over the tags that pass: a bad tag does not fail every image it is in.
   c->image_rms_checked_px.assign(c->images.size(), 0.0);
+  c->image_failed.assign(c->images.size(), false);
   std::vector<std::size_t> bad_images;
   for (std::size_t i = 0; i < c->images.size(); ++i) {
     Sum sum;
@@ -134,7 +135,10 @@ void JudgeFloorCalibration(const CameraModel& camera, const FloorReportThreshold
       sum.n += s.n;
     }
     c->image_rms_checked_px[i] = sum.Rms();
-    if (broken[i] || sum.Rms() > thresholds.max_image_rms_px) bad_images.push_back(i);
+    if (broken[i] || sum.Rms() > thresholds.max_image_rms_px) {
+      bad_images.push_back(i);
+      c->image_failed[i] = true;
+    }
   }
 
   if (!(c->bev[1].rms_mm <= thresholds.max_bev_error_2m_mm)) {

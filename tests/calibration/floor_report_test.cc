@@ -187,6 +187,26 @@ TEST(FloorVerdict, PassesAndNamesTheTagAndImageRegionToFix) {
   EXPECT_TRUE(Contains(good.advice, "the mount is too uncertain, most of all its "));
 }
 
+TEST(FloorVerdict, AnImageAtAWrongVehiclePoseIsLeftOutAndNamed) {
+  sim::CommissioningOptions options = sim::CommissioningOptions::Small();
+  options.poses = 4;
+  const sim::CommissioningScene scene = Scene(options);
+  std::mt19937_64 rng(21);
+  std::vector<FloorImage> images = Corners(scene, 0.0, rng);
+  ASSERT_EQ(images.size(), 4u);
+  // Image 2 was taken elsewhere: its surveyed pose is 0.4 m and 10 deg off.
+  images[2].T_floor_base = images[2].T_floor_base * core::SE2(0.4, 0.1, 10.0 * kDeg);
+  FloorCalibration c = Solved(scene, images);
+  EXPECT_GT(c.solution.gated_corners, 0);
+  EXPECT_NEAR(c.solution.mount.height_m, scene.true_mount.height_m, 1e-3);
+  EXPECT_NEAR(c.solution.mount.pitch_rad, scene.true_mount.pitch_rad, 0.05 * kDeg);
+  JudgeFloorCalibration(scene.camera, {}, &c);
+  EXPECT_FALSE(c.pass);
+  EXPECT_EQ(c.image_failed, std::vector<bool>({false, false, true, false}));
+  EXPECT_TRUE(Contains(c.advice, "drop or retake image " + images[2].name)) << c.verdict;
+  for (const TagResidual& t : c.tags) EXPECT_LT(t.rms_px, 1.0) << "tag " << t.id;
+}
+
 TEST(FloorVerdict, ThresholdsConfigErrorsNameTheFileLineAndKey) {
   const std::filesystem::path dir = groundline::testing::ScratchDir("floor_thresholds");
   std::ofstream(dir / "ok.yaml") << "intrinsics_report:\n  max_rms_px: 0.4\nfloor_report:\n"

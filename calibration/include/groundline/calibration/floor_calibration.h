@@ -83,10 +83,12 @@ struct FloorCalibration {
   // Per image, the corner RMS over the tags that pass their check (the value
   // max_image_rms_px judges; solution.image_rms_px counts every corner).
   std::vector<double> image_rms_checked_px;
+  std::vector<bool> image_failed;  // per image: failed its check (advice: drop it)
   // Tag corners per image quadrant: top-left, top-right, bottom-left, bottom-right.
   std::array<int, 4> quadrant_corners{};
   // The tag field rectified with the solved mount (floor_rectification.h):
-  // the layout's tag bounding box plus a margin; empty when not rectified.
+  // the layout's tag bounding box plus a margin, from the images that pass
+  // their check; empty when not rectified.
   FloorRaster rectified;
   std::vector<std::string> warnings;
   FloorReportThresholds thresholds;
@@ -103,7 +105,8 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
                                               const std::filesystem::path& image_dir,
                                               const FloorCalibrationOptions& options);
 
-// Fills tags, quadrant_corners, thresholds, pass, verdict, failures and advice
+// Fills tags, quadrant_corners, image_rms_checked_px, image_failed,
+// thresholds, pass, verdict, failures and advice
 // of a calibration whose solution, images and bev are set.
 void JudgeFloorCalibration(const CameraModel& camera, const FloorReportThresholds& thresholds,
                            FloorCalibration* calibration);
