@@ -21,6 +21,10 @@ struct CalibrateFloorFlags {
   double max_bev_error_2m_mm = 5.0;
   double max_rms_px = 0.5;
   double corner_sigma_px = 0.0;
+  std::string config;             // YAML with a floor_report: mapping of thresholds
+  std::string intrinsics_report;  // report.json of `calibrate intrinsics`
+  bool max_bev_given = false;     // command-line thresholds override --config
+  bool max_rms_given = false;
   // Live only.
   int frames_per_tag = 3;
   int max_frames = 0;       // 0: no limit

@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "calibrate_floor.h"
@@ -22,17 +23,26 @@ positions (the tag layout file, docs/tag_layout.md), seen in the images of
 
 Tags found by libapriltag (full resolution, refined edges) are matched to the
 layout by id; their corners are fitted over all images with Ceres (Huber loss at
-1 px). The covariance is scaled by the a posteriori residual variance unless
---corner-sigma gives the corner noise.
+1 px). The covariance is scaled by the corner noise: --corner-sigma when given,
+else the a posteriori residual sigma but at least 0.3 px (detector bias the
+residuals do not show), plus the layout's survey_sigma_m when it has one.
 
 Writes into --out:
   extrinsics.yaml     the mount (groundline_camera_extrinsics, metres and degrees)
   floor_report.json   values in mm and deg with 3-sigma bounds, expected BEV error
-                      at 1, 2 and 4 m ahead, per-image corner RMS, PASS/FAIL
-  floor_report.html   the same with a bird's-eye view of the tag field
-PASS needs the BEV error at 2 m <= --max-bev-error (default 5 mm) and every
-image's corner RMS <= --max-rms (default 0.5 px). Exit code 0 on PASS, 1 on FAIL
-or a data error (malformed layout, unreadable image, no tags), 2 on usage errors.
+                      at 1, 2 and 4 m ahead, per-image and per-tag corner RMS,
+                      PASS/FAIL with what failed and what to do
+  floor_report.html   the same with the images rectified onto the floor and the
+                      surveyed tag outlines drawn over them
+PASS needs the BEV error at 2 m <= --max-bev-error (default 5 mm), every
+image's corner RMS <= --max-rms (default 0.5 px), every tag's corner RMS
+<= 1 px and tag corners in all four image quadrants; --config FILE sets these
+under `floor_report:` (docs/calibration.md), the flags override it.
+--intrinsics-report DIR/report.json (from `calibrate intrinsics`) folds the
+intrinsics result in: one commissioning report with both verdicts, and the
+exit code is 0 only when both pass.
+Exit code 0 on PASS, 1 on FAIL or a data error (malformed layout, unreadable
+image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
 
 Live (--live URI instead of --images; URIs as in 'calibrate intrinsics --help'):
@@ -61,9 +71,19 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   core::Result<calibration::CameraModel> camera = calibration::ReadCameraModel(flags.camera);
   if (!camera.ok()) return fail(camera.message());
   calibration::FloorCalibrationOptions options;
-  options.max_bev_error_2m_mm = flags.max_bev_error_2m_mm;
-  options.max_image_rms_px = flags.max_rms_px;
+  if (!flags.config.empty()) {
+    core::Result<calibration::FloorReportThresholds> t =
+        calibration::ReadFloorReportThresholds(flags.config);
+    if (!t.ok()) return fail(t.message());
+    options.thresholds = *t;
+  }
+  if (flags.max_bev_given) options.thresholds.max_bev_error_2m_mm = flags.max_bev_error_2m_mm;
+  if (flags.max_rms_given) options.thresholds.max_image_rms_px = flags.max_rms_px;
   options.solver.corner_sigma_px = flags.corner_sigma_px;
+  if (!flags.intrinsics_report.empty()) {  // fail before a live session, not after it
+    const auto read = calibration::ReadIntrinsicsReportSummary(flags.intrinsics_report);
+    if (!read.ok()) return fail(read.message());
+  }
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline calibrate floor: %s\n", s.message().c_str());
     return 2;
@@ -82,6 +102,14 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
     std::fprintf(stderr, "groundline calibrate floor: %s\n", message.c_str());
     return 1;
   };
+  std::optional<calibration::IntrinsicsReportSummary> intrinsics;
+  if (!flags.intrinsics_report.empty()) {
+    core::Result<calibration::IntrinsicsReportSummary> read =
+        calibration::ReadIntrinsicsReportSummary(flags.intrinsics_report);
+    if (!read.ok()) return fail(read.message());
+    intrinsics = *read;
+  }
+  const calibration::IntrinsicsReportSummary* intrinsics_ptr = intrinsics ? &*intrinsics : nullptr;
   core::Result<calibration::FloorCalibration> result =
       calibration::CalibrateFloor(camera, layout, image_dir, options);
   if (!result.ok()) return fail(result.message());
@@ -94,10 +122,10 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
   for (const core::Status& s :
        {calibration::WriteCameraMountYaml(result->solution.mount, out / "extrinsics.yaml"),
         core::WriteFileAtomically(out / "floor_report.json",
-                                  calibration::FloorReportJson(*result, options)),
+                                  calibration::FloorReportJson(*result, options, intrinsics_ptr)),
         core::WriteFileAtomically(
             out / "floor_report.html",
-            calibration::FloorReportHtml(*result, layout, camera, options))}) {
+            calibration::FloorReportHtml(*result, layout, camera, options, intrinsics_ptr))}) {
     if (!s.ok()) return fail(s.message());
   }
   const calibration::FloorExtrinsicsResult& r = result->solution;
@@ -116,6 +144,13 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
       r.mount.yaw_rad * kDeg, sd3(3, kDeg), r.mount.forward_m * 1e3, sd3(4, 1e3),
       r.mount.lateral_m * 1e3, sd3(5, 1e3), result->bev[0].rms_mm, result->bev[1].rms_mm,
       result->bev[2].rms_mm, result->verdict.c_str());
+  for (const std::string& a : result->advice) std::printf("  to do: %s\n", a.c_str());
+  if (intrinsics) {
+    std::printf("intrinsics (%s): %s\ncommissioning: %s\n", intrinsics->source.c_str(),
+                intrinsics->pass ? "PASS" : "FAIL",
+                result->pass && intrinsics->pass ? "PASS" : "FAIL");
+    return result->pass && intrinsics->pass ? 0 : 1;
+  }
   return result->pass ? 0 : 1;
 }
 
@@ -158,10 +193,16 @@ void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
       ->capture_default_str();
   cmd->add_option("--save-frames", flags->save_frames,
                   "Live: directory for the kept frames (default OUT/frames)");
-  cmd->callback([flags, run, images, live] {
+  cmd->add_option("--config", flags->config,
+                  "YAML with a 'floor_report:' mapping of PASS/FAIL thresholds");
+  cmd->add_option("--intrinsics-report", flags->intrinsics_report,
+                  "report.json of `calibrate intrinsics` to fold into one commissioning report");
+  cmd->callback([flags, run, images, live, cmd] {
     if (images->count() == 0 && live->count() == 0) {
       throw CLI::RequiredError("--images or --live");
     }
+    flags->max_bev_given = cmd->count("--max-bev-error") > 0;
+    flags->max_rms_given = cmd->count("--max-rms") > 0;
     *run = [flags] { return RunCalibrateFloor(*flags); };
   });
 }

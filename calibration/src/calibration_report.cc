@@ -1,7 +1,5 @@
 #include "groundline/calibration/calibration_report.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -11,9 +9,7 @@
 #include "groundline/calibration/opencv_calibration_io.h"
 #include "groundline/calibration/ros_camera_info_io.h"
 #include "groundline/core/atomic_file.h"
-#include "text_util.h"
-#include "yaml_text.h"
-#include "yaml_util.h"
+#include "report_config.h"
 
 namespace groundline::calibration {
 namespace {
@@ -38,29 +34,18 @@ core::Status ReportThresholds::Validate() const {
 }
 
 core::Result<ReportThresholds> ReadReportThresholds(const std::filesystem::path& path) {
-  core::Result<std::string> text = text_util::ReadTextFile(path, "report config");
-  if (!text.ok()) return text.status();
-  const std::string source = path.filename().string();
-  core::Result<YAML::Node> root = internal::LoadYamlText(*text, source);
-  if (!root.ok()) return root.status();
   ReportThresholds t;
-  const YAML::Node node = (*root)["intrinsics_report"];
-  if (!node) return t;
-  try {
-    if (node["max_rms_px"]) t.max_rms_px = node["max_rms_px"].as<double>();
-    if (node["max_worst_px"]) t.max_worst_px = node["max_worst_px"].as<double>();
-    if (node["require_all_quadrants"]) {
-      t.require_all_quadrants = node["require_all_quadrants"].as<bool>();
-    }
-    if (node["min_corners_per_quadrant"]) {
-      t.min_corners_per_quadrant = node["min_corners_per_quadrant"].as<int>();
-    }
-  } catch (const YAML::Exception& e) {
-    return core::Status::Error(yaml_util::Where(source, node) +
-                               ": key 'intrinsics_report': bad value (" + e.msg + ")");
+  if (core::Status s =
+          internal::ReadConfigSection(path, "intrinsics_report",
+                                      {{"max_rms_px", &t.max_rms_px},
+                                       {"max_worst_px", &t.max_worst_px},
+                                       {"require_all_quadrants", &t.require_all_quadrants},
+                                       {"min_corners_per_quadrant", &t.min_corners_per_quadrant}});
+      !s.ok()) {
+    return s;
   }
   if (core::Status s = t.Validate(); !s.ok()) {
-    return core::Status::Error(source + ": key 'intrinsics_report': " + s.message());
+    return core::Status::Error(path.string() + ": key 'intrinsics_report': " + s.message());
   }
   return t;
 }

@@ -128,7 +128,8 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
        "<style>body{font-family:sans-serif;margin:24px;max-width:1000px}"
        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px "
        "8px;text-align:right}"
-       "th{background:#eee}.pass{color:#fff;background:#2e7d32;padding:4px 12px}"
+       "th{background:#eee}th:first-child{text-align:left}.pass{color:#fff;background:#2e7d32;"
+       "padding:4px 12px}"
        ".fail{color:#fff;background:#c62828;padding:4px 12px}.bad{color:#c62828;font-weight:bold}"
        "</style></head><body>";
   h << "<h1>Intrinsic calibration <span class='" << (r.pass ? "pass'>PASS" : "fail'>FAIL")

@@ -11,6 +11,8 @@
 namespace groundline::calibration {
 namespace {
 
+constexpr double kRectifiedMarginM = 0.1;  // floor shown around the tag field
+
 bool IsImageFile(const std::filesystem::path& p) {
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -47,10 +49,8 @@ core::Result<std::vector<std::pair<std::string, core::SE2>>> ImageList(
 core::Status FloorCalibrationOptions::Validate() const {
   if (core::Status s = detector.Validate(); !s.ok()) return s;
   if (core::Status s = solver.Validate(); !s.ok()) return s;
-  if (!(max_bev_error_2m_mm > 0.0) || !(max_image_rms_px > 0.0)) {
-    return core::Status::Error("FloorCalibrationOptions: thresholds must be > 0");
-  }
-  return core::Status::Ok();
+  if (core::Status s = thresholds.Validate(); !s.ok()) return s;
+  return rectification.Validate();
 }
 
 core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const TagLayout& layout,
@@ -62,6 +62,7 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
   if (!list.ok()) return list.status();
   FloorCalibration out;
   std::set<int> seen;
+  std::vector<cv::Mat> used_images;  // kept for the rectified floor
   for (const auto& [name, T_floor_base] : *list) {
     const std::filesystem::path path = image_dir / name;
     const cv::Mat image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
@@ -97,6 +98,7 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
       continue;
     }
     out.images.push_back(std::move(im));
+    if (options.rectify) used_images.push_back(image);
   }
   for (const SurveyedTag& t : layout.tags) {
     if (!seen.count(t.id)) {
@@ -107,8 +109,9 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
     return core::Status::Error(image_dir.string() + ": no image shows a tag of the layout (" +
                                std::to_string(list->size()) + " images searched)");
   }
-  core::Result<FloorExtrinsicsResult> solution =
-      SolveFloorExtrinsics(camera, out.images, options.solver);
+  FloorExtrinsicsOptions solver = options.solver;
+  if (solver.survey_sigma_m == 0.0) solver.survey_sigma_m = layout.survey_sigma_m;
+  core::Result<FloorExtrinsicsResult> solution = SolveFloorExtrinsics(camera, out.images, solver);
   if (!solution.ok()) return solution.status();
   out.solution = std::move(solution).value();
   const std::array<double, 3> distances = {1.0, 2.0, 4.0};
@@ -122,27 +125,28 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
       out.bev[i].rms_mm = out.bev[i].sigma3_mm = std::numeric_limits<double>::infinity();
     }
   }
-  std::vector<std::string> reasons;
-  if (!(out.bev[1].rms_mm <= options.max_bev_error_2m_mm)) {
-    char buf[160];
-    std::snprintf(buf, sizeof(buf), "BEV error at 2 m %.2f mm > %.2f mm", out.bev[1].rms_mm,
-                  options.max_bev_error_2m_mm);
-    reasons.push_back(buf);
-  }
-  for (std::size_t i = 0; i < out.images.size(); ++i) {
-    if (out.solution.image_rms_px[i] > options.max_image_rms_px) {
-      char buf[200];
-      std::snprintf(buf, sizeof(buf), "%s: corner RMS %.3f px > %.3f px",
-                    out.images[i].name.c_str(), out.solution.image_rms_px[i],
-                    options.max_image_rms_px);
-      reasons.push_back(buf);
+  JudgeFloorCalibration(camera, options.thresholds, &out);
+  if (options.rectify) {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const SurveyedTag& t : layout.tags) {
+      for (const Eigen::Vector2d& p : t.CornersInFrame()) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
     }
-  }
-  out.pass = reasons.empty();
-  out.verdict = "PASS";
-  if (!out.pass) {
-    out.verdict = "FAIL:";
-    for (const std::string& r : reasons) out.verdict += " " + r + ";";
+    const Eigen::Vector2d margin = Eigen::Vector2d::Constant(kRectifiedMarginM);
+    std::vector<FloorImageView> views;
+    for (std::size_t i = 0; i < used_images.size(); ++i) {
+      if (out.image_failed[i]) continue;  // its tags would be ghosts beside their outlines
+      const cv::Mat& m = used_images[i];
+      views.push_back(
+          {m.data, m.cols, m.rows, static_cast<int>(m.step[0]), out.images[i].T_floor_base});
+    }
+    core::Result<FloorRaster> raster = RectifyFloor(camera, out.solution.mount, views, lo - margin,
+                                                    hi + margin, options.rectification);
+    if (!raster.ok()) return raster.status().WithContext("floor report");
+    out.rectified = std::move(raster).value();
   }
   return out;
 }

@@ -4,9 +4,13 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <map>
+#include <utility>
 
 namespace groundline::calibration {
 namespace {
@@ -56,6 +60,32 @@ class CornerCost : public ceres::SizedCostFunction<2, 6> {
   core::SE2 T_floor_base_;
   FloorCorner corner_;
 };
+
+// The survey term of the covariance for a unit survey sigma (header comment):
+// A^-1 (sum_c B_c B_c^T) A^-1 with A^-1 = unscaled_cov.
+Matrix6d SurveyCovariance(const CameraModel& camera, const std::vector<FloorImage>& images,
+                          const CameraMount& mount, const Matrix6d& unscaled_cov) {
+  std::map<std::pair<int, int>, Eigen::Matrix<double, 6, 2>> B;
+  const Eigen::Isometry3d T_base_cam = BaseFromCamera(mount);
+  for (const FloorImage& im : images) {
+    const Eigen::Matrix2d R_base_floor = im.T_floor_base.Inverse().Rotation();
+    const Eigen::Matrix<double, 3, 2> J_cam_floor =
+        T_base_cam.linear().transpose().leftCols<2>() * R_base_floor;
+    for (const FloorCorner& c : im.corners) {
+      MountJacobian J;
+      const Eigen::Vector3d p_cam = FloorPointInCamera(mount, im.T_floor_base, c.floor_m);
+      Eigen::Matrix<double, 2, 3> J_pixel_cam;
+      if (!camera.Project(p_cam, &J_pixel_cam).ok()) continue;
+      if (!PredictFloorPixel(camera, mount, im.T_floor_base, c.floor_m, &J).ok()) continue;
+      auto [it, inserted] =
+          B.try_emplace({c.tag_id, c.corner}, Eigen::Matrix<double, 6, 2>::Zero());
+      it->second += J.transpose() * (J_pixel_cam * J_cam_floor);
+    }
+  }
+  Matrix6d sum = Matrix6d::Zero();
+  for (const auto& [key, b] : B) sum += b * b.transpose();
+  return unscaled_cov * sum * unscaled_cov;
+}
 
 // Hartley-normalized DLT of the homography a -> b (both 2-D, N >= 4).
 Eigen::Matrix3d Homography(const std::vector<Eigen::Vector2d>& a,
@@ -127,6 +157,45 @@ core::Result<CameraMount> InitialMount(const CameraModel& camera,
   return mount;
 }
 
+// The median corner residual norm of a mount over all images (inf when a
+// corner does not project).
+double MedianResidualPx(const CameraModel& camera, const std::vector<FloorImage>& images,
+                        const CameraMount& mount) {
+  std::vector<double> norms;
+  for (const FloorImage& im : images) {
+    for (const FloorCorner& c : im.corners) {
+      const core::Result<Eigen::Vector2d> px =
+          PredictFloorPixel(camera, mount, im.T_floor_base, c.floor_m);
+      norms.push_back(px.ok() ? (*px - c.pixel).norm() : std::numeric_limits<double>::infinity());
+    }
+  }
+  if (norms.empty()) return std::numeric_limits<double>::infinity();
+  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+  return norms[norms.size() / 2];
+}
+
+// The pooled initialization, or the one of a single image when that explains
+// the corners of all images better (smaller median residual): one image with
+// a wrong vehicle pose must not spoil the start of the refinement.
+core::Result<CameraMount> RobustInitialMount(const CameraModel& camera,
+                                             const std::vector<FloorImage>& images) {
+  core::Result<CameraMount> best = InitialMount(camera, images);
+  if (images.size() < 2) return best;
+  double best_median =
+      best.ok() ? MedianResidualPx(camera, images, *best) : std::numeric_limits<double>::infinity();
+  for (const FloorImage& im : images) {
+    if (im.corners.size() < 8) continue;
+    const core::Result<CameraMount> one = InitialMount(camera, {im});
+    if (!one.ok()) continue;
+    const double median = MedianResidualPx(camera, images, *one);
+    if (median < best_median) {
+      best = one;
+      best_median = median;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 core::Status FloorExtrinsicsOptions::Validate() const {
@@ -134,6 +203,15 @@ core::Status FloorExtrinsicsOptions::Validate() const {
     return core::Status::Error("FloorExtrinsicsOptions.huber_px: expected > 0");
   if (!(corner_sigma_px >= 0.0)) {
     return core::Status::Error("FloorExtrinsicsOptions.corner_sigma_px: expected >= 0");
+  }
+  if (!(min_corner_sigma_px >= 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.min_corner_sigma_px: expected >= 0");
+  }
+  if (!(outlier_gate_px > 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.outlier_gate_px: expected > 0");
+  }
+  if (!(survey_sigma_m >= 0.0)) {
+    return core::Status::Error("FloorExtrinsicsOptions.survey_sigma_m: expected >= 0");
   }
   if (max_iterations < 1) {
     return core::Status::Error("FloorExtrinsicsOptions.max_iterations: expected >= 1");
@@ -191,17 +269,35 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
     return core::Status::Error("floor extrinsics: " + std::to_string(result.corners) +
                                " tag corners in all images; need at least 8 (two tags)");
   }
-  core::Result<CameraMount> initial = InitialMount(camera, images);
+  core::Result<CameraMount> initial = RobustInitialMount(camera, images);
   if (!initial.ok()) return initial.status();
   result.initial_mount = *initial;
 
   std::array<double, 6> params = ToParams(*initial);
+  // Gross outliers at the start (an image with a wrong vehicle pose, a tag
+  // surveyed far off) stay out of the solve: beyond the gate, or not in
+  // front of the camera at all.
+  const double gate_px =
+      std::max(options.outlier_gate_px, 5.0 * MedianResidualPx(camera, images, *initial));
+  std::vector<std::vector<bool>> used(images.size());
+  int used_corners = 0;
   ceres::Problem problem;
-  for (const FloorImage& im : images) {
-    for (const FloorCorner& c : im.corners) {
-      problem.AddResidualBlock(new CornerCost(&camera, im.T_floor_base, c),
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    for (const FloorCorner& c : images[i].corners) {
+      const core::Result<Eigen::Vector2d> px =
+          PredictFloorPixel(camera, *initial, images[i].T_floor_base, c.floor_m);
+      used[i].push_back(px.ok() && (*px - c.pixel).norm() <= gate_px);
+      if (!used[i].back()) continue;
+      ++used_corners;
+      problem.AddResidualBlock(new CornerCost(&camera, images[i].T_floor_base, c),
                                new ceres::HuberLoss(options.huber_px), params.data());
     }
+  }
+  result.gated_corners = result.corners - used_corners;
+  if (used_corners < 8) {
+    return core::Status::Error(
+        "floor extrinsics: the images disagree: only " + std::to_string(used_corners) +
+        " corners agree with the initial mount; check the vehicle poses and the tag survey");
   }
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
@@ -228,25 +324,26 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
     return s.WithContext("floor extrinsics: the solution is not a valid mount");
   }
 
-  double sum_sq = 0.0;
-  for (const FloorImage& im : images) {
+  double sum_sq = 0.0;  // over the corners in the solve
+  for (std::size_t i = 0; i < images.size(); ++i) {
     double image_sq = 0.0;
-    for (const FloorCorner& c : im.corners) {
+    for (std::size_t j = 0; j < images[i].corners.size(); ++j) {
+      const FloorCorner& c = images[i].corners[j];
       const core::Result<Eigen::Vector2d> px =
-          PredictFloorPixel(camera, result.mount, im.T_floor_base, c.floor_m);
-      if (!px.ok())
-        return px.status().WithContext("floor extrinsics: corner of tag " +
-                                       std::to_string(c.tag_id) + " in " + im.name);
-      image_sq += (*px - c.pixel).squaredNorm();
+          PredictFloorPixel(camera, result.mount, images[i].T_floor_base, c.floor_m);
+      const double sq =
+          px.ok() ? (*px - c.pixel).squaredNorm() : std::numeric_limits<double>::infinity();
+      image_sq += sq;
+      if (used[i][j]) sum_sq += sq;
     }
-    sum_sq += image_sq;
-    result.image_rms_px.push_back(
-        im.corners.empty() ? 0.0 : std::sqrt(image_sq / static_cast<double>(im.corners.size())));
+    const std::size_t n = images[i].corners.size();
+    result.image_rms_px.push_back(n == 0 ? 0.0 : std::sqrt(image_sq / static_cast<double>(n)));
   }
-  result.rms_px = std::sqrt(sum_sq / result.corners);
+  result.rms_px = std::sqrt(sum_sq / used_corners);
+  result.a_posteriori_sigma_px = std::sqrt(sum_sq / std::max(1, 2 * used_corners - 6));
   result.sigma_px = options.corner_sigma_px > 0.0
                         ? options.corner_sigma_px
-                        : std::sqrt(sum_sq / std::max(1, 2 * result.corners - 6));
+                        : std::max(result.a_posteriori_sigma_px, options.min_corner_sigma_px);
 
   ceres::Covariance::Options cov_options;
   cov_options.algorithm_type = ceres::DENSE_SVD;
@@ -261,6 +358,11 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
   Eigen::Matrix<double, 6, 6, Eigen::RowMajor> cov;
   covariance.GetCovarianceBlock(params.data(), params.data(), cov.data());
   result.covariance = result.sigma_px * result.sigma_px * cov;
+  result.survey_sigma_m = options.survey_sigma_m;
+  if (options.survey_sigma_m > 0.0) {
+    result.covariance += SurveyCovariance(camera, images, result.mount, cov) *
+                         (options.survey_sigma_m * options.survey_sigma_m);
+  }
   return result;
 }
 

@@ -137,6 +137,9 @@ core::Status TagLayout::Validate() const {
   if (frame == TagLayoutFrame::kBaseLink && !vehicle_poses.empty()) {
     return core::Status::Error("tag layout: frame base_link takes no vehicle_poses");
   }
+  if (!(survey_sigma_m >= 0.0) || !std::isfinite(survey_sigma_m)) {
+    return core::Status::Error("tag layout: survey_sigma_m must be finite and >= 0");
+  }
   std::set<std::string> images;
   for (const VehiclePose& p : vehicle_poses) {
     const bool plain = p.image.find_first_of("\"\\\n\r") == std::string::npos;
@@ -174,8 +177,8 @@ core::Result<TagLayout> ParseTagLayoutYaml(const std::string& yaml_text,
     return core::Status::Error(source_name + ": expected a mapping with format: " +
                                kTagLayoutFormat + " at the top level");
   }
-  if (core::Status s =
-          CheckKeys(root, top, {"format", "version", "family", "frame", "tags"}, {"vehicle_poses"});
+  if (core::Status s = CheckKeys(root, top, {"format", "version", "family", "frame", "tags"},
+                                 {"vehicle_poses", "survey_sigma_m"});
       !s.ok()) {
     return s;
   }
@@ -197,6 +200,14 @@ core::Result<TagLayout> ParseTagLayoutYaml(const std::string& yaml_text,
     layout.frame = TagLayoutFrame::kBaseLink;
   } else {
     return top.Sub("frame").Error(frame, "'floor' or 'base_link'");
+  }
+  if (root["survey_sigma_m"]) {
+    const core::Result<double> sigma = Number(root, top, "survey_sigma_m");
+    if (!sigma.ok()) return sigma.status();
+    if (*sigma < 0.0) {
+      return top.Sub("survey_sigma_m").Error(root["survey_sigma_m"], "a survey error >= 0 metres");
+    }
+    layout.survey_sigma_m = *sigma;
   }
   const YAML::Node tags = root["tags"];
   if (!tags.IsSequence() || tags.size() == 0) {
@@ -261,7 +272,12 @@ std::string TagLayoutToYaml(const TagLayout& layout) {
       << "# tag's right, y to its top. Metres and radians.\n"
       << "format: " << kTagLayoutFormat << "\nversion: \"" << kTagLayoutVersion << "\"\n"
       << "family: tag36h11\nframe: "
-      << (layout.frame == TagLayoutFrame::kFloor ? "floor" : "base_link") << "\ntags:\n";
+      << (layout.frame == TagLayoutFrame::kFloor ? "floor" : "base_link") << "\n";
+  if (layout.survey_sigma_m > 0.0) {
+    out << "survey_sigma_m: " << num(layout.survey_sigma_m)
+        << "  # 1-sigma error of each surveyed tag corner, per axis\n";
+  }
+  out << "tags:\n";
   for (const SurveyedTag& t : layout.tags) {
     out << "  - {id: " << t.id << ", size_m: " << num(t.size_m) << ", pose: " << pose(t.T_frame_tag)
         << "}\n";

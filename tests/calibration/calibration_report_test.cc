@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "groundline/calibration/floor_calibration.h"
 #include "groundline/calibration/mrcal_cameramodel_io.h"
 #include "groundline/calibration/opencv_calibration_io.h"
 #include "groundline/calibration/ros_camera_info_io.h"
@@ -103,6 +104,21 @@ TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
   EXPECT_DOUBLE_EQ(json["rms_px"].get<double>(), cal.summary.rms_px);
   EXPECT_EQ(json["views"].size(), cal.views.size());
   EXPECT_EQ(json["rejected_images"][0]["image"], "blurry.png");
+  // The floor report folds this file in (commissioning report).
+  const core::Result<IntrinsicsReportSummary> summary =
+      ReadIntrinsicsReportSummary(dir / "out/report.json");
+  ASSERT_TRUE(summary.ok()) << summary.message();
+  EXPECT_TRUE(summary->pass);
+  EXPECT_DOUBLE_EQ(summary->rms_px, cal.summary.rms_px);
+  EXPECT_EQ(summary->views, static_cast<int>(cal.views.size()));
+  EXPECT_EQ(summary->quadrant_corners, report.quadrant_corners);
+  std::ofstream(dir / "partial.json") << R"({"format": "groundline-intrinsics-report", )"
+                                         R"("verdict": "PASS", "failures": []})";
+  const core::Result<IntrinsicsReportSummary> partial =
+      ReadIntrinsicsReportSummary(dir / "partial.json");
+  ASSERT_FALSE(partial.ok());
+  EXPECT_NE(partial.message().find("partial.json: field 'advice'"), std::string::npos)
+      << partial.message();
   const std::string html = ReadFile(dir / "out/report.html");
   EXPECT_NE(html.find("PASS"), std::string::npos);
   EXPECT_EQ(html.find("<img"), std::string::npos);  // self-contained: inline SVG only

@@ -40,6 +40,23 @@ TEST(TagLayout, ParsesTheDocumentedExample) {
   EXPECT_EQ(layout->FindTag(5), nullptr);
 }
 
+TEST(TagLayout, OptionalSurveyErrorIsReadWrittenAndChecked) {
+  EXPECT_DOUBLE_EQ(ParseTagLayoutYaml(kGood, "layout.yaml").value().survey_sigma_m, 0.0);
+  std::string text = kGood;
+  text.insert(text.find("tags:"), "survey_sigma_m: 0.0015\n");
+  const TagLayout layout = ParseTagLayoutYaml(text, "layout.yaml").value();
+  EXPECT_DOUBLE_EQ(layout.survey_sigma_m, 0.0015);
+  const core::Result<TagLayout> back = ParseTagLayoutYaml(TagLayoutToYaml(layout), "written.yaml");
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_DOUBLE_EQ(back->survey_sigma_m, 0.0015);
+  std::string negative = kGood;
+  negative.insert(negative.find("tags:"), "survey_sigma_m: -1\n");
+  const core::Result<TagLayout> bad = ParseTagLayoutYaml(negative, "layout.yaml");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("layout.yaml:5: field 'survey_sigma_m'"), std::string::npos)
+      << bad.message();
+}
+
 TEST(TagLayout, CornersFollowLibapriltagOrderInTheTagFrame) {
   SurveyedTag tag{7, 0.2, core::SE2(1.0, 2.0, std::numbers::pi / 2)};
   const auto c = tag.CornersInFrame();

@@ -11,6 +11,7 @@
 
 #include "cli_runner.h"
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/tag_layout.h"
 #include "test_data.h"
 
 namespace groundline::testing {
@@ -55,9 +56,16 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
   // An image without tags is named and skipped.
   const cv::Mat blank(384, 480, CV_8UC1, cv::Scalar(90));
   ASSERT_TRUE(cv::imwrite((scene / "images" / "pose_001.png").string(), blank));
-  ASSERT_EQ(RunGroundline(calibrate + Quoted(dir / "cal1"), dir, &out), 0) << out;
+  // The one image left sees too little of the mat at the bottom of the image:
+  // the coverage check (and only it) fails and names the quadrants.
+  EXPECT_EQ(RunGroundline(calibrate + Quoted(dir / "cal1"), dir, &out), 1) << out;
   EXPECT_NE(out.find("pose_001.png: no tag of the layout found; image skipped"), std::string::npos)
       << out;
+  const nlohmann::json one = nlohmann::json::parse(ReadText(dir / "cal1" / "floor_report.json"));
+  ASSERT_FALSE(one["failures"].empty());
+  for (const auto& f : one["failures"]) {
+    EXPECT_NE(f.get<std::string>().find("image quadrant"), std::string::npos) << f;
+  }
 
   // pose_001 replaced by pose_000 shows its tags at the wrong vehicle pose: an
   // outlier image that fails the RMS threshold and is named.
@@ -89,6 +97,100 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
                           dir, &out),
             1);
   EXPECT_NE(out.find("no image files"), std::string::npos) << out;
+}
+
+// The report of the whole flow: verdict, failed checks with advice, 3-sigma
+// bounds, per-tag residuals, the rectified floor, thresholds from a config
+// (flags override it), the intrinsics folded in; and the input errors.
+TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRectifiedFloor) {
+  const std::filesystem::path dir = ScratchDir("floor_report");
+  const std::filesystem::path scene = dir / "scene";
+  std::string out;
+  ASSERT_EQ(RunGroundline("sim-commissioning --small --poses 2 --seed 5 --out " + Quoted(scene),
+                          dir, &out),
+            0)
+      << out;
+  std::ofstream(dir / "config.yaml") << "floor_report:\n  max_tag_rms_px: 0.9\n"
+                                        "  max_bev_error_2m_mm: 4\n";
+  std::ofstream(dir / "intrinsics.json")
+      << R"({"format": "groundline-intrinsics-report", "verdict": "FAIL",)"
+         R"( "failures": ["bottom-left quadrant: 3 corners < 10"],)"
+         R"( "advice": ["take more views with the board in the bottom-left of the image"],)"
+         R"( "target": "grid", "lens_model": "LENSMODEL_OPENCV8", "rms_px": 0.21,)"
+         R"( "worst_px": 1.1, "views": [{}, {}],)"
+         R"( "quadrant_corners": {"top_left": 40, "top_right": 41, "bottom_left": 3,)"
+         R"( "bottom_right": 44}})";
+  const std::string calibrate = "calibrate floor --images " + Quoted(scene / "images") +
+                                " --camera " + Quoted(scene / "camera.cameramodel") + " --config " +
+                                Quoted(dir / "config.yaml") + " --layout ";
+  const std::string layout = Quoted(scene / "tag_layout.yaml");
+  // Floor PASS, intrinsics FAIL: the commissioning fails (exit 1).
+  ASSERT_EQ(RunGroundline(calibrate + layout + " --intrinsics-report " +
+                              Quoted(dir / "intrinsics.json") + " --out " + Quoted(dir / "a"),
+                          dir, &out),
+            1)
+      << out;
+  EXPECT_NE(out.find("commissioning: FAIL"), std::string::npos) << out;
+  nlohmann::json j = nlohmann::json::parse(ReadText(dir / "a" / "floor_report.json"));
+  EXPECT_EQ(j["verdict"], "PASS") << j["failures"];
+  EXPECT_EQ(j["overall_verdict"], "FAIL");
+  EXPECT_EQ(j["intrinsics"]["verdict"], "FAIL");
+  EXPECT_EQ(j["thresholds"]["max_tag_rms_px"], 0.9);
+  EXPECT_EQ(j["thresholds"]["max_bev_error_2m_mm"], 4.0);
+  const nlohmann::json& height = j["mount"]["height_mm"];
+  EXPECT_LT(height["lower_3sigma"].get<double>(), height["value"].get<double>());
+  EXPECT_GT(height["upper_3sigma"].get<double>(), height["value"].get<double>());
+  EXPECT_GE(j["covariance"]["sigma_px"].get<double>(), 0.3);
+  EXPECT_FALSE(j["tags"].empty());
+  EXPECT_GT(j["rectified_floor"]["width_px"].get<int>(), 100);
+  const std::string html = ReadText(dir / "a" / "floor_report.html");
+  EXPECT_NE(html.find("<image width="), std::string::npos);
+  EXPECT_NE(html.find("href='data:image/png;base64,iVBORw0KGgo"), std::string::npos);
+  EXPECT_NE(html.find("Camera commissioning"), std::string::npos);
+  EXPECT_NE(html.find("take more views with the board in the bottom-left"), std::string::npos);
+
+  // A flag overrides the config: an unreachable BEV limit fails with advice.
+  EXPECT_EQ(RunGroundline(calibrate + layout + " --max-bev-error 0.001 --out " + Quoted(dir / "b"),
+                          dir, &out),
+            1);
+  EXPECT_NE(out.find("to do: the mount is too uncertain"), std::string::npos) << out;
+  j = nlohmann::json::parse(ReadText(dir / "b" / "floor_report.json"));
+  EXPECT_EQ(j["verdict"], "FAIL");
+  EXPECT_EQ(j["thresholds"]["max_tag_rms_px"], 0.9);
+  ASSERT_FALSE(j["failures"].empty());
+  EXPECT_NE(j["failures"][0].get<std::string>().find("BEV error at 2 m"), std::string::npos);
+  EXPECT_FALSE(j["advice"].empty());
+
+  // A config error names the file, line and key.
+  std::ofstream(dir / "bad_config.yaml") << "floor_report:\n  max_rms: 0.4\n";
+  EXPECT_EQ(RunGroundline("calibrate floor --images " + Quoted(scene / "images") + " --camera " +
+                              Quoted(scene / "camera.cameramodel") + " --config " +
+                              Quoted(dir / "bad_config.yaml") + " --layout " + layout + " --out " +
+                              Quoted(dir / "c"),
+                          dir, &out),
+            1);
+  EXPECT_NE(out.find("bad_config.yaml:2: key 'floor_report.max_rms': unknown key"),
+            std::string::npos)
+      << out;
+
+  // A layout tag that no image shows is named; the calibration still runs.
+  calibration::TagLayout extra = calibration::ReadTagLayout(scene / "tag_layout.yaml").value();
+  extra.tags.push_back({500, 0.2, core::SE2(9.0, 9.0, 0.0)});
+  ASSERT_TRUE(calibration::WriteTagLayout(extra, dir / "extra.yaml").ok());
+  EXPECT_EQ(RunGroundline(calibrate + Quoted(dir / "extra.yaml") + " --out " + Quoted(dir / "d"),
+                          dir, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("warning: tag 500 of the layout was never seen"), std::string::npos) << out;
+
+  // A listed image that is missing is an error naming it.
+  calibration::TagLayout missing = calibration::ReadTagLayout(scene / "tag_layout.yaml").value();
+  missing.vehicle_poses[1].image = "pose_999.png";
+  ASSERT_TRUE(calibration::WriteTagLayout(missing, dir / "missing.yaml").ok());
+  EXPECT_EQ(RunGroundline(calibrate + Quoted(dir / "missing.yaml") + " --out " + Quoted(dir / "e"),
+                          dir, &out),
+            1);
+  EXPECT_NE(out.find("pose_999.png: cannot read the image"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -9,9 +9,23 @@
 // An image with no layout tag in it is skipped with a warning naming it (fatal
 // only when no image has tags); a layout tag never seen gets a warning too.
 //
-// Verdict: PASS when the expected BEV error 2 m ahead (BevError::rms_mm, the
-// 1-sigma radial error from the mount covariance) is <= max_bev_error_2m_mm
-// and every used image's corner RMS is <= max_image_rms_px.
+// Verdict (JudgeFloorCalibration; thresholds from FloorReportThresholds,
+// read from the `floor_report:` mapping of a config file): PASS when
+//   the expected BEV error 2 m ahead (BevError::rms_mm, the 1-sigma radial
+//   error from the mount covariance) <= max_bev_error_2m_mm  (default 5 mm),
+//   every tag's corner RMS <= max_tag_rms_px (default 1 px), over the images
+//     that are not broken (more than half of their tags off by more than it),
+//   every image is not broken, and its corner RMS over the tags that pass is
+//     <= max_image_rms_px (default 0.5 px): one bad tag fails itself, not
+//     every image it is in,
+//   each image quadrant holds >= min_corners_per_quadrant tag corners over
+//   all images (default 4, one tag), unless require_all_quadrants is false.
+// Each failure comes with advice: which image to drop or retake, which tag to
+// re-survey, which region of the image needs tags.
+//
+// The report (floor_report.json / .html) optionally folds in the intrinsics
+// report of `calibrate intrinsics` (IntrinsicsReportSummary): one commissioning
+// report with both verdicts and the overall one.
 #ifndef GROUNDLINE_CALIBRATION_FLOOR_CALIBRATION_H_
 #define GROUNDLINE_CALIBRATION_FLOOR_CALIBRATION_H_
 
@@ -22,43 +36,112 @@
 
 #include "groundline/calibration/camera_model.h"
 #include "groundline/calibration/floor_extrinsics.h"
+#include "groundline/calibration/floor_rectification.h"
 #include "groundline/calibration/tag_detection.h"
 #include "groundline/calibration/tag_layout.h"
 #include "groundline/core/status.h"
 
 namespace groundline::calibration {
 
-struct FloorCalibrationOptions {
-  TagDetectorOptions detector;
-  FloorExtrinsicsOptions solver;
+struct FloorReportThresholds {
   double max_bev_error_2m_mm = 5.0;
   double max_image_rms_px = 0.5;
+  double max_tag_rms_px = 1.0;
+  bool require_all_quadrants = true;
+  int min_corners_per_quadrant = 4;
 
   core::Status Validate() const;
+};
+
+// Reads the optional `floor_report:` mapping of a YAML config (the keys of
+// FloorReportThresholds); absent keys keep their defaults, unknown keys and
+// bad values are errors naming the file, the line and the key.
+core::Result<FloorReportThresholds> ReadFloorReportThresholds(const std::filesystem::path& path);
+
+struct FloorCalibrationOptions {
+  TagDetectorOptions detector;
+  FloorExtrinsicsOptions solver;  // survey_sigma_m 0: the layout's survey_sigma_m
+  FloorReportThresholds thresholds;
+  bool rectify = true;  // build FloorCalibration::rectified for the report
+  FloorRectificationOptions rectification;
+
+  core::Status Validate() const;
+};
+
+// Residuals of one layout tag over all images that saw it.
+struct TagResidual {
+  int id = 0;
+  int images = 0;
+  double rms_px = 0.0;
 };
 
 struct FloorCalibration {
   FloorExtrinsicsResult solution;
   std::vector<FloorImage> images;  // the images used (with tags), solver order
   std::array<BevError, 3> bev;     // at 1, 2 and 4 m ahead on the centre line
+  std::vector<TagResidual> tags;   // every tag seen, worst RMS first
+  // Per image, the corner RMS over the tags that pass their check (the value
+  // max_image_rms_px judges; solution.image_rms_px counts every corner).
+  std::vector<double> image_rms_checked_px;
+  std::vector<bool> image_failed;  // per image: failed its check (advice: drop it)
+  // Tag corners per image quadrant: top-left, top-right, bottom-left, bottom-right.
+  std::array<int, 4> quadrant_corners{};
+  // The tag field rectified with the solved mount (floor_rectification.h):
+  // the layout's tag bounding box plus a margin, from the images that pass
+  // their check; empty when not rectified.
+  FloorRaster rectified;
   std::vector<std::string> warnings;
+  FloorReportThresholds thresholds;
   bool pass = false;
-  std::string verdict;  // "PASS" or "FAIL: <reasons>"
+  std::string verdict;                // "PASS" or "FAIL: <failures>"
+  std::vector<std::string> failures;  // one line per failed check
+  std::vector<std::string> advice;    // what to do next, one line each
 };
 
+// Reads the images, detects, solves, rectifies and judges. Errors: a missing
+// or unreadable listed image, an image of the wrong size, no image with a
+// layout tag, a failed solve.
 core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const TagLayout& layout,
                                               const std::filesystem::path& image_dir,
                                               const FloorCalibrationOptions& options);
 
-// floor_report.json: mount values in mm and degrees with 3-sigma bounds, the
-// BEV error at 1/2/4 m, per-image corner RMS, thresholds, verdict, warnings.
+// Fills tags, quadrant_corners, image_rms_checked_px, image_failed,
+// thresholds, pass, verdict, failures and advice
+// of a calibration whose solution, images and bev are set.
+void JudgeFloorCalibration(const CameraModel& camera, const FloorReportThresholds& thresholds,
+                           FloorCalibration* calibration);
+
+// The figures of an intrinsics report.json (`calibrate intrinsics`) that the
+// commissioning report shows next to the floor result.
+struct IntrinsicsReportSummary {
+  std::string source;  // the report.json path as given
+  bool pass = false;
+  std::vector<std::string> failures;
+  std::vector<std::string> advice;
+  std::string target;
+  std::string lens_model;
+  double rms_px = 0.0;
+  double worst_px = 0.0;
+  int views = 0;
+  std::array<int, 4> quadrant_corners{};
+};
+// Errors name the file and the missing or malformed field.
+core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
+    const std::filesystem::path& report_json);
+
+// floor_report.json: verdict, failures with advice, mount values in mm and
+// degrees with 3-sigma bounds, BEV error at 1/2/4 m, per-image and per-tag
+// corner RMS, quadrant coverage, thresholds, warnings; with `intrinsics`
+// (nullable) also its summary and "overall_verdict".
 std::string FloorReportJson(const FloorCalibration& calibration,
-                            const FloorCalibrationOptions& options);
-// floor_report.html: the same figures and an inline SVG of the floor: the
-// surveyed tag outlines and the detected corners back-projected to the floor
-// through the solved mount and each image's vehicle pose.
+                            const FloorCalibrationOptions& options,
+                            const IntrinsicsReportSummary* intrinsics = nullptr);
+// floor_report.html: the same figures; the rectified tag field (an embedded
+// PNG) with the surveyed tag outlines drawn over it; and an SVG of the
+// detected corners back-projected to the floor, their offsets enlarged.
 std::string FloorReportHtml(const FloorCalibration& calibration, const TagLayout& layout,
-                            const CameraModel& camera, const FloorCalibrationOptions& options);
+                            const CameraModel& camera, const FloorCalibrationOptions& options,
+                            const IntrinsicsReportSummary* intrinsics = nullptr);
 
 }  // namespace groundline::calibration
 

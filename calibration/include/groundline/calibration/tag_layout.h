@@ -6,6 +6,7 @@
 //   version: "1.0"
 //   family: tag36h11
 //   frame: floor            # or base_link (one stationary view, no vehicle_poses)
+//   survey_sigma_m: 0.001   # optional: 1-sigma survey error of each tag corner, per axis
 //   tags:
 //     - {id: 0, size_m: 0.16, pose: {x_m: 1.2, y_m: -0.3, yaw_rad: 0.0}}
 //   vehicle_poses:          # frame: floor only; base_link pose in the floor frame
@@ -56,9 +57,10 @@ struct TagLayout {
   TagLayoutFrame frame = TagLayoutFrame::kFloor;
   std::vector<SurveyedTag> tags;
   std::vector<VehiclePose> vehicle_poses;  // empty for kBaseLink
+  double survey_sigma_m = 0.0;             // optional; inflates the mount covariance
 
   // Ok when tags is non-empty, ids are unique and in tag36h11's range, sizes
-  // are > 0, poses are finite, image names are unique and non-empty, and
+  // are > 0, poses are finite, survey_sigma_m >= 0, image names are unique and non-empty, and
   // vehicle_poses is empty for kBaseLink.
   core::Status Validate() const;
   // nullptr when the id is not in the layout.
