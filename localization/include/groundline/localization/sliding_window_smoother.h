@@ -9,13 +9,20 @@
 //  2. associates the observations with the atlas (floor_association.h);
 //     in mapping mode unmatched ones feed the LandmarkTracker and become
 //     landmarks after min_track_keyframes sightings;
-//  3. solves the window with Ceres (pseudo-Huber = ceres::SoftLOneLoss on line
-//     and junction factors, scales in whitened units);
+//  3. solves the window (pseudo-Huber = ceres::SoftLOneLoss on line and
+//     junction factors, scales in whitened units, by iteratively reweighted
+//     least squares). Localization mode (landmarks fixed, the window is a
+//     chain): Gauss-Newton warm-started from the previous solution, each step
+//     solved exactly in O(window) by block elimination (pose_chain_solver.h),
+//     stopping when the largest step component is below step_tolerance;
+//     SmootherSolver::kCeres solves the same window with Ceres instead
+//     (the reference). Mapping mode (landmarks are variables): Ceres;
 //  4. marginalizes keyframes older than window_s (Schur complement,
-//     marginalization.h) into the prior on the oldest kept keyframe;
-//  5. computes the newest pose's covariance by eliminating the window's
-//     poses in order (exact for the window's chain structure in localization
-//     mode, where landmarks are fixed).
+//     marginalization.h) into the prior on the oldest kept keyframe, unless
+//     the keyframe is held (HoldKeyframe: it carries an active loop closure);
+//  5. the newest pose's covariance is the inverse of the last block of the
+//     chain's forward elimination (exact for the chain; in mapping mode the
+//     landmarks are treated as known).
 //
 // Landmarks stay in the atlas permanently: fixed in localization mode,
 // variables in mapping mode while a window keyframe observes them. When a
@@ -54,13 +61,21 @@
 #include "groundline/localization/odometry_integrator.h"
 
 namespace ceres {
-class CostFunction;
 class LossFunction;
 }  // namespace ceres
 
 namespace groundline::localization {
 
+class GroundLineFactor;
+class JunctionFactor;
+class RelativePoseFactor;
+struct PoseChainSystem;
+
 enum class SmootherMode { kLocalization, kMapping };
+// How the localization-mode window is solved: the block-tridiagonal chain
+// solver, or Ceres (SPARSE_NORMAL_CHOLESKY, Levenberg-Marquardt) on the same
+// factors. Mapping mode always uses Ceres.
+enum class SmootherSolver { kChain, kCeres };
 
 struct SmootherOptions {
   SmootherMode mode = SmootherMode::kLocalization;
@@ -69,6 +84,13 @@ struct SmootherOptions {
   double line_loss_scale = 2.0;
   double junction_loss_scale = 2.0;
   int max_iterations = 10;
+  SmootherSolver solver = SmootherSolver::kChain;
+  // kChain: stop when every component of the Gauss-Newton step is below this
+  // (metres and radians).
+  double step_tolerance = 1e-7;
+  // kCeres and mapping mode: Ceres' relative function tolerance (and the
+  // parameter and gradient tolerances, when tighter than their defaults).
+  double ceres_tolerance = 1e-6;
   AssociationOptions association;
   LandmarkTrackerOptions tracker;  // mapping mode
 
@@ -108,7 +130,7 @@ struct KeyframeHealth {
   int landmarks_added = 0;                 // mapping mode
   int window_size = 0;                     // keyframes in the window after this update
   int iterations = 0;
-  double solve_time_s = 0.0;   // Ceres solve
+  double solve_time_s = 0.0;   // the window solve
   double update_time_s = 0.0;  // the whole AddKeyframe
 };
 
@@ -137,25 +159,35 @@ class SlidingWindowSmoother {
   // The atlas with the current landmark estimates (mapping mode: normalized).
   Atlas CurrentAtlas() const;
   int WindowSize() const { return static_cast<int>(window_.size()); }
+  // The window's pose estimates, oldest first.
+  std::vector<core::SE2> WindowPoses() const;
 
  private:
+  template <typename Factor>
   struct LandmarkFactor {
     int landmark = 0;  // index into atlas lines or junctions
-    std::unique_ptr<ceres::CostFunction> cost;
+    std::unique_ptr<Factor> cost;
   };
   struct Keyframe {
     double stamp_s = 0.0;
     std::array<double, 3> pose{};
     // From the previous keyframe (empty for the first): the odometry factor,
     // then any RelativePoseMeasurement factor.
-    std::vector<std::unique_ptr<ceres::CostFunction>> between;
-    std::vector<LandmarkFactor> lines;
-    std::vector<LandmarkFactor> junctions;
+    std::vector<std::unique_ptr<RelativePoseFactor>> between;
+    std::vector<LandmarkFactor<GroundLineFactor>> lines;
+    std::vector<LandmarkFactor<JunctionFactor>> junctions;
   };
 
+  // sliding_window_solve.cc: the window solve and the newest information.
   core::Status Solve(KeyframeHealth* health);
+  core::Status SolveCeres(KeyframeHealth* health);
+  core::Status SolveChain(KeyframeHealth* health);
+  // The chain's normal equations at the current estimates (landmarks fixed);
+  // returns the robust cost.
+  double LinearizeChain(PoseChainSystem* system) const;
+  core::Result<core::Matrix3> NewestInformation() const;
+
   core::Status MarginalizeOldest();
-  core::Matrix3 NewestCovariance() const;
   std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
                                                 std::vector<LinearizationVariable>* variables);
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
@@ -173,6 +205,10 @@ class SlidingWindowSmoother {
   std::unique_ptr<ceres::LossFunction> junction_loss_;
   LandmarkTracker tracker_;
   PoseEstimate latest_;
+  // The newest pose's marginal information from the last chain solve
+  // (valid when newest_information_valid_).
+  core::Matrix3 newest_information_ = core::Matrix3::Zero();
+  bool newest_information_valid_ = false;
   long keyframe_count_ = 0;
 };
 
