@@ -67,11 +67,19 @@ sim::FloorDriveOptions DriveOptions(int loops) {
   return options;
 }
 
+double Percentile(std::vector<double> v, int p) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[std::min(v.size() - 1, v.size() * p / 100)];
+}
+
+// Arg 0: the chain solver (SmootherSolver::kChain); 1: Ceres on the same window (kCeres).
 void BM_KeyframeUpdate(benchmark::State& state) {
   const Drive& drive = ZoneBDrive();
   sim::FloorDrive floor_drive(drive.map, drive.trajectory, DriveOptions(100));
   SmootherOptions options;
   options.window_s = 120.0;
+  options.solver = state.range(0) == 0 ? SmootherSolver::kChain : SmootherSolver::kCeres;
+  state.SetLabel(state.range(0) == 0 ? "chain" : "ceres");
   SlidingWindowSmoother smoother(options, AtlasFromFloorMap(drive.map, {}));
   smoother.Initialize(floor_drive.Start().stamp_s, floor_drive.Start().pose,
                       Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
@@ -82,6 +90,8 @@ void BM_KeyframeUpdate(benchmark::State& state) {
   }
   std::vector<double> wall_ms;
   std::vector<double> cpu_ms;
+  std::vector<double> iterations;
+  double lines_used = 0.0;
   for (auto _ : state) {
     state.PauseTiming();
     floor_drive.Next(&keyframe);
@@ -92,11 +102,10 @@ void BM_KeyframeUpdate(benchmark::State& state) {
     cpu_ms.push_back(ThreadCpuMs() - cpu_start_ms);
     benchmark::DoNotOptimize(health);
     wall_ms.push_back(health.ok() ? health->update_time_s * 1e3 : 0.0);
+    iterations.push_back(health.ok() ? health->iterations : 0);
+    lines_used += health.ok() ? health->lines_used : 0;
   }
-  const auto percentile = [](std::vector<double> v, int p) {
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, v.size() * p / 100)];
-  };
+  const auto percentile = Percentile;
   // Wall time suffers from other processes on a shared machine; CPU time of
   // this thread is the cost of the update.
   state.counters["median_ms"] = percentile(wall_ms, 50);
@@ -104,8 +113,10 @@ void BM_KeyframeUpdate(benchmark::State& state) {
   state.counters["cpu_median_ms"] = percentile(cpu_ms, 50);
   state.counters["cpu_p99_ms"] = percentile(cpu_ms, 99);
   state.counters["window"] = smoother.WindowSize();
+  state.counters["iterations_median"] = percentile(iterations, 50);
+  state.counters["lines_per_keyframe"] = lines_used / static_cast<double>(wall_ms.size());
 }
-BENCHMARK(BM_KeyframeUpdate)->Iterations(500)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KeyframeUpdate)->Arg(0)->Arg(1)->Iterations(500)->Unit(benchmark::kMillisecond);
 
 void BM_LongDriveMemory(benchmark::State& state) {
   const double duration_s = 60.0 * static_cast<double>(state.range(0));

@@ -51,6 +51,10 @@ struct PoseChainStep {
 // information about some direction, given the poses before it) or not finite.
 core::Result<PoseChainStep> SolvePoseChain(const PoseChainSystem& system);
 
+// Only the forward elimination: S_{n-1}, the marginal information of the last
+// pose. Fails as SolvePoseChain.
+core::Result<core::Matrix3> PoseChainLastInformation(const PoseChainSystem& system);
+
 }  // namespace groundline::localization
 
 #endif  // GROUNDLINE_LOCALIZATION_POSE_CHAIN_SOLVER_H_

@@ -182,9 +182,10 @@ class SlidingWindowSmoother {
   core::Status Solve(KeyframeHealth* health);
   core::Status SolveCeres(KeyframeHealth* health);
   core::Status SolveChain(KeyframeHealth* health);
-  // The chain's normal equations at the current estimates (landmarks fixed);
-  // returns the robust cost.
-  double LinearizeChain(PoseChainSystem* system) const;
+  // The chain's normal equations at the current estimates (landmarks fixed):
+  // `system` for the Gauss-Newton step, `information` (optional) with the
+  // reweighted information (sliding_window_solve.cc); returns the robust cost.
+  double LinearizeChain(PoseChainSystem* system, PoseChainSystem* information) const;
   core::Result<core::Matrix3> NewestInformation() const;
 
   core::Status MarginalizeOldest();
