@@ -80,6 +80,8 @@ void SlidingWindowSmoother::Initialize(double stamp_s, const core::SE2& T_map_ba
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   latest_ = {stamp_s, T_map_base, covariance};
   keyframe_count_ = 1;
+  chain_ = ChainState();
+  InvalidateChain();
 }
 
 Atlas SlidingWindowSmoother::CurrentAtlas() const {
@@ -270,7 +272,9 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   prior.sqrt_prior = std::move(sqrt_prior).value();
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   second.between.clear();
+  second.chain.valid = false;
   window_.pop_front();
+  InvalidateChain();
   return core::Status::Ok();
 }
 

@@ -24,6 +24,7 @@
 #ifndef GROUNDLINE_LOCALIZATION_POSE_CHAIN_SOLVER_H_
 #define GROUNDLINE_LOCALIZATION_POSE_CHAIN_SOLVER_H_
 
+#include <Eigen/Cholesky>
 #include <vector>
 
 #include "groundline/core/se2.h"
@@ -46,14 +47,31 @@ struct PoseChainStep {
   core::Matrix3 last_information = core::Matrix3::Zero();  // S_{n-1}
 };
 
+// The forward elimination of a system, kept to be reused: when only the
+// blocks from index k on change (a new keyframe, the poses near the newest
+// relinearized), S_i and y_i for i < k are still valid.
+struct PoseChainElimination {
+  std::vector<Eigen::LLT<core::Matrix3>> factors;  // Cholesky of S_i
+  std::vector<core::Vector3> y;
+};
+
 // The Gauss-Newton step of the system (n >= 1, the blocks sized as above:
 // asserted). Fails when some S_i is not positive definite (a pose with no
 // information about some direction, given the poses before it) or not finite.
 core::Result<PoseChainStep> SolvePoseChain(const PoseChainSystem& system);
+// The same, eliminating only from `first_changed` on: *elimination must hold
+// the elimination of a system whose blocks before first_changed (diagonal i,
+// the diagonal, gradient and upper blocks with index < first_changed) equal
+// this one's; it is updated to this system's.
+core::Result<PoseChainStep> SolvePoseChain(const PoseChainSystem& system, int first_changed,
+                                           PoseChainElimination* elimination);
 
 // Only the forward elimination: S_{n-1}, the marginal information of the last
-// pose. Fails as SolvePoseChain.
+// pose (the gradient is not used). Fails as SolvePoseChain.
 core::Result<core::Matrix3> PoseChainLastInformation(const PoseChainSystem& system);
+core::Result<core::Matrix3> PoseChainLastInformation(const PoseChainSystem& system,
+                                                     int first_changed,
+                                                     PoseChainElimination* elimination);
 
 }  // namespace groundline::localization
 

@@ -59,6 +59,7 @@
 #include "groundline/localization/landmark_tracker.h"
 #include "groundline/localization/marginalization.h"
 #include "groundline/localization/odometry_integrator.h"
+#include "groundline/localization/pose_chain_solver.h"
 
 namespace ceres {
 class LossFunction;
@@ -69,7 +70,6 @@ namespace groundline::localization {
 class GroundLineFactor;
 class JunctionFactor;
 class RelativePoseFactor;
-struct PoseChainSystem;
 
 enum class SmootherMode { kLocalization, kMapping };
 // How the localization-mode window is solved: the block-tridiagonal chain
@@ -168,8 +168,39 @@ class SlidingWindowSmoother {
     int landmark = 0;  // index into atlas lines or junctions
     std::unique_ptr<Factor> cost;
   };
+  // A keyframe's (or the prior's) linearized terms in the chain, kept until
+  // its poses move (sliding_window_chain.cc): the unary factors on this pose
+  // and the between factors from the previous one.
+  struct ChainTerms {
+    bool valid = false;
+    std::array<double, 3> at{};           // this pose when linearized
+    std::array<double, 3> at_previous{};  // the previous pose when linearized
+    long prior_version = -1;              // the prior's terms: which prior
+    double cost = 0.0;
+    core::Matrix3 H_unary = core::Matrix3::Zero();  // the step's Hessian
+    core::Matrix3 information_unary = core::Matrix3::Zero();
+    core::Vector3 b_unary = core::Vector3::Zero();
+    core::Matrix3 H_previous = core::Matrix3::Zero();  // between: (prev, prev)
+    core::Matrix3 H_cross = core::Matrix3::Zero();     // (prev, this)
+    core::Matrix3 H_current = core::Matrix3::Zero();   // (this, this)
+    core::Vector3 b_previous = core::Vector3::Zero();
+    core::Vector3 b_current = core::Vector3::Zero();
+  };
+  // The assembled chain and its eliminations; blocks before *_clean are
+  // unchanged since they were last assembled / eliminated.
+  struct ChainState {
+    PoseChainSystem system;
+    PoseChainSystem information;
+    PoseChainElimination step_elimination;
+    PoseChainElimination newest_elimination;
+    int system_clean = 0;
+    int step_clean = 0;
+    int newest_clean = 0;
+    ChainTerms prior;
+  };
   struct Keyframe {
     double stamp_s = 0.0;
+    ChainTerms chain;
     std::array<double, 3> pose{};
     // From the previous keyframe (empty for the first): the odometry factor,
     // then any RelativePoseMeasurement factor.
@@ -182,11 +213,14 @@ class SlidingWindowSmoother {
   core::Status Solve(KeyframeHealth* health);
   core::Status SolveCeres(KeyframeHealth* health);
   core::Status SolveChain(KeyframeHealth* health);
-  // The chain's normal equations at the current estimates (landmarks fixed):
-  // `system` for the Gauss-Newton step, `information` (optional) with the
-  // reweighted information (sliding_window_solve.cc); returns the robust cost.
-  double LinearizeChain(PoseChainSystem* system, PoseChainSystem* information) const;
-  core::Result<core::Matrix3> NewestInformation() const;
+  // sliding_window_chain.cc: chain_ at the current estimates (landmarks
+  // fixed), relinearizing the terms whose poses moved (all of them when
+  // relinearize_all); returns the robust cost.
+  double LinearizeChain(bool relinearize_all);
+  void LinearizeKeyframe(int index);
+  void LinearizePrior();
+  core::Result<core::Matrix3> NewestInformation();
+  void InvalidateChain();
 
   core::Status MarginalizeOldest();
   std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
@@ -210,6 +244,8 @@ class SlidingWindowSmoother {
   // (valid when newest_information_valid_).
   core::Matrix3 newest_information_ = core::Matrix3::Zero();
   bool newest_information_valid_ = false;
+  ChainState chain_;
+  long prior_version_ = 0;
   long keyframe_count_ = 0;
 };
 
