@@ -84,6 +84,16 @@ void SlidingWindowSmoother::Initialize(double stamp_s, const core::SE2& T_map_ba
   InvalidateChain();
 }
 
+bool SlidingWindowSmoother::HoldKeyframe(double stamp_s, bool held) {
+  for (Keyframe& keyframe : window_) {
+    if (keyframe.stamp_s == stamp_s) {
+      keyframe.held = held;
+      return true;
+    }
+  }
+  return false;
+}
+
 Atlas SlidingWindowSmoother::CurrentAtlas() const {
   Atlas atlas = atlas_;
   for (size_t i = 0; i < atlas.lines.size(); ++i) {
@@ -212,7 +222,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   latest_ = predicted;
 
   core::Status status = Solve(&health);
-  while (status.ok() && window_.size() > 2 &&
+  while (status.ok() && window_.size() > 2 && !window_.front().held &&
          window_.back().stamp_s - window_.front().stamp_s > options_.window_s) {
     status = MarginalizeOldest();
   }

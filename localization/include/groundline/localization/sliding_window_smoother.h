@@ -18,8 +18,10 @@
 //     SmootherSolver::kCeres solves the same window with Ceres instead
 //     (the reference). Mapping mode (landmarks are variables): Ceres;
 //  4. marginalizes keyframes older than window_s (Schur complement,
-//     marginalization.h) into the prior on the oldest kept keyframe, unless
-//     the keyframe is held (HoldKeyframe: it carries an active loop closure);
+//     marginalization.h) into the prior on the oldest kept keyframe; a
+//     keyframe held by HoldKeyframe (it carries an active loop closure) is
+//     not marginalized, nor is anything newer (the window is a chain and is
+//     marginalized from its old end), until it is released;
 //  5. the newest pose's covariance is the inverse of the last block of the
 //     chain's forward elimination (exact for the chain; in mapping mode the
 //     landmarks are treated as known).
@@ -33,15 +35,15 @@
 // carried about the pose chain. Mapped landmark covariances are the tracker's
 // first-order fusion, and the newest-pose covariance in mapping mode treats
 // the landmarks as known (optimistic). There are no loop-closure factors
-// yet, so no keyframe is held back from marginalization.
+// yet; HoldKeyframe is the hold-back their owner will use.
 //
 // Other relative sensors (a LiDAR scan match between consecutive keyframes)
 // enter as an optional RelativePoseMeasurement per keyframe: a second
 // between-factor next to the odometry, whose square-root information may be
 // rank deficient (a corridor match carries nothing along the aisle).
 //
-// Memory: the window holds at most window_s of keyframes; everything else is
-// the atlas. Not thread-safe.
+// Memory: the window holds at most window_s of keyframes (more while a
+// keyframe is held); everything else is the atlas. Not thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
 #define GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
 
@@ -161,6 +163,11 @@ class SlidingWindowSmoother {
   int WindowSize() const { return static_cast<int>(window_.size()); }
   // The window's pose estimates, oldest first.
   std::vector<core::SE2> WindowPoses() const;
+  // Holds (held = true) or releases the window keyframe of that stamp: a
+  // held keyframe carries an active loop closure and is not marginalized,
+  // nor is any newer one, until released (the window grows meanwhile).
+  // False when no window keyframe has that stamp.
+  bool HoldKeyframe(double stamp_s, bool held = true);
 
  private:
   template <typename Factor>
@@ -200,6 +207,7 @@ class SlidingWindowSmoother {
   };
   struct Keyframe {
     double stamp_s = 0.0;
+    bool held = false;  // HoldKeyframe
     ChainTerms chain;
     std::array<double, 3> pose{};
     // From the previous keyframe (empty for the first): the odometry factor,
