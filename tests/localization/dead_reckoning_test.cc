@@ -13,8 +13,8 @@ constexpr double kPi = std::numbers::pi;
 
 // Exact wheel increments for driving a circle of radius_m (left turn) at
 // 1 cm per reading, 100 readings per second, starting at t = 0.01 s.
-std::vector<core::WheelEncoderReading> CircleReadings(const DiffDriveParams& drive, double radius_m,
-                                                      int n) {
+std::vector<core::WheelEncoderReading> CircleReadings(const DiffDriveParams& drive,
+                                                      double radius_m, int n) {
   const double ds = 2.0 * kPi * radius_m / n;
   const double dtheta = ds / radius_m;
   const double right = (ds + 0.5 * drive.track_m * dtheta) / drive.wheel_radius_m;
