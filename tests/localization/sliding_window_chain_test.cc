@@ -117,7 +117,7 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
   chain_options.max_iterations = 50;
   SmootherOptions ceres_options = chain_options;
   ceres_options.solver = SmootherSolver::kCeres;
-  ceres_options.ceres_tolerance = 1e-16;
+  ceres_options.ceres_tolerance = 1e-12;
   ceres_options.max_iterations = 200;
   SlidingWindowSmoother chain(chain_options, AisleAtlas());
   SlidingWindowSmoother ceres(ceres_options, AisleAtlas());
@@ -125,7 +125,7 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
   chain.Initialize(0.0, core::SE2(0.0, 0.0, 0.05), start_covariance);
   ceres.Initialize(0.0, core::SE2(0.0, 0.0, 0.05), start_covariance);
   int robust_lines = 0;
-  for (const Step& step : AisleDrive(60, 5)) {
+  for (const Step& step : AisleDrive(30, 5)) {
     std::optional<RelativePoseMeasurement> relative;
     if (with_relative) relative = step.relative;
     const auto a = chain.AddKeyframe(step.stamp_s, step.motion, step.observations, relative);
@@ -150,7 +150,7 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
     const core::Matrix3& P_ceres = ceres.Latest().covariance;
     ASSERT_LT((P_chain - P_ceres).norm(), 1e-6 * P_ceres.norm()) << "keyframe " << step.stamp_s;
   }
-  EXPECT_GT(robust_lines, 5);
+  EXPECT_GE(robust_lines, 4);
   if (window_s < 10.0) {
     EXPECT_LE(chain.WindowSize(), static_cast<int>(window_s / 0.1) + 2);
   }
@@ -161,11 +161,11 @@ TEST(SlidingWindowChain, EqualsCeresBatchWithoutMarginalization) {
 }
 
 TEST(SlidingWindowChain, EqualsCeresBatchWithMarginalization) {
-  ExpectChainEqualsCeres(1.5, false);
+  ExpectChainEqualsCeres(1.0, false);
 }
 
 TEST(SlidingWindowChain, EqualsCeresBatchWithARankDeficientRelativeMeasurement) {
-  ExpectChainEqualsCeres(1.5, true);
+  ExpectChainEqualsCeres(1.0, true);
 }
 
 }  // namespace
