@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -154,11 +155,18 @@ void BM_LongDrive(benchmark::State& state) {
     int max_window = 0;
     long keyframes = 0;
     long in_band = 0;
+    long errors = 0;
     double nees_sum = 0.0;
     while (floor_drive.Next(&keyframe) && keyframe.stamp_s - start_s < duration_s) {
       const auto health =
           smoother.AddKeyframe(keyframe.stamp_s, keyframe.motion, keyframe.observations);
-      if (!health.ok()) continue;
+      if (!health.ok()) {
+        if (errors++ == 0) {
+          std::fprintf(stderr, "first error at %.1f s: %s\n", keyframe.stamp_s - start_s,
+                       health.status().message().c_str());
+        }
+        continue;
+      }
       max_window = std::max(max_window, health->window_size);
       const PoseEstimate& latest = smoother.Latest();
       const Eigen::Vector3d e = keyframe.T_map_base_true.Minus(latest.T_map_base);
@@ -174,6 +182,7 @@ void BM_LongDrive(benchmark::State& state) {
       }
     }
     state.counters["rss_end_mb"] = ResidentSetMb();
+    state.counters["errors"] = static_cast<double>(errors);
     state.counters["max_window"] = max_window;
     state.counters["keyframes"] = static_cast<double>(keyframes);
     state.counters["simulated_h"] = (keyframe.stamp_s - start_s) / 3600.0;
