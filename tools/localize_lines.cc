@@ -32,6 +32,7 @@
 #include "groundline/localization/sliding_window_smoother.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/perception/line_extractor.h"
+#include "localize_lidar.h"
 #include "progress.h"
 #include "run_resources.h"
 
@@ -146,6 +147,12 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   smoother_options.window_s = flags.window_s;
   localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
   smoother.Initialize(start_s, start_pose, start_covariance);
+  std::unique_ptr<LidarKeyframeSource> lidar;  // --lidar: the scan-match factor
+  if (flags.lidar) {
+    auto opened = LidarKeyframeSource::Open(dir, *dataset, {start_s, start_pose, std::nullopt});
+    if (!opened.ok()) return Fail(opened.message());
+    lidar = std::move(*opened);
+  }
 
   core::Trajectory keyframes{{start_s, start_pose, start_covariance}};
   core::Trajectory odometry_rate{{start_s, start_pose, start_covariance}};
@@ -191,8 +198,15 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         }
       }
       const localization::RelativeMotion motion = integrator.StartKeyframe();
+      std::optional<localization::lidar::ScanOdometryKeyframe> scan_match;
+      if (lidar) {
+        auto k = lidar->KeyframeAt(r.stamp_s);
+        if (!k.ok()) return Fail(k.message());
+        scan_match = std::move(*k);
+      }
       core::Result<localization::KeyframeHealth> health =
-          smoother.AddKeyframe(r.stamp_s, motion, converted.observations);
+          smoother.AddKeyframe(r.stamp_s, motion, converted.observations,
+                               scan_match ? scan_match->relative : std::nullopt);
       if (!health.ok()) {
         ++solve_failures;
         std::fprintf(stderr, "\ngroundline localize: keyframe at %.3f s: %s\n", r.stamp_s,
@@ -202,11 +216,11 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         lines_used += health->lines_used;
         lines_rejected += health->lines_rejected;
         lines_dropped += converted.dropped_lines;
-        health_lines << HealthLine(static_cast<long>(keyframes.size()), *health, smoother.Latest(),
-                                   frame ? std::optional(images[*frame].stamp_s) : std::nullopt,
-                                   converted.dropped_lines)
-                            .dump()
-                     << "\n";
+        nlohmann::ordered_json line = HealthLine(
+            static_cast<long>(keyframes.size()), *health, smoother.Latest(),
+            frame ? std::optional(images[*frame].stamp_s) : std::nullopt, converted.dropped_lines);
+        if (scan_match) lidar->AddHealth(*scan_match, &line);
+        health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
       keyframes.push_back({latest.stamp_s, latest.T_map_base, latest.covariance});
@@ -226,7 +240,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   }
   nlohmann::ordered_json summary;
   summary["dataset"] = flags.dataset_dir;
-  summary["mode"] = flags.mapping ? "mapping" : "lines";
+  summary["mode"] = flags.mapping ? "mapping" : (flags.lidar ? "lines+lidar" : "lines");
   summary["n_keyframes"] = keyframes.size();
   summary["frames_used"] = frames_used;
   summary["frames_skipped"] = frames_skipped;
@@ -237,6 +251,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["lines_dropped"] = lines_dropped;
   summary["update_ms_median"] = Percentile(update_ms, 0.5);
   summary["update_ms_p99"] = Percentile(update_ms, 0.99);
+  if (lidar) summary["lidar"] = lidar->Summary();
   std::printf(
       "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
       "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99\n",

@@ -18,6 +18,7 @@ struct LocalizeLinesFlags {
   std::string atlas_out_path;        // mapping: where to write it (default OUT/atlas.json)
   std::vector<double> initial_pose;  // x_m y_m yaw_deg
   double window_s = 120.0;
+  bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
