@@ -1,29 +1,39 @@
 #include "groundline/localization/lidar/scan_odometry.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <algorithm>
 #include <cassert>
 #include <limits>
+#include <vector>
 
 #include "groundline/localization/relative_pose_factor.h"
 
 namespace groundline::localization::lidar {
 namespace {
 
-// Variance given to a direction a scan does not constrain [m^2 or rad^2].
-constexpr double kNullVariance = 1e6;
+// Two null directions closer than this (sine of their angle, ~10 deg) are
+// one: the noisy weakest directions of two matches in one corridor.
+constexpr double kSameNullSine = 0.17;
 
-// A covariance from the kept part S^T S of a match's information: the
-// inverse on its range, kNullVariance on its null space.
-core::Matrix3 CovarianceOf(const MatchInformation& information) {
+// The pseudo-inverse of a match's kept information S^T S (its covariance on
+// the constrained directions, zero on the others) and its unit null directions.
+core::Matrix3 KeptCovariance(const MatchInformation& information,
+                             std::vector<core::Vector3>* nulls) {
   const core::Matrix3 kept =
       information.sqrt_information.transpose() * information.sqrt_information;
   Eigen::SelfAdjointEigenSolver<core::Matrix3> eig(kept);
-  core::Vector3 variances;
+  const double tiny = 1e-9 * std::max(1.0, eig.eigenvalues()(2));
+  core::Matrix3 covariance = core::Matrix3::Zero();
   for (int k = 0; k < 3; ++k) {
-    const double lambda = eig.eigenvalues()(k);
-    variances(k) = lambda > 1.0 / kNullVariance ? 1.0 / lambda : kNullVariance;
+    const core::Vector3 v = eig.eigenvectors().col(k);
+    if (eig.eigenvalues()(k) > tiny) {
+      covariance += v * v.transpose() / eig.eigenvalues()(k);
+    } else {
+      nulls->push_back(v);
+    }
   }
-  return eig.eigenvectors() * variances.asDiagonal() * eig.eigenvectors().transpose();
+  return covariance;
 }
 
 }  // namespace
@@ -46,11 +56,40 @@ core::Status ScanOdometryOptions::Validate() const {
 
 core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr, const MatchInformation& previous,
                                   const MatchInformation& current) {
+  // Z = T_prev^-1 T_curr: a right perturbation xi of T_prev moves Z by
+  // -Ad(Z^-1) xi, one of T_curr by itself.
   const core::Matrix3 A = T_prev_curr.Inverse().Adjoint();
+  std::vector<core::Vector3> prev_nulls, nulls;
+  const core::Matrix3 prev_covariance = KeptCovariance(previous, &prev_nulls);
   const core::Matrix3 covariance =
-      A * CovarianceOf(previous) * A.transpose() + CovarianceOf(current);
-  core::Matrix3 information = covariance.inverse();
-  return 0.5 * (information + information.transpose());
+      A * prev_covariance * A.transpose() + KeptCovariance(current, &nulls);
+  for (const core::Vector3& v : prev_nulls) nulls.push_back((A * v).normalized());
+  // The unconstrained subspace: the span of both matches' null directions,
+  // nearly parallel ones merged.
+  core::Matrix3 projector = core::Matrix3::Identity();  // onto the constrained directions
+  if (!nulls.empty()) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> M(3, static_cast<int>(nulls.size()));
+    for (std::size_t k = 0; k < nulls.size(); ++k) M.col(static_cast<int>(k)) = nulls[k];
+    Eigen::JacobiSVD<Eigen::Matrix<double, 3, Eigen::Dynamic>> svd(M, Eigen::ComputeFullU);
+    for (int k = 0; k < static_cast<int>(svd.singularValues().size()); ++k) {
+      if (svd.singularValues()(k) < kSameNullSine) continue;
+      const core::Vector3 u = svd.matrixU().col(k);
+      projector -= u * u.transpose();
+    }
+  }
+  // The information on the constrained directions: the inverse of the
+  // covariance restricted to them.
+  const core::Matrix3 restricted = projector * covariance * projector;
+  Eigen::SelfAdjointEigenSolver<core::Matrix3> eig(0.5 * (restricted + restricted.transpose()));
+  const double tiny = 1e-12 * std::max(1e-12, eig.eigenvalues()(2));
+  core::Matrix3 information = core::Matrix3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const core::Vector3 v = eig.eigenvectors().col(k);
+    if (eig.eigenvalues()(k) > tiny && (projector * v).norm() > 0.5) {
+      information += v * v.transpose() / eig.eigenvalues()(k);
+    }
+  }
+  return information;
 }
 
 ScanOdometry::ScanOdometry(const ScanOdometryOptions& options)

@@ -15,8 +15,11 @@
 //
 // The relative measurement's uncertainty (the approximation): each
 // keyframe's matched pose p_k = true pose + e_k, e_k ~ N(0, Lambda_k^-1)
-// along the directions the scan constrains and unbounded (variance
-// kNullVariance) along the others. The measurement T_prev^-1 T_curr then has
+// along the directions the scan constrains and unbounded along the others.
+// The measurement Z = T_prev^-1 T_curr then carries nothing along the span
+// of both matches' null directions (the previous one's moved by Ad(Z^-1);
+// null directions within ~10 deg of each other count as one, the noisy
+// weakest directions of two scans in one aisle) and, on the rest, has the
 // covariance Ad(Z^-1) Sigma_prev Ad(Z^-1)^T + Sigma_curr, treated as
 // independent of every other keyframe's measurement. It is not: consecutive
 // measurements share e_k (the telescoping sum of N of them has the error
