@@ -1,5 +1,6 @@
 #include "localize_lidar.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -54,7 +55,9 @@ struct LidarKeyframeSource::Impl {
   lidar::ScanPointsOptions points_options;
   lidar::ScanOdometry scan_odometry{lidar::ScanOdometryOptions()};
   long matched = 0, keyframes = 0, degenerate = 0, with_relative = 0;
-  std::map<std::string, std::pair<long, long>> regions;  // keyframes, flagged degenerate
+  long fisher_degenerate = 0, aliased = 0;
+  // Per region: keyframes, flagged degenerate, Fisher-degenerate, aliased.
+  std::map<std::string, std::array<long, 4>> regions;
 };
 
 LidarKeyframeSource::LidarKeyframeSource(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -130,7 +133,11 @@ void LidarKeyframeSource::AddHealth(const lidar::ScanOdometryKeyframe& k,
   const lidar::MatchInformation& info = k.information;
   (*line)["lidar_matched"] = k.matched;
   (*line)["lidar_score"] = k.match_score;
-  (*line)["lidar_degenerate"] = info.degenerate;
+  (*line)["lidar_degenerate"] = k.degenerate;
+  (*line)["lidar_fisher_degenerate"] = info.degenerate;
+  (*line)["lidar_aliased"] = k.aliasing.aliased;
+  (*line)["lidar_alias_score"] = k.aliasing.best_score;
+  (*line)["lidar_alias_shift_m"] = k.aliasing.best_shift_m;
   (*line)["lidar_rank"] = info.rank;
   (*line)["lidar_scaled_eigenvalues"] = {info.scaled_eigenvalues(0), info.scaled_eigenvalues(1),
                                          info.scaled_eigenvalues(2)};
@@ -140,15 +147,20 @@ void LidarKeyframeSource::AddHealth(const lidar::ScanOdometryKeyframe& k,
   (*line)["lidar_weakest_direction_map"] = {v_map.x(), v_map.y(), v(2)};
   (*line)["lidar_relative_rank"] = k.relative_rank;
   ++m.keyframes;
-  m.degenerate += info.degenerate;
+  m.degenerate += k.degenerate;
+  m.fisher_degenerate += info.degenerate;
+  m.aliased += k.aliasing.aliased;
   m.with_relative += k.relative.has_value();
   if (m.zone && !m.ground_truth.empty()) {
     const core::SE2 truth = sim::InterpolatePose(m.ground_truth, k.stamp_s);
     const std::string region =
         sim::ZoneRegionName(sim::PresetRegionAt(*m.zone, truth.translation(), kRegionEndMarginM));
     (*line)["region"] = region;
-    ++m.regions[region].first;
-    m.regions[region].second += info.degenerate;
+    std::array<long, 4>& counts = m.regions[region];
+    counts[0] += 1;
+    counts[1] += k.degenerate;
+    counts[2] += info.degenerate;
+    counts[3] += k.aliasing.aliased;
   }
 }
 
@@ -159,13 +171,17 @@ nlohmann::ordered_json LidarKeyframeSource::Summary() const {
   out["n_scans_matched"] = m.matched;
   out["n_keyframes"] = m.keyframes;
   out["n_keyframes_degenerate"] = m.degenerate;
+  out["n_keyframes_fisher_degenerate"] = m.fisher_degenerate;
+  out["n_keyframes_aliased"] = m.aliased;
   out["n_keyframes_with_relative"] = m.with_relative;
   nlohmann::ordered_json regions;
   for (const auto& [name, counts] : m.regions) {
-    regions[name] = {{"keyframes", counts.first},
-                     {"flagged_degenerate", counts.second},
-                     {"fraction_flagged",
-                      static_cast<double>(counts.second) / static_cast<double>(counts.first)}};
+    const double n = static_cast<double>(counts[0]);
+    regions[name] = {{"keyframes", counts[0]},
+                     {"flagged_degenerate", counts[1]},
+                     {"fraction_flagged", static_cast<double>(counts[1]) / n},
+                     {"fraction_fisher_degenerate", static_cast<double>(counts[2]) / n},
+                     {"fraction_aliased", static_cast<double>(counts[3]) / n}};
   }
   if (!regions.empty()) {
     out["region_end_margin_m"] = kRegionEndMarginM;

@@ -18,10 +18,9 @@ constexpr double kSameNullSine = 0.17;
 
 // The pseudo-inverse of a match's kept information S^T S (its covariance on
 // the constrained directions, zero on the others) and its unit null directions.
-core::Matrix3 KeptCovariance(const MatchInformation& information,
+core::Matrix3 KeptCovariance(const core::Matrix3& sqrt_information,
                              std::vector<core::Vector3>* nulls) {
-  const core::Matrix3 kept =
-      information.sqrt_information.transpose() * information.sqrt_information;
+  const core::Matrix3 kept = sqrt_information.transpose() * sqrt_information;
   Eigen::SelfAdjointEigenSolver<core::Matrix3> eig(kept);
   const double tiny = 1e-9 * std::max(1.0, eig.eigenvalues()(2));
   core::Matrix3 covariance = core::Matrix3::Zero();
@@ -47,6 +46,7 @@ LidarSlamOptions ScanOdometryOptions::DefaultSlam() {
 
 core::Status ScanOdometryOptions::Validate() const {
   if (core::Status s = slam.Validate(); !s.ok()) return s;
+  if (core::Status s = aliasing.Validate(); !s.ok()) return s;
   if (!(information_scale > 0.0 && min_relative_information >= 0.0)) {
     return core::Status::Error(
         "ScanOdometryOptions: need information_scale > 0 and min_relative_information >= 0");
@@ -54,8 +54,8 @@ core::Status ScanOdometryOptions::Validate() const {
   return core::Status::Ok();
 }
 
-core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr, const MatchInformation& previous,
-                                  const MatchInformation& current) {
+core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr, const core::Matrix3& previous,
+                                  const core::Matrix3& current) {
   // Z = T_prev^-1 T_curr: a right perturbation xi of T_prev moves Z by
   // -Ad(Z^-1) xi, one of T_curr by itself.
   const core::Matrix3 A = T_prev_curr.Inverse().Adjoint();
@@ -106,6 +106,7 @@ core::Result<ScanReport> ScanOdometry::AddScan(double stamp_s, const core::SE2& 
   last_odom_ = T_odom_base;
   last_local_ = report->T_local_base;
   last_report_ = *report;
+  last_points_ = scan.points;
   ++num_scans_;
   ++scans_since_keyframe_;
   return report;
@@ -126,11 +127,22 @@ ScanOdometryKeyframe ScanOdometry::Keyframe(double stamp_s, const core::SE2& T_o
   out.matched = last_report_.matched;
   out.match_score = last_report_.match.score;
   out.information = last_report_.information;
+  out.sqrt_information_kept = out.information.sqrt_information;
+  if (options_.check_aliasing) {
+    out.aliasing =
+        DetectScanAliasing(last_points_, WeakestTranslation(out.information), options_.aliasing);
+    if (out.aliasing.aliased) {
+      out.sqrt_information_kept =
+          RemoveTranslation(out.sqrt_information_kept, out.aliasing.direction);
+    }
+  }
+  out.degenerate = out.information.degenerate || out.aliasing.aliased;
   if (previous_ && previous_->matched && out.matched && out.scans_since_previous > 0) {
     const core::SE2 T_prev_curr = previous_->T_odom_base.Between(out.T_odom_base);
     const core::Matrix3 information =
-        options_.information_scale *
-        RelativeInformation(T_prev_curr, previous_->information, out.information);
+        options_.information_scale * RelativeInformation(T_prev_curr,
+                                                         previous_->sqrt_information_kept,
+                                                         out.sqrt_information_kept);
     core::Result<core::Matrix3> sqrt_information =
         SqrtInformation(information, options_.min_relative_information);
     if (sqrt_information.ok()) {

@@ -80,7 +80,7 @@ struct ScanMatcherOptions {
   // Points used by the correlative search (every k-th, at most this many).
   int max_search_points = 120;
   double translation_delta_weight = 10.0;  // [1/m^2] in the score's exp()
-  double rotation_delta_weight = 2.0;     // [1/rad^2]
+  double rotation_delta_weight = 2.0;      // [1/rad^2]
   // Refinement.
   double occupied_weight = 1.0;
   double translation_weight = 2.0;  // [1/m]

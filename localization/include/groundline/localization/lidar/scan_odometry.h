@@ -41,6 +41,7 @@
 #include "groundline/core/se2.h"
 #include "groundline/core/status.h"
 #include "groundline/localization/lidar/lidar_slam.h"
+#include "groundline/localization/lidar/scan_aliasing.h"
 #include "groundline/localization/sliding_window_smoother.h"
 
 namespace groundline::localization::lidar {
@@ -48,6 +49,11 @@ namespace groundline::localization::lidar {
 struct ScanOdometryOptions {
   // The front end (LidarSlam's), with loop closures off (set by the constructor).
   LidarSlamOptions slam = DefaultSlam();
+  // At each keyframe the last scan is checked for aliasing along its weakest
+  // translation (scan_aliasing.h); an aliased direction is dropped from the
+  // relative measurement like a degenerate one.
+  bool check_aliasing = true;
+  ScanAliasingOptions aliasing;
   // Multiplies the relative measurement's information (1: as computed).
   double information_scale = 0.5;
   // Directions of the relative measurement whose information is below this
@@ -65,7 +71,13 @@ struct ScanOdometryKeyframe {
   bool matched = false;   // the last scan before stamp_s matched its submap
   double match_score = 0.0;
   int scans_since_previous = 0;  // scans added since the previous keyframe
-  MatchInformation information;  // of the last scan's match
+  MatchInformation information;  // of the last scan's match (Fisher)
+  ScanAliasing aliasing;         // of the last scan (not aliased when unchecked)
+  // information.degenerate or aliasing.aliased: a direction is not constrained.
+  bool degenerate = true;
+  // The kept square-root information of the match: information.sqrt_information
+  // without the aliased direction.
+  core::Matrix3 sqrt_information_kept = core::Matrix3::Zero();
   // From the previous keyframe; absent at the first keyframe, when either
   // keyframe's scan did not match, when no scan arrived in between, or when
   // no direction is constrained.
@@ -94,15 +106,18 @@ class ScanOdometry {
   core::SE2 T_odom_local_;  // the odometry pose of the first scan
   core::SE2 last_odom_, last_local_;
   ScanReport last_report_;
+  std::vector<ScanPoint> last_points_;
   int num_scans_ = 0;
   int scans_since_keyframe_ = 0;
   std::optional<ScanOdometryKeyframe> previous_;
 };
 
-// The information of T_prev^-1 T_curr from the two keyframes' match
-// informations (each in its own base frame), as above; exposed for tests.
-core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr, const MatchInformation& previous,
-                                  const MatchInformation& current);
+// The information of T_prev^-1 T_curr from the two keyframes' kept
+// square-root match informations (each in its own base frame), as above;
+// exposed for tests.
+core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr,
+                                  const core::Matrix3& previous_sqrt_information,
+                                  const core::Matrix3& current_sqrt_information);
 
 }  // namespace groundline::localization::lidar
 
