@@ -23,6 +23,10 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
 }
 
 TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
+#ifdef __SANITIZE_ADDRESS__
+  // ~4 min of a Debug executable's scan matching under ASan; 1.5 s in release.
+  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+#endif
   const std::filesystem::path dir = testing::ScratchDir("localize_lidar");
   const std::filesystem::path dataset = dir / "zone_b";
   std::string out;
