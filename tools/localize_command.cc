@@ -24,6 +24,7 @@
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
 #include "localize_carmen.h"
+#include "localize_lidar.h"
 #include "localize_lines.h"
 
 namespace groundline::tools {
@@ -43,7 +44,18 @@ Modes:
   odometry  dead reckoning of the wheel encoders (differential drive, covariance
             growing with distance and rotation; keyframes every 0.20 m or 5 deg):
             the odometry-only baseline row of every accuracy table.
-The factor-graph modes (floor lines) arrive with the localization issues.
+  lines     floor lines (camera -> BEV -> lines) + odometry in the sliding-window
+            smoother on the atlas (--atlas, default the dataset's floor map);
+            with --lidar also a LiDAR scan-match factor between keyframes that
+            keeps only the directions the scan constrains (not along an aisle).
+  mapping   the same, building the atlas (--atlas-out).
+  lidar     LiDAR + odometry only: scan-to-submap matching (local SLAM, no loop
+            closures) with the odometry as the initial guess, keyframes every
+            0.20 m or 5 deg. Health per keyframe: lidar_degenerate, the scaled
+            information eigenvalues [1/m^2] and the weakest direction (x, y, theta;
+            also in the map frame); on simulated datasets the keyframe's
+            ground-truth region (aisle, open, ...) and, in summary.json, the
+            share of keyframes flagged degenerate per region.
   --carmen LOG  2D LiDAR + odometry SLAM (submaps, scan-to-submap matching,
             pose graph with loop closures) on a CARMEN log; writes trajectory.tum
             (one pose per front-laser scan, at its ipc_timestamp), health.jsonl
@@ -65,6 +77,8 @@ has ground truth (the full table: groundline eval --est OUT/trajectory.tum --ref
 Examples:
   groundline localize --dataset sample_zone_b --out run_odom
   groundline localize --dataset sample_zone_b --mode lines --out run_lines
+  groundline localize --dataset sample_zone_b --mode lidar --out run_lidar
+  groundline localize --dataset sample_zone_b --mode lines --lidar --out run_lines_lidar
   groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
@@ -211,7 +225,7 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", flags->out_dir, "Output directory for the run")->required();
   cmd->add_option("--mode", flags->mode, "Estimator")
-      ->check(CLI::IsMember({"odometry", "lines", "mapping"}))
+      ->check(CLI::IsMember({"odometry", "lines", "mapping", "lidar"}))
       ->capture_default_str();
   cmd->add_option("--initial-pose", flags->initial_pose, "Start pose: x_m y_m yaw_deg")
       ->expected(3);
@@ -244,6 +258,8 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
+  cmd->add_flag("--lidar", lines->lidar,
+                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans)");
   cmd->callback([flags, carmen, lines, run] {
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
@@ -256,6 +272,10 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       lines->out_dir = flags->out_dir;
       lines->mapping = flags->mode == "mapping";
       lines->initial_pose = flags->initial_pose;
+      if (flags->mode == "lidar") {
+        *run = [lines] { return RunLocalizeLidar(*lines); };
+        return;
+      }
       *run = [lines] { return RunLocalizeLines(*lines); };
       return;
     }

@@ -36,6 +36,7 @@
 #include "groundline/perception/bev_remap.h"
 #include "groundline/perception/line_extractor.h"
 #include "localize_diagnostics.h"
+#include "localize_lidar.h"
 #include "progress.h"
 #include "run_resources.h"
 
@@ -191,6 +192,12 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   }
   localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
   smoother.Initialize(start_s, start_pose, start_covariance);
+  std::unique_ptr<LidarKeyframeSource> lidar;  // --lidar: the scan-match factor
+  if (flags.lidar) {
+    auto opened = LidarKeyframeSource::Open(dir, *dataset, {start_s, start_pose, std::nullopt});
+    if (!opened.ok()) return Fail(opened.message());
+    lidar = std::move(*opened);
+  }
 
   core::Trajectory keyframes{{start_s, start_pose, start_covariance}};
   core::Trajectory odometry_rate{{start_s, start_pose, start_covariance}};
@@ -242,8 +249,15 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
             localization::PropagateFromKeyframe(smoother.Latest(), motion, r.stamp_s),
             converted.observations);
       }
+      std::optional<localization::lidar::ScanOdometryKeyframe> scan_match;
+      if (lidar) {
+        auto k = lidar->KeyframeAt(r.stamp_s);
+        if (!k.ok()) return Fail(k.message());
+        scan_match = std::move(*k);
+      }
       core::Result<localization::KeyframeHealth> health =
-          smoother.AddKeyframe(r.stamp_s, motion, converted.observations);
+          smoother.AddKeyframe(r.stamp_s, motion, converted.observations,
+                               scan_match ? scan_match->relative : std::nullopt);
       if (!health.ok()) {
         ++solve_failures;
         std::fprintf(stderr, "\ngroundline localize: keyframe at %.3f s: %s\n", r.stamp_s,
@@ -260,6 +274,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
           line.update(diagnosis);
           line.update(diagnostics->AfterUpdate(smoother.Latest()));
         }
+        if (scan_match) lidar->AddHealth(*scan_match, &line);
         health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
@@ -281,7 +296,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   }
   nlohmann::ordered_json summary;
   summary["dataset"] = flags.dataset_dir;
-  summary["mode"] = flags.mapping ? "mapping" : "lines";
+  summary["mode"] = flags.mapping ? "mapping" : (flags.lidar ? "lines+lidar" : "lines");
   summary["n_keyframes"] = keyframes.size();
   summary["frames_used"] = frames_used;
   summary["frames_skipped"] = frames_skipped;
@@ -292,6 +307,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["lines_dropped"] = lines_dropped;
   summary["update_ms_median"] = Percentile(update_ms, 0.5);
   summary["update_ms_p99"] = Percentile(update_ms, 0.99);
+  if (lidar) summary["lidar"] = lidar->Summary();
   std::printf(
       "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
       "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99\n",

@@ -42,6 +42,7 @@ struct LocalizeLinesFlags {
   double lateral_variance_m2_per_m = 1.0e-3;
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
+  bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
