@@ -119,7 +119,6 @@ nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHea
   line["landmarks_added"] = health.landmarks_added;
   line["window_size"] = health.window_size;
   line["solve_ms"] = 1e3 * health.solve_time_s;
-  if (health.chain_fallback) line["solver_fallback"] = "ceres";
   line["update_ms"] = 1e3 * health.update_time_s;
   return line;
 }

@@ -42,14 +42,6 @@ core::Status SlidingWindowSmoother::Solve(KeyframeHealth* health) {
   const bool chain =
       options_.mode == SmootherMode::kLocalization && options_.solver == SmootherSolver::kChain;
   core::Status status = chain ? SolveChain(health) : SolveCeres(health);
-  if (chain && !status.ok()) {
-    // The block elimination lost positive definiteness (seen with strong,
-    // rank-deficient LiDAR between-factors on the 1.2 km zone B run): Ceres'
-    // damped solve of the same window takes over for this update.
-    InvalidateChain();
-    health->chain_fallback = true;
-    status = SolveCeres(health);
-  }
   health->solve_time_s = SecondsSince(start);
   return status;
 }

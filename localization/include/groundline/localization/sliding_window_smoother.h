@@ -135,7 +135,6 @@ struct KeyframeHealth {
   int junctions_observed = 0;
   int junctions_used = 0;
   bool relative_measurement_used = false;  // a RelativePoseMeasurement entered the window
-  bool chain_fallback = false;  // the pose-chain solve failed; Ceres solved this update
   int landmarks_added = 0;                 // mapping mode
   int window_size = 0;                     // keyframes in the window after this update
   int iterations = 0;
