@@ -103,6 +103,10 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
 // bounds, per-tag residuals, the rectified floor, thresholds from a config
 // (flags override it), the intrinsics folded in; and the input errors.
 TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRectifiedFloor) {
+#ifdef __SANITIZE_ADDRESS__
+  // CI time: a Debug executable solving and rectifying a rendered scene (~60 s under ASan); FloorRectification covers the geometry under ASan.
+  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+#endif
   const std::filesystem::path dir = ScratchDir("floor_report");
   const std::filesystem::path scene = dir / "scene";
   std::string out;
