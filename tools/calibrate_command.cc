@@ -16,6 +16,7 @@
 #include "groundline/calibration/intrinsic_calibration.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/io/frame_source.h"
+#include "live_session.h"
 #include "progress.h"
 
 namespace groundline::tools {
@@ -231,14 +232,8 @@ CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--max-views", flags->max_views,
                   "Live: stop after this many kept views (0: no limit)")
       ->capture_default_str();
-  cmd->add_option("--duration", flags->duration_s,
-                  "Live: stop after this many seconds (0: no limit)")
-      ->capture_default_str();
-  cmd->add_option("--frame-timeout", flags->timeout_s,
-                  "Live: seconds to wait for one frame before giving up")
-      ->capture_default_str();
-  cmd->add_option("--save-frames", flags->save_frames,
-                  "Live: write the kept frames into this directory (rerun them with --images)");
+  AddLiveCaptureOptions(cmd, &flags->duration_s, &flags->timeout_s, &flags->save_frames,
+                        "write the kept frames into this directory (rerun them with --images)");
   cmd->callback([run, flags, images, live]() {
     if (images->count() == 0 && live->count() == 0) {
       throw CLI::RequiredError("--images or --live");

@@ -11,6 +11,7 @@
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/calibration/floor_calibration.h"
 #include "groundline/core/atomic_file.h"
+#include "live_session.h"
 
 namespace groundline::tools {
 namespace {
@@ -185,14 +186,8 @@ void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
   cmd->add_option("--max-frames", flags->max_frames,
                   "Live: stop after this many kept frames (0: no limit)")
       ->capture_default_str();
-  cmd->add_option("--duration", flags->duration_s,
-                  "Live: stop after this many seconds (0: no limit)")
-      ->capture_default_str();
-  cmd->add_option("--frame-timeout", flags->timeout_s,
-                  "Live: seconds to wait for one frame before giving up")
-      ->capture_default_str();
-  cmd->add_option("--save-frames", flags->save_frames,
-                  "Live: directory for the kept frames (default OUT/frames)");
+  AddLiveCaptureOptions(cmd, &flags->duration_s, &flags->timeout_s, &flags->save_frames,
+                        "directory for the kept frames (default OUT/frames)");
   cmd->add_option("--config", flags->config,
                   "YAML with a 'floor_report:' mapping of PASS/FAIL thresholds");
   cmd->add_option("--intrinsics-report", flags->intrinsics_report,

@@ -27,15 +27,9 @@ int RunCalibrateFloorLive(const CalibrateFloorFlags& flags, const calibration::T
                  kName);
     return 2;
   }
-  io::FrameSourceOptions source_options;
-  source_options.latest_only = true;  // guide on the current view
-  core::Result<std::unique_ptr<io::FrameSource>> source =
-      io::OpenFrameSource(flags.live, source_options);
-  if (!source.ok()) {
-    std::fprintf(stderr, "%s: --live: %s\n", kName, source.message().c_str());
-    return 2;
-  }
-  io::FrameSource& frames = **source;
+  const std::unique_ptr<io::FrameSource> source = OpenLiveSource(flags.live, kName);
+  if (source == nullptr) return 2;
+  io::FrameSource& frames = *source;
   if (layout.frame == TagLayoutFrame::kFloor && frames.IsLive()) {
     std::fprintf(stderr,
                  "%s: %s has frame: floor, which needs the vehicle's surveyed pose of every "

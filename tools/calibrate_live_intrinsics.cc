@@ -51,15 +51,9 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
                  kName);
     return 2;
   }
-  io::FrameSourceOptions source_options;
-  source_options.latest_only = true;  // guide on the current view
-  core::Result<std::unique_ptr<io::FrameSource>> source =
-      io::OpenFrameSource(flags.live, source_options);
-  if (!source.ok()) {
-    std::fprintf(stderr, "%s: --live: %s\n", kName, source.message().c_str());
-    return 2;
-  }
-  io::FrameSource& frames = **source;
+  const std::unique_ptr<io::FrameSource> source = OpenLiveSource(flags.live, kName);
+  if (source == nullptr) return 2;
+  io::FrameSource& frames = *source;
   std::printf("%s: %s; board %s. Show the board; Ctrl-C stops and solves what was kept.\n", kName,
               frames.Describe().c_str(), setup.target.name.c_str());
   std::fflush(stdout);

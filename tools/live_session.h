@@ -15,7 +15,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
 #include "groundline/core/status.h"
+#include "groundline/io/frame_source.h"
 
 namespace groundline::tools {
 
@@ -57,6 +62,33 @@ class LiveSession {
   std::chrono::steady_clock::time_point start_;
   struct sigaction previous_ {};
 };
+
+// The options every live flow shares: --duration, --frame-timeout and
+// --save-frames (whose meaning of "not given" differs per flow, hence its help).
+inline void AddLiveCaptureOptions(CLI::App* cmd, double* duration_s, double* timeout_s,
+                                  std::string* save_frames, const std::string& save_frames_help) {
+  cmd->add_option("--duration", *duration_s, "Live: stop after this many seconds (0: no limit)")
+      ->capture_default_str();
+  cmd->add_option("--frame-timeout", *timeout_s,
+                  "Live: seconds to wait for one frame before giving up")
+      ->capture_default_str();
+  cmd->add_option("--save-frames", *save_frames, "Live: " + save_frames_help);
+}
+
+// Opens the --live source with latest_only (the guidance is about the
+// current view, so stale queued frames are dropped). On failure prints
+// "COMMAND: --live: why" to stderr and returns null (exit code 2).
+inline std::unique_ptr<io::FrameSource> OpenLiveSource(const std::string& uri,
+                                                       const char* command) {
+  io::FrameSourceOptions options;
+  options.latest_only = true;
+  core::Result<std::unique_ptr<io::FrameSource>> source = io::OpenFrameSource(uri, options);
+  if (!source.ok()) {
+    std::fprintf(stderr, "%s: --live: %s\n", command, source.message().c_str());
+    return nullptr;
+  }
+  return std::move(*source);
+}
 
 // Writes a kept frame into DIR, atomically (DIR/tmp.NAME, then rename), under
 // its own name, except that a lossy .jpg/.jpeg name becomes .png (a saved

@@ -1,12 +1,9 @@
 // `groundline localize`: replays a dataset through the localization pipeline
 // and writes the run outputs of EVAL.md (trajectory.tum, health.jsonl,
 // summary.json); prints the accuracy when the dataset has ground truth.
-#include <sys/resource.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -18,14 +15,13 @@
 #include "commands.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
-#include "groundline/core/metric_fields.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
-#include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
 #include "localize_carmen.h"
 #include "localize_lidar.h"
 #include "localize_lines.h"
+#include "run_summary.h"
 
 namespace groundline::tools {
 namespace {
@@ -82,19 +78,6 @@ Examples:
   groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
-double CpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
-double PeakRssMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-}
-
 core::Status WriteHealth(const std::filesystem::path& path, const core::Trajectory& keyframes) {
   return core::WriteFileAtomically(path, [&keyframes](std::ostream& out) {
     for (std::size_t k = 0; k < keyframes.size(); ++k) {
@@ -122,18 +105,8 @@ int Fail(const std::string& message) {
   return 1;
 }
 
-void PrintAccuracy(const core::TrajectoryErrorSummary& summary, const std::string& label) {
-  std::printf("accuracy of %s against ground truth (%zu poses matched):\n", label.c_str(),
-              summary.n_matched);
-  for (const core::MetricField& f : core::MetricFields(summary)) {
-    if (f.is_count) continue;
-    std::printf("  %-28s %10.4f\n", f.label.c_str(), f.value);
-  }
-}
-
 int RunLocalize(const LocalizeFlags& flags) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = CpuSeconds();
+  const RunClock clock;
   core::DatasetReadOptions read_options;
   read_options.load_images = false;
   read_options.check_image_files = false;
@@ -183,21 +156,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["n_keyframes"] = result->keyframes.size();
   summary["n_odometry_poses"] = result->odometry_rate.size();
   summary["path_length_m"] = result->path_length_m;
-  if (!dataset->ground_truth.empty()) {
-    core::Result<core::TrajectoryErrorSummary> errors =
-        core::ComputeTrajectoryErrors(result->keyframes, dataset->ground_truth);
-    if (!errors.ok()) return Fail("evaluating against ground truth: " + errors.message());
-    PrintAccuracy(*errors, "keyframes");
-    nlohmann::ordered_json accuracy;
-    for (const core::MetricField& f : core::MetricFields(*errors)) accuracy[f.key] = f.value;
-    summary["accuracy"] = accuracy;
-  }
-  summary["wall_s"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  summary["cpu_s"] = CpuSeconds() - cpu_start;
-  summary["peak_rss_mb"] = PeakRssMb();
   const core::Status written =
-      core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+      FinishRunSummary(result->keyframes, dataset->ground_truth, clock, out, &summary);
   if (!written.ok()) return Fail(written.message());
   std::printf(
       "wrote %s/{trajectory.tum, trajectory_odometry_rate.tum, trajectory_covariance.txt, "

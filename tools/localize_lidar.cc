@@ -1,21 +1,19 @@
 #include "localize_lidar.h"
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <sstream>
 
 #include "groundline/core/atomic_file.h"
-#include "groundline/core/metric_fields.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/dead_reckoning.h"
 #include "groundline/localization/keyframe_selector.h"
 #include "groundline/sim/world.h"
 #include "progress.h"
-#include "run_resources.h"
+#include "run_summary.h"
 
 namespace groundline::tools {
 namespace {
@@ -191,8 +189,7 @@ nlohmann::ordered_json LidarKeyframeSource::Summary() const {
 }
 
 int RunLocalizeLidar(const LocalizeLinesFlags& flags) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = ProcessCpuSeconds();
+  const RunClock clock;
   core::DatasetReadOptions read_options;
   read_options.load_images = false;
   read_options.check_image_files = false;
@@ -250,22 +247,7 @@ int RunLocalizeLidar(const LocalizeLinesFlags& flags) {
   summary["lidar"] = (*source)->Summary();
   std::printf("%s: %zu keyframes; LiDAR %s\n", flags.dataset_dir.c_str(), keyframes.size(),
               summary["lidar"].dump().c_str());
-  if (!dataset->ground_truth.empty()) {
-    core::Result<core::TrajectoryErrorSummary> errors =
-        core::ComputeTrajectoryErrors(keyframes, dataset->ground_truth);
-    if (!errors.ok()) return Fail("evaluating against ground truth: " + errors.message());
-    nlohmann::ordered_json accuracy;
-    for (const core::MetricField& f : core::MetricFields(*errors)) {
-      accuracy[f.key] = f.value;
-      if (!f.is_count) std::printf("  %-28s %10.4f\n", f.label.c_str(), f.value);
-    }
-    summary["accuracy"] = accuracy;
-  }
-  summary["wall_s"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  summary["cpu_s"] = ProcessCpuSeconds() - cpu_start;
-  summary["peak_rss_mb"] = ProcessPeakRssMb();
-  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth, clock, out, &summary);
       !s.ok()) {
     return Fail(s.message());
   }

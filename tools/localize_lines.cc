@@ -7,7 +7,6 @@
 #include "localize_lines.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,7 +23,6 @@
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
-#include "groundline/core/metric_fields.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
@@ -38,7 +36,7 @@
 #include "localize_diagnostics.h"
 #include "localize_lidar.h"
 #include "progress.h"
-#include "run_resources.h"
+#include "run_summary.h"
 
 namespace groundline::tools {
 namespace {
@@ -126,8 +124,7 @@ nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHea
 }  // namespace
 
 int RunLocalizeLines(const LocalizeLinesFlags& flags) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  const double cpu_start = ProcessCpuSeconds();
+  const RunClock clock;
   core::DatasetReadOptions read_options;  // the image index, not the pixels
   read_options.check_image_files = false;
   read_options.load_scans = false;
@@ -323,24 +320,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
     std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
                 built.junctions.size(), atlas_out.string().c_str());
   }
-  if (!dataset->ground_truth.empty()) {
-    core::Result<core::TrajectoryErrorSummary> errors =
-        core::ComputeTrajectoryErrors(keyframes, dataset->ground_truth);
-    if (!errors.ok()) return Fail("evaluating against ground truth: " + errors.message());
-    std::printf("accuracy of the keyframes against ground truth (%zu poses matched):\n",
-                errors->n_matched);
-    nlohmann::ordered_json accuracy;
-    for (const core::MetricField& f : core::MetricFields(*errors)) {
-      accuracy[f.key] = f.value;
-      if (!f.is_count) std::printf("  %-28s %10.4f\n", f.label.c_str(), f.value);
-    }
-    summary["accuracy"] = accuracy;
-  }
-  summary["wall_s"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  summary["cpu_s"] = ProcessCpuSeconds() - cpu_start;
-  summary["peak_rss_mb"] = ProcessPeakRssMb();
-  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth, clock, out, &summary);
       !s.ok()) {
     return Fail(s.message());
   }
