@@ -60,7 +60,12 @@ Modes:
             Example: groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces
 
 Start pose: --initial-pose x_m y_m yaw_deg, else the dataset's first ground-truth
-pose, else the origin of the map.
+pose, else the origin of the map. --mode lines --relocalize instead recognizes
+it on the atlas: every junction the camera sees, with a line through it, is
+matched against every atlas junction; the candidate poses follow the odometry
+and are scored on the lines of later frames until one leads every other by a
+margin (docs/atlas.md). A floor that repeats (zone B's aisle mouths) stays
+ambiguous: --near x_m y_m [radius_m] says roughly where the drive started.
 
 Writes into --out (created if missing; files replaced atomically):
   trajectory.tum               keyframe poses, TUM 't x y z qx qy qz qw'
@@ -73,6 +78,7 @@ has ground truth (the full table: groundline eval --est OUT/trajectory.tum --ref
 Examples:
   groundline localize --dataset sample_zone_b --out run_odom
   groundline localize --dataset sample_zone_b --mode lines --out run_lines
+  groundline localize --dataset sample_zone_b --mode lines --relocalize --near 2 40 --out run_reloc
   groundline localize --dataset sample_zone_b --mode lidar --out run_lidar
   groundline localize --dataset sample_zone_b --mode lines --lidar --out run_lines_lidar
   groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
@@ -218,6 +224,13 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "--mode lines/mapping: sliding-window length, seconds")
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
+  cmd->add_flag("--relocalize", lines->relocalize,
+                "--mode lines: find the start pose on the atlas from a junction and the lines "
+                "around it (no --initial-pose, no ground truth used)");
+  cmd->add_option("--near", lines->near,
+                  "With --relocalize: x_m y_m [radius_m] where the drive starts (default radius "
+                  "2 m); needed where the floor repeats (identical aisle mouths)")
+      ->expected(2, 3);
   cmd->add_flag("--lidar", lines->lidar,
                 "--mode lines: add the LiDAR scan-match factor (needs lidar_scans)");
   cmd->callback([flags, carmen, lines, run] {

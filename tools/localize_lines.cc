@@ -35,6 +35,7 @@
 #include "groundline/perception/line_extractor.h"
 #include "localize_diagnostics.h"
 #include "localize_lidar.h"
+#include "localize_relocalize.h"
 #include "progress.h"
 #include "run_summary.h"
 
@@ -145,20 +146,6 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   core::Result<localization::Atlas> atlas = LoadAtlas(flags, *dataset);
   if (!atlas.ok()) return Fail(atlas.message());
 
-  // Start pose: --initial-pose, else the first ground-truth pose, else the origin.
-  double start_s = dataset->wheel_encoders.front().stamp_s;
-  core::SE2 start_pose;
-  if (flags.initial_pose.size() == 3) {
-    start_pose = core::SE2(flags.initial_pose[0], flags.initial_pose[1],
-                           flags.initial_pose[2] * std::numbers::pi / 180.0);
-  } else if (!dataset->ground_truth.empty()) {
-    start_s = dataset->ground_truth.front().stamp_s;
-    start_pose = dataset->ground_truth.front().pose;
-  }
-  const core::Matrix3 start_covariance =
-      core::Vector3(0.005 * 0.005, 0.005 * 0.005, std::pow(0.1 * std::numbers::pi / 180.0, 2))
-          .asDiagonal();
-
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = 2;
   remap_options.grid = BevGridCoveringCamera(*camera, *mount);
@@ -176,6 +163,40 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
     noise = localization::OdometryNoiseFromWheelVariance(
         flags.wheel_variance_m2_per_m, drive.track_m, flags.lateral_variance_m2_per_m);
   }
+  const fs::path index_dir = (dir / manifest.files.image_index).parent_path();
+
+  // Start pose: --relocalize (recognized on the atlas), --initial-pose, the
+  // first ground-truth pose, else the origin.
+  double start_s = dataset->wheel_encoders.front().stamp_s;
+  core::SE2 start_pose;
+  core::Matrix3 start_covariance =
+      core::Vector3(0.005 * 0.005, 0.005 * 0.005, std::pow(0.1 * std::numbers::pi / 180.0, 2))
+          .asDiagonal();
+  nlohmann::ordered_json relocalized;
+  if (flags.relocalize && flags.mapping) {
+    return Fail("--relocalize needs an atlas to recognize: use it with --mode lines");
+  }
+  if (flags.relocalize) {
+    localization::RelocalizerOptions options;
+    if (flags.near.size() >= 2) options.near_m = Eigen::Vector2d(flags.near[0], flags.near[1]);
+    if (flags.near.size() == 3) options.near_radius_m = flags.near[2];
+    if (core::Status s = options.Validate(); !s.ok()) return Fail("--near: " + s.message());
+    core::Result<RelocalizedStart> found =
+        RelocalizeOnAtlas(*dataset, index_dir, remap, extractor, drive, noise, *atlas, options);
+    if (!found.ok()) return Fail(flags.dataset_dir + ": " + found.message());
+    start_s = found->pose.stamp_s;
+    start_pose = found->pose.T_map_base;
+    start_covariance = found->pose.covariance;
+    relocalized = RelocalizationSummary(*found, dataset->ground_truth);
+    std::printf("relocalized: %s\n", relocalized.dump().c_str());
+  } else if (flags.initial_pose.size() == 3) {
+    start_pose = core::SE2(flags.initial_pose[0], flags.initial_pose[1],
+                           flags.initial_pose[2] * std::numbers::pi / 180.0);
+  } else if (!dataset->ground_truth.empty()) {
+    start_s = dataset->ground_truth.front().stamp_s;
+    start_pose = dataset->ground_truth.front().pose;
+  }
+
   localization::OdometryIntegrator integrator(drive, noise);
   const localization::KeyframeSelector selector{localization::KeyframeSelector::Options()};
   localization::SmootherOptions smoother_options;
@@ -202,7 +223,6 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   std::vector<double> update_ms;
   long frames_used = 0, frames_skipped = 0, images_unreadable = 0, solve_failures = 0;
   long lines_used = 0, lines_rejected = 0, lines_dropped = 0;
-  const fs::path index_dir = (dir / manifest.files.image_index).parent_path();
   const std::vector<core::ImageRecord>& images = dataset->images;
   std::size_t next_image = 0;
   while (next_image < images.size() && images[next_image].stamp_s < start_s) ++next_image;
@@ -226,17 +246,13 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
       localization::ConvertedObservations converted;
       converted.observations.stamp_s = r.stamp_s;
       if (frame) {
-        const fs::path path = index_dir / images[*frame].file;
-        const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-        if (grey.empty()) {
-          std::fprintf(stderr, "\ngroundline localize: %s: unreadable image, frame dropped\n",
-                       path.string().c_str());
-          ++images_unreadable;
-        } else {
-          cv::Mat bev;
-          remap.Apply(grey, &bev);
-          converted = localization::ObservationsFromExtraction(r.stamp_s, extractor.Extract(bev));
+        std::optional<localization::ConvertedObservations> seen =
+            ObservationsOfImage(index_dir / images[*frame].file, r.stamp_s, remap, extractor);
+        if (seen) {
+          converted = std::move(*seen);
           ++frames_used;
+        } else {
+          ++images_unreadable;
         }
       }
       const localization::RelativeMotion motion = integrator.StartKeyframe();
@@ -298,6 +314,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["frames_used"] = frames_used;
   summary["frames_skipped"] = frames_skipped;
   summary["images_unreadable"] = images_unreadable;
+  if (!relocalized.empty()) summary["relocalized"] = relocalized;
   summary["solve_failures"] = solve_failures;
   summary["lines_used"] = lines_used;
   summary["lines_rejected"] = lines_rejected;

@@ -42,6 +42,11 @@ struct LocalizeLinesFlags {
   double lateral_variance_m2_per_m = 1.0e-3;
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
+  // Find the start pose on the atlas (tools/localize_relocalize.h) instead of
+  // --initial-pose / the ground truth; near: optional x_m y_m [radius_m] of
+  // where the drive starts, which a repeating floor needs.
+  bool relocalize = false;
+  std::vector<double> near;
   bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
 };
 

@@ -1,0 +1,171 @@
+// Global localization on the atlas without an initial pose: "start from a
+// junction recognized on the atlas" (issue 6).
+//
+// One frame's junction, with a line through it, fixes the pose up to the
+// choice of atlas junction and of which of its lines the observed line is
+// (and the line's two directions). Warehouses repeat: zone B has dozens of
+// identical aisle mouths, so one frame cannot decide. The Relocalizer
+// therefore keeps every such candidate pose as a hypothesis, moves them all
+// with the odometry, and scores each frame's lines and junctions against the
+// atlas from each hypothesis (Mahalanobis distance with the hypothesis' pose
+// covariance, gated like association; an observation with no atlas
+// counterpart costs a fixed log-likelihood). It commits only when one
+// hypothesis leads every other by a margin after a minimum travel, and
+// reseeds from a later junction when the best no longer explains the
+// observations or the drive stays ambiguous for too long. With a coarse
+// prior on the start and no junction in view, a line alone seeds: its
+// heading and offset from each nearby atlas line, every position along it. A wrong commit is
+// worse than a late one, so the defaults are conservative.
+//
+// Frames: hypotheses are T_map_base; observations in base_link (x forward,
+// y left); metres and radians.
+#ifndef GROUNDLINE_LOCALIZATION_RELOCALIZER_H_
+#define GROUNDLINE_LOCALIZATION_RELOCALIZER_H_
+
+#include <cstddef>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "groundline/core/se2.h"
+#include "groundline/core/status.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/floor_observation.h"
+#include "groundline/localization/odometry_integrator.h"
+#include "groundline/localization/sliding_window_smoother.h"
+
+namespace groundline::localization {
+
+struct RelocalizerOptions {
+  // An atlas line passes through an atlas junction, and an observed line
+  // through an observed junction, when it comes this close to it.
+  double junction_line_distance_m = 0.05;
+  // An observed line matches an atlas line only where the marking is: its
+  // extent (map frame) must overlap the atlas line's by this margin.
+  double extent_margin_m = 0.30;
+  // Pose uncertainty of a newborn hypothesis (1 sigma), from the junction's
+  // and its line's measurement noise; grown by the odometry afterwards.
+  double birth_sigma_m = 0.03;
+  double birth_sigma_rad = 1.0 * std::numbers::pi / 180.0;
+  // Association gate (chi-square, 2 dof) and the log-likelihood of an
+  // observation that matches nothing; the latter must be below -gate/2 so a
+  // match always scores better than no match.
+  double gate_chi2 = 9.21;
+  double unmatched_log_likelihood = -6.0;
+  // Commit when the best hypothesis leads the runner-up by this much
+  // log-likelihood, after min_travel_m of driving since the seed, with at
+  // least min_matched matched observations and min_match_share of its
+  // observations matched.
+  double commit_margin = 15.0;
+  double min_travel_m = 2.0;
+  int min_matched = 8;
+  double min_match_share = 0.7;
+  // Hypotheses further than prune_margin below the best are dropped.
+  double prune_margin = 40.0;
+  // Reseed after this much travel without a commit (ambiguous drive), or
+  // when the best hypothesis' match share falls below min_match_share after
+  // 3 scored frames (the seed junction was not on the atlas).
+  double max_track_m = 40.0;
+  // An optional coarse prior on where the drive STARTED (the fleet
+  // manager's or the operator's "it is at charger 3"): a hypothesis is born
+  // only if the odometry, run backwards from it to the first frame, lands
+  // within near_radius_m + near_drift_per_m * (distance driven) of near_m.
+  // Periodic floors (identical aisle mouths 4.65 m apart in zone B) cannot
+  // be told apart without it.
+  std::optional<Eigen::Vector2d> near_m;
+  double near_radius_m = 2.0;
+  double near_drift_per_m = 0.03;
+  // Hypotheses closer than this at birth are one.
+  double duplicate_m = 0.05;
+  double duplicate_rad = 1.0 * std::numbers::pi / 180.0;
+
+  core::Status Validate() const;
+};
+
+struct RelocalizerStatus {
+  std::size_t hypotheses = 0;  // alive now
+  std::size_t seeds = 0;       // times hypotheses were (re)born
+  double travel_since_seed_m = 0.0;
+  double best_log_likelihood = 0.0;
+  double runner_up_log_likelihood = 0.0;  // -inf-like when there is none
+  int best_matched = 0;
+  int best_unmatched = 0;
+};
+
+class Relocalizer {
+ public:
+  // atlas must be valid (asserted); options must validate (asserted).
+  Relocalizer(const Atlas& atlas, const RelocalizerOptions& options);
+
+  // Feeds one frame: the odometry since the previous frame (ignored before
+  // the first seed) and the frame's observations. Returns the committed pose
+  // (at stamp_s, with covariance) once the drive is unambiguous; nullopt
+  // while it is not. After a commit, further frames are ignored.
+  std::optional<PoseEstimate> AddFrame(double stamp_s, const RelativeMotion& motion,
+                                       const FloorObservations& observations);
+
+  const RelocalizerStatus& status() const { return status_; }
+
+ private:
+  struct Hypothesis {
+    PoseEstimate pose;
+    double log_likelihood = 0.0;
+    int matched = 0;
+    int unmatched = 0;
+    int frames_scored = 0;
+  };
+  // The Gauss-Newton terms of one frame's matches: sum H^T R^-1 H and
+  // sum H^T R^-1 r (r = predicted - measured, H = dr/d(right perturbation)).
+  struct Information {
+    core::Matrix3 H = core::Matrix3::Zero();
+    core::Vector3 b = core::Vector3::Zero();
+    int count = 0;
+    void Add(const Eigen::Vector2d& r, const Eigen::Matrix<double, 2, 3>& H,
+             const Eigen::Matrix2d& R);
+  };
+  void Seed(double stamp_s, const FloorObservations& observations);
+  // With a prior and no junction in view, within the first max_track_m of
+  // the drive: hypotheses from the frame's longest line against every atlas
+  // line the vehicle can be near.
+  void SeedAlongLines(double stamp_s, const FloorObservations& observations,
+                      std::vector<Hypothesis>* born) const;
+  void Score(const FloorObservations& observations, Hypothesis* h) const;
+  // The observation's log-likelihood under h (-d^2/2 for the best atlas match
+  // inside the gate, else unmatched_log_likelihood); a match adds its terms.
+  double LineLogLikelihood(const Hypothesis& h, const LineObservation& o,
+                           Information* update) const;
+  double JunctionLogLikelihood(const Hypothesis& h, const JunctionObservation& o,
+                               Information* update) const;
+  // Drops hypotheses far below the best and merges those on one pose.
+  void PruneAndUpdateStatus();
+  bool IsSamePose(const core::SE2& a, const core::SE2& b) const;
+  std::optional<PoseEstimate> TryCommit() const;
+
+  Atlas atlas_;
+  RelocalizerOptions options_;
+  // The atlas lines and junctions near a point: a uniform grid of
+  // kCellM cells, each listing what lies within kReachM of it.
+  const std::vector<std::size_t>& LinesNear(const Eigen::Vector2d& p_m) const;
+  const std::vector<std::size_t>& JunctionsNear(const Eigen::Vector2d& p_m) const;
+  void BuildGrid();
+  std::size_t CellIndex(const Eigen::Vector2d& p_m) const;
+
+  // For each atlas junction, the atlas lines through it.
+  std::vector<std::vector<std::size_t>> junction_lines_;
+  Eigen::Vector2d grid_origin_m_ = Eigen::Vector2d::Zero();
+  int grid_cols_ = 0;
+  int grid_rows_ = 0;
+  std::vector<std::vector<std::size_t>> cell_lines_;
+  std::vector<std::vector<std::size_t>> cell_junctions_;
+  std::vector<Hypothesis> hypotheses_;
+  RelocalizerStatus status_;
+  bool committed_ = false;
+  // The odometry from the first frame to the current one.
+  bool started_ = false;
+  core::SE2 T_first_current_;
+  double travel_total_m_ = 0.0;
+};
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_RELOCALIZER_H_

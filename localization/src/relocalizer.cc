@@ -1,0 +1,426 @@
+#include "groundline/localization/relocalizer.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "groundline/perception/hesse_line.h"
+
+namespace groundline::localization {
+namespace {
+
+constexpr double kNone = -std::numeric_limits<double>::infinity();
+// The grid: observations lie within a few metres of the vehicle (the camera
+// sees < 3 m ahead), so a cell lists what lies within kReachM of it.
+constexpr double kCellM = 2.0;
+constexpr double kReachM = 6.0;
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                         const Eigen::Vector2d& b) {
+  const Eigen::Vector2d d = b - a;
+  const double t =
+      d.squaredNorm() > 0.0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+double Mahalanobis2(const Eigen::Vector2d& r, const Eigen::Matrix2d& S) {
+  const Eigen::LDLT<Eigen::Matrix2d> ldlt(S);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return r.dot(ldlt.solve(r));
+}
+
+// The observed extent [t_lo, t_hi] of points a, b along segment (s0, s1),
+// measured from s0; false when the segment is degenerate.
+bool ExtentAlong(const Eigen::Vector2d& s0, const Eigen::Vector2d& s1, const Eigen::Vector2d& a,
+                 const Eigen::Vector2d& b, double* length, double* t_lo, double* t_hi) {
+  const Eigen::Vector2d d = s1 - s0;
+  *length = d.norm();
+  if (*length < 1e-9) return false;
+  const Eigen::Vector2d u = d / *length;
+  const double ta = u.dot(a - s0), tb = u.dot(b - s0);
+  *t_lo = std::min(ta, tb);
+  *t_hi = std::max(ta, tb);
+  return true;
+}
+
+}  // namespace
+
+void Relocalizer::Information::Add(const Eigen::Vector2d& r, const Eigen::Matrix<double, 2, 3>& H,
+                                   const Eigen::Matrix2d& R) {
+  const Eigen::Matrix2d R_inv = R.inverse();
+  this->H += H.transpose() * R_inv * H;
+  b += H.transpose() * R_inv * r;
+  ++count;
+}
+
+core::Status RelocalizerOptions::Validate() const {
+  if (!(junction_line_distance_m > 0.0) || !(extent_margin_m >= 0.0) || !(birth_sigma_m > 0.0) ||
+      !(birth_sigma_rad > 0.0) || !(duplicate_m > 0.0) || !(duplicate_rad > 0.0)) {
+    return core::Status::Error(
+        "relocalizer: junction_line_distance_m, birth sigmas and duplicate tolerances must be > 0, "
+        "extent_margin_m >= 0");
+  }
+  if (!(gate_chi2 > 0.0) || !(unmatched_log_likelihood < -0.5 * gate_chi2)) {
+    return core::Status::Error(
+        "relocalizer: gate_chi2 must be > 0 and unmatched_log_likelihood < -gate_chi2 / 2 (a "
+        "match must score better than no match)");
+  }
+  if (near_m && (!(near_radius_m > 0.0) || !(near_drift_per_m >= 0.0))) {
+    return core::Status::Error("relocalizer: near_radius_m must be > 0, near_drift_per_m >= 0");
+  }
+  if (!(commit_margin > 0.0) || !(prune_margin > commit_margin) || !(min_travel_m >= 0.0) ||
+      !(max_track_m > min_travel_m) || min_matched < 1 || !(min_match_share > 0.0) ||
+      !(min_match_share <= 1.0)) {
+    return core::Status::Error(
+        "relocalizer: need commit_margin > 0, prune_margin > commit_margin, max_track_m > "
+        "min_travel_m >= 0, min_matched >= 1, min_match_share in (0, 1]");
+  }
+  return core::Status::Ok();
+}
+
+Relocalizer::Relocalizer(const Atlas& atlas, const RelocalizerOptions& options)
+    : atlas_(atlas), options_(options) {
+  assert(atlas_.Validate().ok());
+  assert(options_.Validate().ok());
+  BuildGrid();
+  junction_lines_.resize(atlas_.junctions.size());
+  for (std::size_t j = 0; j < atlas_.junctions.size(); ++j) {
+    const Eigen::Vector2d& p = atlas_.junctions[j].point_m;
+    for (std::size_t l = 0; l < atlas_.lines.size(); ++l) {
+      const AtlasLine& line = atlas_.lines[l];
+      double length = 0.0, t_lo = 0.0, t_hi = 0.0;
+      if (!ExtentAlong(line.endpoint_a_m, line.endpoint_b_m, p, p, &length, &t_lo, &t_hi)) continue;
+      const bool within = t_lo > -options_.junction_line_distance_m &&
+                          t_lo < length + options_.junction_line_distance_m;
+      if (within && std::abs(perception::SignedDistance(line.line_map, p)) <
+                        options_.junction_line_distance_m) {
+        junction_lines_[j].push_back(l);
+      }
+    }
+  }
+}
+
+void Relocalizer::BuildGrid() {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const AtlasLine& line : atlas_.lines) {
+    lo = lo.cwiseMin(line.endpoint_a_m).cwiseMin(line.endpoint_b_m);
+    hi = hi.cwiseMax(line.endpoint_a_m).cwiseMax(line.endpoint_b_m);
+  }
+  for (const AtlasJunction& junction : atlas_.junctions) {
+    lo = lo.cwiseMin(junction.point_m);
+    hi = hi.cwiseMax(junction.point_m);
+  }
+  if (!(lo.x() <= hi.x())) lo = hi = Eigen::Vector2d::Zero();
+  grid_origin_m_ = lo - Eigen::Vector2d::Constant(kReachM);
+  grid_cols_ = static_cast<int>(std::ceil((hi.x() - lo.x() + 2.0 * kReachM) / kCellM)) + 1;
+  grid_rows_ = static_cast<int>(std::ceil((hi.y() - lo.y() + 2.0 * kReachM) / kCellM)) + 1;
+  const std::size_t cells = static_cast<std::size_t>(grid_cols_) * grid_rows_;
+  cell_lines_.assign(cells, {});
+  cell_junctions_.assign(cells, {});
+  const double reach = kReachM + kCellM;  // from any point of the cell
+  for (int row = 0; row < grid_rows_; ++row) {
+    for (int col = 0; col < grid_cols_; ++col) {
+      const Eigen::Vector2d centre =
+          grid_origin_m_ + kCellM * Eigen::Vector2d(col + 0.5, row + 0.5);
+      const std::size_t cell = static_cast<std::size_t>(row) * grid_cols_ + col;
+      for (std::size_t l = 0; l < atlas_.lines.size(); ++l) {
+        const AtlasLine& line = atlas_.lines[l];
+        if (DistanceToSegment(centre, line.endpoint_a_m, line.endpoint_b_m) < reach) {
+          cell_lines_[cell].push_back(l);
+        }
+      }
+      for (std::size_t j = 0; j < atlas_.junctions.size(); ++j) {
+        if ((centre - atlas_.junctions[j].point_m).norm() < reach) {
+          cell_junctions_[cell].push_back(j);
+        }
+      }
+    }
+  }
+}
+
+std::size_t Relocalizer::CellIndex(const Eigen::Vector2d& p_m) const {
+  const Eigen::Vector2d q = (p_m - grid_origin_m_) / kCellM;
+  const int col = std::clamp(static_cast<int>(std::floor(q.x())), 0, grid_cols_ - 1);
+  const int row = std::clamp(static_cast<int>(std::floor(q.y())), 0, grid_rows_ - 1);
+  return static_cast<std::size_t>(row) * grid_cols_ + col;
+}
+
+const std::vector<std::size_t>& Relocalizer::LinesNear(const Eigen::Vector2d& p_m) const {
+  return cell_lines_[CellIndex(p_m)];
+}
+
+const std::vector<std::size_t>& Relocalizer::JunctionsNear(const Eigen::Vector2d& p_m) const {
+  return cell_junctions_[CellIndex(p_m)];
+}
+
+bool Relocalizer::IsSamePose(const core::SE2& a, const core::SE2& b) const {
+  return (a.translation() - b.translation()).norm() < options_.duplicate_m &&
+         std::abs(core::WrapAngle(a.yaw() - b.yaw())) < options_.duplicate_rad;
+}
+
+std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const RelativeMotion& motion,
+                                                  const FloorObservations& observations) {
+  if (committed_) return std::nullopt;
+  if (started_) {
+    T_first_current_ = T_first_current_ * motion.T_start_end;
+    travel_total_m_ += motion.path_length_m;
+  }
+  started_ = true;
+  if (!hypotheses_.empty()) {
+    for (Hypothesis& h : hypotheses_) h.pose = PropagateFromKeyframe(h.pose, motion, stamp_s);
+    status_.travel_since_seed_m += motion.path_length_m;
+    for (Hypothesis& h : hypotheses_) Score(observations, &h);
+    PruneAndUpdateStatus();
+    const bool lost = status_.best_matched + status_.best_unmatched > 0 &&
+                      hypotheses_.front().frames_scored >= 3 &&
+                      status_.best_matched < options_.min_match_share *
+                                                 (status_.best_matched + status_.best_unmatched);
+    if (std::optional<PoseEstimate> pose = TryCommit()) {
+      committed_ = true;
+      return pose;
+    }
+    if (lost || status_.travel_since_seed_m > options_.max_track_m) {
+      hypotheses_.clear();
+    }
+  }
+  if (hypotheses_.empty()) Seed(stamp_s, observations);
+  return std::nullopt;
+}
+
+void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
+  const core::Matrix3 birth_covariance =
+      core::Vector3(options_.birth_sigma_m * options_.birth_sigma_m,
+                    options_.birth_sigma_m * options_.birth_sigma_m,
+                    options_.birth_sigma_rad * options_.birth_sigma_rad)
+          .asDiagonal();
+  std::vector<Hypothesis> born;
+  for (const JunctionObservation& seen : observations.junctions) {
+    for (const LineObservation& through : observations.lines) {
+      if (std::abs(perception::SignedDistance(through.line_base, seen.point_base_m)) >
+          options_.junction_line_distance_m) {
+        continue;
+      }
+      for (std::size_t j = 0; j < atlas_.junctions.size(); ++j) {
+        for (std::size_t l : junction_lines_[j]) {
+          const double base_yaw = atlas_.lines[l].line_map.alpha_rad - through.line_base.alpha_rad;
+          for (double flip : {0.0, std::numbers::pi}) {
+            const double yaw = core::WrapAngle(base_yaw + flip);
+            const core::SE2 rotation(0.0, 0.0, yaw);
+            const Eigen::Vector2d t = atlas_.junctions[j].point_m - rotation * seen.point_base_m;
+            const core::SE2 T(t, yaw);
+            if (options_.near_m &&
+                ((T * T_first_current_.Inverse()).translation() - *options_.near_m).norm() >
+                    options_.near_radius_m + options_.near_drift_per_m * travel_total_m_) {
+              continue;
+            }
+            const bool duplicate = std::any_of(born.begin(), born.end(), [&](const Hypothesis& h) {
+              return IsSamePose(h.pose.T_map_base, T);
+            });
+            if (!duplicate) born.push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+          }
+        }
+      }
+    }
+  }
+  // Line seeds only early: the region they must cover grows with the travel.
+  if (born.empty() && options_.near_m && travel_total_m_ <= options_.max_track_m) {
+    SeedAlongLines(stamp_s, observations, &born);
+  }
+  if (born.empty()) return;
+  hypotheses_ = std::move(born);
+  ++status_.seeds;
+  status_.travel_since_seed_m = 0.0;
+  for (Hypothesis& h : hypotheses_) Score(observations, &h);
+  PruneAndUpdateStatus();
+}
+
+void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observations,
+                                 std::vector<Hypothesis>* born) const {
+  // The longest observed line fixes the heading and the offset from an atlas
+  // line; the position along it is sampled every duplicate_m. Only poses
+  // whose odometry leads back into the prior circle survive.
+  const LineObservation* longest = nullptr;
+  double longest_m = 0.0;
+  for (const LineObservation& o : observations.lines) {
+    const double length_m = (o.endpoint_b_base_m - o.endpoint_a_base_m).norm();
+    if (length_m > longest_m) {
+      longest = &o;
+      longest_m = length_m;
+    }
+  }
+  if (longest == nullptr) return;
+  const double allowance_m = options_.near_radius_m + options_.near_drift_per_m * travel_total_m_;
+  const double reach_m = allowance_m + travel_total_m_ + 3.0;  // where the vehicle can be now
+  const Eigen::Vector2d seen_point =
+      0.5 * (longest->endpoint_a_base_m + longest->endpoint_b_base_m);
+  const core::Matrix3 birth_covariance =
+      core::Vector3(options_.birth_sigma_m * options_.birth_sigma_m,
+                    options_.birth_sigma_m * options_.birth_sigma_m,
+                    options_.birth_sigma_rad * options_.birth_sigma_rad)
+          .asDiagonal();
+  for (const AtlasLine& line : atlas_.lines) {
+    const Eigen::Vector2d a = line.endpoint_a_m, b = line.endpoint_b_m;
+    if (DistanceToSegment(*options_.near_m, a, b) > reach_m) continue;
+    const double length_m = (b - a).norm();
+    if (length_m < 1e-9) continue;
+    const Eigen::Vector2d u = (b - a) / length_m;
+    for (double flip : {0.0, std::numbers::pi}) {
+      const double yaw =
+          core::WrapAngle(line.line_map.alpha_rad - longest->line_base.alpha_rad + flip);
+      const core::SE2 rotation(0.0, 0.0, yaw);
+      // The seen midpoint lies on the atlas line at arc length s.
+      for (double s = 0.0; s <= length_m; s += options_.duplicate_m) {
+        const Eigen::Vector2d on_line = a + s * u;
+        if ((on_line - *options_.near_m).norm() > reach_m) continue;
+        const core::SE2 T(on_line - rotation * seen_point, yaw);
+        if (((T * T_first_current_.Inverse()).translation() - *options_.near_m).norm() >
+            allowance_m) {
+          continue;
+        }
+        born->push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+      }
+    }
+  }
+}
+
+void Relocalizer::Score(const FloorObservations& observations, Hypothesis* h) const {
+  // Scored against the predicted pose; the matches then refine the pose
+  // (one Gauss-Newton step in information form, i.e. a Kalman update), so a
+  // hypothesis' uncertainty does not grow with the odometry while it
+  // explains the floor.
+  Information update;
+  for (const LineObservation& o : observations.lines) {
+    const double ll = LineLogLikelihood(*h, o, &update);
+    h->log_likelihood += ll;
+    (ll > options_.unmatched_log_likelihood ? h->matched : h->unmatched) += 1;
+  }
+  for (const JunctionObservation& o : observations.junctions) {
+    const double ll = JunctionLogLikelihood(*h, o, &update);
+    h->log_likelihood += ll;
+    (ll > options_.unmatched_log_likelihood ? h->matched : h->unmatched) += 1;
+  }
+  ++h->frames_scored;
+  if (update.count == 0) return;
+  const Eigen::LDLT<core::Matrix3> prior(h->pose.covariance);
+  if (prior.info() != Eigen::Success || !prior.isPositive()) return;
+  const core::Matrix3 information = prior.solve(core::Matrix3::Identity()) + update.H;
+  const Eigen::LDLT<core::Matrix3> posterior(information);
+  if (posterior.info() != Eigen::Success || !posterior.isPositive()) return;
+  const core::Vector3 delta = -posterior.solve(update.b);
+  h->pose.T_map_base = h->pose.T_map_base.Plus(delta);
+  h->pose.covariance = posterior.solve(core::Matrix3::Identity());
+  h->pose.covariance = 0.5 * (h->pose.covariance + h->pose.covariance.transpose()).eval();
+}
+
+double Relocalizer::LineLogLikelihood(const Hypothesis& h, const LineObservation& o,
+                                      Information* update) const {
+  const core::SE2& T = h.pose.T_map_base;
+  const Eigen::Vector2d a_map = T * o.endpoint_a_base_m;
+  const Eigen::Vector2d b_map = T * o.endpoint_b_base_m;
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d best_r = Eigen::Vector2d::Zero();
+  Eigen::Matrix<double, 2, 3> best_H = Eigen::Matrix<double, 2, 3>::Zero();
+  Eigen::Matrix2d best_R = Eigen::Matrix2d::Identity();
+  for (std::size_t l : LinesNear(T.translation())) {
+    const AtlasLine& line = atlas_.lines[l];
+    double length = 0.0, t_lo = 0.0, t_hi = 0.0;
+    if (!ExtentAlong(line.endpoint_a_m, line.endpoint_b_m, a_map, b_map, &length, &t_lo, &t_hi) ||
+        t_hi < -options_.extent_margin_m || t_lo > length + options_.extent_margin_m) {
+      continue;
+    }
+    perception::Matrix23 J_T;
+    Eigen::Matrix2d J_line;
+    const perception::HesseLine predicted =
+        perception::InverseTransformLine(T, line.line_map, &J_T, &J_line);
+    Eigen::Matrix2d J_r;
+    const Eigen::Vector2d r = perception::LineDifference(predicted, o.line_base, &J_r);
+    const Eigen::Matrix<double, 2, 3> H = J_r * J_T;
+    const Eigen::Matrix2d R =
+        o.covariance + J_r * J_line * line.covariance * J_line.transpose() * J_r.transpose();
+    const double d2 = Mahalanobis2(r, R + H * h.pose.covariance * H.transpose());
+    if (d2 < best) {
+      best = d2;
+      best_r = r;
+      best_H = H;
+      best_R = R;
+    }
+  }
+  if (!(best < options_.gate_chi2)) return options_.unmatched_log_likelihood;
+  update->Add(best_r, best_H, best_R);
+  return -0.5 * best;
+}
+
+double Relocalizer::JunctionLogLikelihood(const Hypothesis& h, const JunctionObservation& o,
+                                          Information* update) const {
+  const core::SE2& T = h.pose.T_map_base;
+  core::Matrix23 H;
+  core::Matrix2 rotation;
+  const Eigen::Vector2d p_map = T.Act(o.point_base_m, &H, &rotation);
+  const Eigen::Matrix2d R_seen = rotation * o.covariance * rotation.transpose();
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d best_r = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d best_R = Eigen::Matrix2d::Identity();
+  for (std::size_t j : JunctionsNear(T.translation())) {
+    const AtlasJunction& junction = atlas_.junctions[j];
+    const Eigen::Vector2d r = p_map - junction.point_m;
+    if (r.squaredNorm() > 1.0) continue;  // far beyond any gate
+    const Eigen::Matrix2d R = R_seen + junction.covariance;
+    const double d2 = Mahalanobis2(r, R + H * h.pose.covariance * H.transpose());
+    if (d2 < best) {
+      best = d2;
+      best_r = r;
+      best_R = R;
+    }
+  }
+  if (!(best < options_.gate_chi2)) return options_.unmatched_log_likelihood;
+  update->Add(best_r, H, best_R);
+  return -0.5 * best;
+}
+
+void Relocalizer::PruneAndUpdateStatus() {
+  std::sort(hypotheses_.begin(), hypotheses_.end(), [](const Hypothesis& a, const Hypothesis& b) {
+    return a.log_likelihood > b.log_likelihood;
+  });
+  if (!hypotheses_.empty()) {
+    const double floor = hypotheses_.front().log_likelihood - options_.prune_margin;
+    while (hypotheses_.back().log_likelihood < floor) hypotheses_.pop_back();
+  }
+  // The refinement pulls hypotheses born a little apart onto one pose; the
+  // runner-up must be a different pose, so merge into the better one.
+  std::vector<Hypothesis> distinct;
+  distinct.reserve(hypotheses_.size());
+  for (Hypothesis& h : hypotheses_) {
+    const bool duplicate = std::any_of(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
+      return IsSamePose(k.pose.T_map_base, h.pose.T_map_base);
+    });
+    if (!duplicate) distinct.push_back(std::move(h));
+  }
+  hypotheses_ = std::move(distinct);
+  status_.hypotheses = hypotheses_.size();
+  status_.best_log_likelihood = hypotheses_.empty() ? kNone : hypotheses_[0].log_likelihood;
+  status_.runner_up_log_likelihood = hypotheses_.size() < 2 ? kNone : hypotheses_[1].log_likelihood;
+  status_.best_matched = hypotheses_.empty() ? 0 : hypotheses_[0].matched;
+  status_.best_unmatched = hypotheses_.empty() ? 0 : hypotheses_[0].unmatched;
+}
+
+std::optional<PoseEstimate> Relocalizer::TryCommit() const {
+  if (hypotheses_.empty()) return std::nullopt;
+  const Hypothesis& best = hypotheses_.front();
+  const int seen = best.matched + best.unmatched;
+  const bool leads =
+      status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;
+  if (status_.travel_since_seed_m >= options_.min_travel_m && leads &&
+      best.matched >= options_.min_matched &&
+      best.matched >= options_.min_match_share * static_cast<double>(seen)) {
+    return best.pose;
+  }
+  return std::nullopt;
+}
+
+}  // namespace groundline::localization
