@@ -1,0 +1,222 @@
+// The localization-mode window solve of SlidingWindowSmoother as a pose chain
+// (pose_chain_solver.h): Gauss-Newton from the previous solution, each
+// keyframe's linearized terms kept until its poses move by more than a
+// small fraction of the step tolerance, so an update relinearizes and
+// re-eliminates only the recent part of the window that the new keyframe
+// moved (the rest of the solve is a back-substitution of 3x3 blocks).
+#include <ceres/loss_function.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "groundline/localization/floor_factors.h"
+#include "groundline/localization/relative_pose_factor.h"
+#include "groundline/localization/sliding_window_smoother.h"
+
+namespace groundline::localization {
+namespace {
+
+// Terms are relinearized when a pose moved by more than this fraction of
+// the step tolerance (the gradient error it leaves is far below the
+// solution's tolerance).
+constexpr double kRelinearizeFraction = 1e-3;
+
+core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
+std::array<double, 3> ArrayOf(const core::SE2& T) { return {T.x(), T.y(), T.yaw()}; }
+
+bool Moved(const std::array<double, 3>& x, const std::array<double, 3>& at, double tolerance) {
+  return std::abs(x[0] - at[0]) > tolerance || std::abs(x[1] - at[1]) > tolerance ||
+         std::abs(x[2] - at[2]) > tolerance;
+}
+
+// Adds one residual r with pose Jacobian J under the loss rho(s), s = |r|^2;
+// returns 0.5 rho(s). The gradient is rho' J^T r. The step's Hessian is the
+// Gauss-Newton Hessian of the robust cost, J^T (rho' I + 2 rho'' r r^T) J,
+// whose second term (negative for SoftLOne) makes the step Newton-like in
+// the loss (reweighting alone, rho' J^T J, converges only linearly, by
+// 1 - (1 + s/c^2)^-1 per iteration); it is used while positive along r, else
+// the reweighted one (as Ceres' corrector clamps it). The information (the
+// covariance, the marginal prior) is the reweighted rho' J^T J.
+template <int M>
+double AddUnary(const Eigen::Matrix<double, M, 1>& r, const Eigen::Matrix<double, M, 3>& J,
+                const ceres::LossFunction* loss, core::Matrix3* H, core::Matrix3* information,
+                core::Vector3* b) {
+  const double s = r.squaredNorm();
+  double rho[3] = {s, 1.0, 0.0};
+  if (loss != nullptr) loss->Evaluate(s, rho);
+  const double w = std::max(rho[1], 0.0);
+  const core::Matrix3 JtJ = J.transpose() * J;
+  const core::Vector3 Jtr = J.transpose() * r;
+  H->noalias() += w * JtJ;
+  information->noalias() += w * JtJ;
+  if (w + 2.0 * rho[2] * s > 0.0) H->noalias() += 2.0 * rho[2] * Jtr * Jtr.transpose();
+  b->noalias() += w * Jtr;
+  return 0.5 * rho[0];
+}
+
+}  // namespace
+
+void SlidingWindowSmoother::InvalidateChain() {
+  chain_.system_clean = 0;
+  chain_.step_clean = 0;
+  chain_.newest_clean = 0;
+  ++prior_version_;
+}
+
+void SlidingWindowSmoother::LinearizePrior() {
+  // r = r0 + J Log(x0^-1 x), dr/dx = J Jr^-1 (MarginalPriorFactor).
+  const MarginalPrior& prior = prior_->prior();
+  const core::SE2 x0(prior.x0[0][0], prior.x0[0][1], prior.x0[0][2]);
+  core::Matrix3 J_delta;
+  const core::Vector3 delta = PoseOf(window_[0].pose).Minus(x0, &J_delta);
+  const core::Vector3 r = prior.sqrt_prior.r + prior.sqrt_prior.J * delta;
+  const core::Matrix3 J = prior.sqrt_prior.J * J_delta;
+  ChainTerms terms;
+  terms.valid = true;
+  terms.at = window_[0].pose;
+  terms.prior_version = prior_version_;
+  terms.cost = AddUnary<3>(r, J, nullptr, &terms.H_unary, &terms.information_unary, &terms.b_unary);
+  chain_.prior = terms;
+}
+
+void SlidingWindowSmoother::LinearizeKeyframe(int index) {
+  Keyframe& keyframe = window_[index];
+  ChainTerms terms;
+  terms.valid = true;
+  terms.at = keyframe.pose;
+  const core::SE2 T = PoseOf(keyframe.pose);
+  Eigen::Matrix<double, 2, 3> J;
+  for (const auto& factor : keyframe.lines) {
+    const std::array<double, 2>& block = line_blocks_[factor.landmark];
+    const Eigen::Vector2d r = factor.cost->Residual(T, {block[0], block[1]}, &J);
+    terms.cost += AddUnary<2>(r, J, line_loss_.get(), &terms.H_unary, &terms.information_unary,
+                              &terms.b_unary);
+  }
+  for (const auto& factor : keyframe.junctions) {
+    const std::array<double, 2>& block = junction_blocks_[factor.landmark];
+    const Eigen::Vector2d r = factor.cost->Residual(T, {block[0], block[1]}, &J);
+    terms.cost += AddUnary<2>(r, J, junction_loss_.get(), &terms.H_unary, &terms.information_unary,
+                              &terms.b_unary);
+  }
+  if (index > 0) {
+    terms.at_previous = window_[index - 1].pose;
+    const core::SE2 T_previous = PoseOf(terms.at_previous);
+    for (const auto& between : keyframe.between) {
+      core::Matrix3 J_a;
+      core::Matrix3 J_b;
+      const core::Vector3 r = between->Residual(T_previous, T, &J_a, &J_b);
+      terms.H_previous.noalias() += J_a.transpose() * J_a;
+      terms.H_cross.noalias() += J_a.transpose() * J_b;
+      terms.H_current.noalias() += J_b.transpose() * J_b;
+      terms.b_previous.noalias() += J_a.transpose() * r;
+      terms.b_current.noalias() += J_b.transpose() * r;
+      terms.cost += 0.5 * r.squaredNorm();
+    }
+  }
+  keyframe.chain = terms;
+}
+
+double SlidingWindowSmoother::LinearizeChain(bool relinearize_all) {
+  const int n = static_cast<int>(window_.size());
+  const double tolerance = kRelinearizeFraction * options_.step_tolerance;
+  int first_changed = std::min(chain_.system_clean, n);
+  const ChainTerms& prior = chain_.prior;
+  if (relinearize_all || !prior.valid || prior.prior_version != prior_version_ ||
+      Moved(window_[0].pose, prior.at, tolerance)) {
+    LinearizePrior();
+    first_changed = 0;
+  }
+  for (int i = 0; i < n; ++i) {
+    const ChainTerms& terms = window_[i].chain;
+    if (!relinearize_all && terms.valid && !Moved(window_[i].pose, terms.at, tolerance) &&
+        (i == 0 || !Moved(window_[i - 1].pose, terms.at_previous, tolerance))) {
+      continue;
+    }
+    LinearizeKeyframe(i);
+    first_changed = std::min(first_changed, std::max(0, i - 1));
+  }
+  // Assemble the blocks from first_changed on.
+  for (PoseChainSystem* system : {&chain_.system, &chain_.information}) {
+    system->diagonal.resize(n);
+    system->gradient.resize(n);
+    system->upper.resize(n - 1);
+  }
+  for (int i = first_changed; i < n; ++i) {
+    const ChainTerms& terms = window_[i].chain;
+    core::Matrix3 H = terms.H_unary + terms.H_current;
+    core::Matrix3 information = terms.information_unary + terms.H_current;
+    core::Vector3 b = terms.b_unary + terms.b_current;
+    if (i == 0) {
+      H += chain_.prior.H_unary;
+      information += chain_.prior.information_unary;
+      b += chain_.prior.b_unary;
+    }
+    if (i + 1 < n) {
+      const ChainTerms& next = window_[i + 1].chain;
+      H += next.H_previous;
+      information += next.H_previous;
+      b += next.b_previous;
+      chain_.system.upper[i] = next.H_cross;
+      chain_.information.upper[i] = next.H_cross;
+    }
+    chain_.system.diagonal[i] = H;
+    chain_.information.diagonal[i] = information;
+    chain_.system.gradient[i] = b;
+    chain_.information.gradient[i] = b;
+  }
+  chain_.system_clean = n;
+  chain_.step_clean = std::min(chain_.step_clean, first_changed);
+  chain_.newest_clean = std::min(chain_.newest_clean, first_changed);
+  double cost = chain_.prior.cost;
+  for (const Keyframe& keyframe : window_) cost += keyframe.chain.cost;
+  return cost;
+}
+
+core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
+  const int n = static_cast<int>(window_.size());
+  std::vector<std::array<double, 3>> previous(n);
+  std::vector<core::Vector3> step;
+  double previous_cost = std::numeric_limits<double>::infinity();
+  health->iterations = 0;
+  while (health->iterations < options_.max_iterations) {
+    ++health->iterations;
+    const double cost = LinearizeChain(false);
+    if (!std::isfinite(cost)) return core::Status::Error("window solve: the cost is not finite");
+    // Kept terms are evaluated within the relinearization tolerance of the
+    // poses, so costs are compared with a margin.
+    if (cost > previous_cost + 1e-9 * std::abs(previous_cost) + 1e-12) {
+      // The last step went uphill (a nonlinearity): half of it.
+      for (int i = 0; i < n; ++i) {
+        step[i] *= 0.5;
+        window_[i].pose = ArrayOf(PoseOf(previous[i]).Plus(step[i]));
+      }
+      continue;
+    }
+    const auto solution =
+        SolvePoseChain(chain_.system, chain_.step_clean, &chain_.step_elimination);
+    chain_.step_clean = solution.ok() ? n : 0;
+    if (!solution.ok()) return solution.status().WithContext("window solve");
+    step = solution->delta;
+    double largest = 0.0;
+    for (int i = 0; i < n; ++i) {
+      previous[i] = window_[i].pose;
+      const double size = step[i].cwiseAbs().maxCoeff();
+      largest = std::max(largest, size);
+      if (size > 1e-15) window_[i].pose = ArrayOf(PoseOf(window_[i].pose).Plus(step[i]));
+    }
+    previous_cost = cost;
+    if (largest < options_.step_tolerance) break;
+  }
+  // The newest information at the last linearization point (within the last
+  // step of the solution).
+  const auto newest =
+      PoseChainLastInformation(chain_.information, chain_.newest_clean, &chain_.newest_elimination);
+  chain_.newest_clean = newest.ok() ? n : 0;
+  if (!newest.ok()) return newest.status().WithContext("window solve");
+  newest_information_ = *newest;
+  newest_information_valid_ = true;
+  return core::Status::Ok();
+}
+
+}  // namespace groundline::localization
