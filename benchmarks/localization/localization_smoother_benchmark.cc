@@ -39,6 +39,9 @@ const Drive& ZoneBDrive() {
     sim::RouteOptions route_options;
     route_options.seed = 1;
     route_options.sample_rate_hz = 50.0;
+    // A closed loop: FloorDrive repeats it, and an open route's end would
+    // jump back to its start (a teleport the odometry reports as one step).
+    route_options.closed_loop = true;
     const sim::Route route = *sim::GenerateRoute(world, route_options);
     return Drive{sim::ToFloorMap(world), route.T_map_base};
   }();

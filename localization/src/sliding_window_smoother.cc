@@ -20,6 +20,12 @@ double SecondsSince(Clock::time_point start) {
 
 core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
 
+core::Matrix3 OdometryCovarianceFloor(const SmootherOptions& options) {
+  const double m2 = options.odometry_sigma_floor_m * options.odometry_sigma_floor_m;
+  const double rad2 = options.odometry_sigma_floor_rad * options.odometry_sigma_floor_rad;
+  return core::Vector3(m2, m2, rad2).asDiagonal();
+}
+
 }  // namespace
 
 core::Status SmootherOptions::Validate() const {
@@ -31,6 +37,9 @@ core::Status SmootherOptions::Validate() const {
   if (max_iterations < 1) return core::Status::Error("smoother max_iterations must be >= 1");
   if (!(step_tolerance > 0.0)) return core::Status::Error("smoother step_tolerance must be > 0");
   if (!(ceres_tolerance > 0.0)) return core::Status::Error("smoother ceres_tolerance must be > 0");
+  if (!(odometry_sigma_floor_m > 0.0) || !(odometry_sigma_floor_rad > 0.0)) {
+    return core::Status::Error("smoother odometry_sigma_floor_m and _rad must be > 0");
+  }
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
   }
@@ -201,7 +210,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   const PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
   const auto odometry_sqrt =
       SqrtInformationFromCovariance(0.5 * (motion.covariance + motion.covariance.transpose()) +
-                                    core::Matrix3::Identity() * 1e-12);
+                                    OdometryCovarianceFloor(options_));
   if (!odometry_sqrt.ok()) {
     return odometry_sqrt.status().WithContext("keyframe at " + std::to_string(stamp_s) +
                                               " s: odometry covariance");

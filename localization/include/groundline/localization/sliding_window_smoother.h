@@ -93,6 +93,12 @@ struct SmootherOptions {
   // kCeres and mapping mode: Ceres' relative function tolerance (and the
   // parameter and gradient tolerances, when tighter than their defaults).
   double ceres_tolerance = 1e-6;
+  // Floors on the odometry increment's standard deviations (x, y and yaw
+  // each), added in quadrature: the differential-drive model gives a turn
+  // in place zero lateral variance, an unbounded information that the
+  // window's block elimination cannot take.
+  double odometry_sigma_floor_m = 1e-3;
+  double odometry_sigma_floor_rad = 1e-4;
   AssociationOptions association;
   LandmarkTrackerOptions tracker;  // mapping mode
 
