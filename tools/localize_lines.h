@@ -43,6 +43,11 @@ struct LocalizeLinesFlags {
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
   bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
+  // lines: the localization-mode window solver, "chain" (block elimination,
+  // the default) or "ceres" (the reference; SmootherSolver).
+  std::string solver = "chain";
+  // > 0: replay only this many seconds of data after the start.
+  double max_duration_s = 0.0;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).

@@ -25,19 +25,34 @@ constexpr double kRelinearizeFraction = 1e-3;
 core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
 std::array<double, 3> ArrayOf(const core::SE2& T) { return {T.x(), T.y(), T.yaw()}; }
 
+// Kept terms are evaluated within the relinearization tolerance of the
+// poses, so costs are compared with a margin.
+bool Uphill(double cost, double previous_cost) {
+  return !(cost <= previous_cost + 1e-9 * std::abs(previous_cost) + 1e-12);
+}
+
 bool Moved(const std::array<double, 3>& x, const std::array<double, 3>& at, double tolerance) {
   return std::abs(x[0] - at[0]) > tolerance || std::abs(x[1] - at[1]) > tolerance ||
          std::abs(x[2] - at[2]) > tolerance;
 }
 
 // Adds one residual r with pose Jacobian J under the loss rho(s), s = |r|^2;
-// returns 0.5 rho(s). The gradient is rho' J^T r. The step's Hessian is the
-// Gauss-Newton Hessian of the robust cost, J^T (rho' I + 2 rho'' r r^T) J,
-// whose second term (negative for SoftLOne) makes the step Newton-like in
-// the loss (reweighting alone, rho' J^T J, converges only linearly, by
-// 1 - (1 + s/c^2)^-1 per iteration); it is used while positive along r, else
-// the reweighted one (as Ceres' corrector clamps it). The information (the
-// covariance, the marginal prior) is the reweighted rho' J^T J.
+// returns 0.5 rho(s). The gradient is rho' J^T r and the information (the
+// covariance, the marginal prior) the reweighted rho' J^T J. The step's
+// Hessian is the same reweighted one, plus the second-order (Triggs)
+// curvature term 2 rho'' J^T r r^T J only where rho'' > 0, as Ceres'
+// corrector does (internal/ceres/corrector.cc). For a loss that bends
+// (rho'' < 0: SoftLOne, Huber, Cauchy) that term flattens the model along r
+// to a curvature (rho' + 2 rho'' s), for SoftLOne (1 + s/c^2)^-3/2: in the
+// tail the model is nearly linear and the undamped step overshoots by
+// ~(1 + s/c^2) (Newton on a pseudo-Huber cost diverges beyond |r| = c). On
+// the zone B replay, tapes far out in the tail (passing the gate after a
+// blind stretch) left the solve short of the minimum after max_iterations
+// (10 cm off Ceres' solution where a tape came into view); the estimate
+// drifted off by metres and diverged at a corner until the window
+// information was no longer positive definite. The reweighted model (that
+// of iteratively reweighted least squares) lies above a loss concave in s,
+// so its step does not overshoot in the loss.
 template <int M>
 double AddUnary(const Eigen::Matrix<double, M, 1>& r, const Eigen::Matrix<double, M, 3>& J,
                 const ceres::LossFunction* loss, core::Matrix3* H, core::Matrix3* information,
@@ -50,7 +65,7 @@ double AddUnary(const Eigen::Matrix<double, M, 1>& r, const Eigen::Matrix<double
   const core::Vector3 Jtr = J.transpose() * r;
   H->noalias() += w * JtJ;
   information->noalias() += w * JtJ;
-  if (w + 2.0 * rho[2] * s > 0.0) H->noalias() += 2.0 * rho[2] * Jtr * Jtr.transpose();
+  if (rho[2] > 0.0) H->noalias() += 2.0 * rho[2] * Jtr * Jtr.transpose();
   b->noalias() += w * Jtr;
   return 0.5 * rho[0];
 }
@@ -178,14 +193,13 @@ core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
   std::vector<std::array<double, 3>> previous(n);
   std::vector<core::Vector3> step;
   double previous_cost = std::numeric_limits<double>::infinity();
+  bool converged = false;
   health->iterations = 0;
   while (health->iterations < options_.max_iterations) {
     ++health->iterations;
     const double cost = LinearizeChain(false);
     if (!std::isfinite(cost)) return core::Status::Error("window solve: the cost is not finite");
-    // Kept terms are evaluated within the relinearization tolerance of the
-    // poses, so costs are compared with a margin.
-    if (cost > previous_cost + 1e-9 * std::abs(previous_cost) + 1e-12) {
+    if (Uphill(cost, previous_cost)) {
       // The last step went uphill (a nonlinearity): half of it.
       for (int i = 0; i < n; ++i) {
         step[i] *= 0.5;
@@ -206,7 +220,16 @@ core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
       if (size > 1e-15) window_[i].pose = ArrayOf(PoseOf(window_[i].pose).Plus(step[i]));
     }
     previous_cost = cost;
-    if (largest < options_.step_tolerance) break;
+    if (largest < options_.step_tolerance) {
+      converged = true;
+      break;
+    }
+  }
+  if (!converged && std::isfinite(previous_cost) && Uphill(LinearizeChain(false), previous_cost)) {
+    // The iterations ran out on a step (or its halving) that goes uphill:
+    // back to the last poses that did not.
+    for (int i = 0; i < n; ++i) window_[i].pose = previous[i];
+    LinearizeChain(false);
   }
   // The newest information at the last linearization point (within the last
   // step of the solution).

@@ -14,7 +14,10 @@
 //     least squares). Localization mode (landmarks fixed, the window is a
 //     chain): Gauss-Newton warm-started from the previous solution, each step
 //     solved exactly in O(window) by block elimination (pose_chain_solver.h),
-//     stopping when the largest step component is below step_tolerance;
+//     the loss entering as Ceres' corrector does (reweighting, no curvature
+//     term where the loss bends), a step that raises the cost halved,
+//     stopping when the largest step component is below step_tolerance or
+//     after max_iterations (then on the last poses that did not raise it);
 //     SmootherSolver::kCeres solves the same window with Ceres instead
 //     (the reference). Mapping mode (landmarks are variables): Ceres;
 //  4. marginalizes keyframes older than window_s (Schur complement,
