@@ -123,6 +123,8 @@ void BM_KeyframeUpdate(benchmark::State& state) {
   state.counters["cpu_p99_ms"] = percentile(cpu_ms, 99);
   state.counters["window"] = smoother.WindowSize();
   state.counters["iterations_median"] = percentile(iterations, 50);
+  state.counters["iterations_p99"] = percentile(iterations, 99);
+  state.counters["iterations_max"] = *std::max_element(iterations.begin(), iterations.end());
   state.counters["lines_used"] = lines_used / static_cast<double>(wall_ms.size());
   state.counters["lines_observed"] = lines_observed / static_cast<double>(wall_ms.size());
 }

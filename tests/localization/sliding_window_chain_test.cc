@@ -165,9 +165,11 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
 // its first sighting the predicted offset is 10 cm: 1.6 sigma of the pose,
 // so the tape passes the gate, but 20 sigma of the line, deep in the
 // SoftLOne tail. Newton's model of that tail (the second-order curvature
-// correction) is nearly flat and its step overshoots by ~(1 + s / c^2); the
-// zone B replay drifted off this way, then diverged at a corner until the
-// window information was no longer positive definite.
+// correction) is nearly flat: its first step is 1.7 m and raises the cost
+// 20-fold. Halving it (the solver before the fix) left the solve short of
+// the minimum after max_iterations; the zone B replay drifted off this way,
+// then diverged at a corner until the window information was no longer
+// positive definite.
 TEST(SlidingWindowChain, OutlierTapeAfterABlindStretchConvergesWithTheDefaultOptions) {
   SmootherOptions chain_options;  // the defaults: 10 iterations, window 120 s
   SmootherOptions ceres_options = chain_options;
@@ -180,7 +182,8 @@ TEST(SlidingWindowChain, OutlierTapeAfterABlindStretchConvergesWithTheDefaultOpt
   chain.Initialize(0.0, core::SE2(), start_covariance);
   ceres.Initialize(0.0, core::SE2(), start_covariance);
   const double line_sigma = 0.005;
-  core::SE2 T;  // the truth: y = 0, yaw 0
+  const AtlasLine tape = AisleAtlas().lines[0];  // y = +0.6 m
+  core::SE2 T;                                   // the truth: y = 0, yaw 0
   int tape_keyframes = 0;
   for (int i = 1; i <= 24; ++i) {
     RelativeMotion motion;
@@ -194,7 +197,6 @@ TEST(SlidingWindowChain, OutlierTapeAfterABlindStretchConvergesWithTheDefaultOpt
     FloorObservations observations;
     observations.stamp_s = 0.5 * i;
     if (i >= 14) {
-      const AtlasLine& tape = AisleAtlas().lines[0];
       LineObservation observation;
       observation.line_base = perception::InverseTransformLine(T, tape.line_map);
       observation.covariance = Eigen::Matrix2d::Identity() * line_sigma * line_sigma;

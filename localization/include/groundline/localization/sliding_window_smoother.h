@@ -14,10 +14,11 @@
 //     least squares). Localization mode (landmarks fixed, the window is a
 //     chain): Gauss-Newton warm-started from the previous solution, each step
 //     solved exactly in O(window) by block elimination (pose_chain_solver.h),
-//     the loss entering as Ceres' corrector does (reweighting, no curvature
-//     term where the loss bends), a step that raises the cost halved,
-//     stopping when the largest step component is below step_tolerance or
-//     after max_iterations (then on the last poses that did not raise it);
+//     Newton's model of the loss until a step raises the cost (an outlier
+//     far in the loss's tail), then the reweighted one (Ceres' model, whose
+//     steps descend; one that does not is halved), stopping when the largest
+//     step component is below step_tolerance or after max_iterations (then
+//     on the last poses that did not raise the cost);
 //     SmootherSolver::kCeres solves the same window with Ceres instead
 //     (the reference). Mapping mode (landmarks are variables): Ceres;
 //  4. marginalizes keyframes older than window_s (Schur complement,
