@@ -162,8 +162,8 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
 // A blind drive along the aisle whose odometry drifts 1 cm sideways per
 // 0.2 m step (stated lateral sigma 2 cm), with a turn in place and back
 // (zero lateral variance: the floors), then the +y tape in view, exact. At
-// its first sighting the predicted offset is 10 cm: 1.6 sigma of the pose,
-// so the tape passes the gate, but 20 sigma of the line, deep in the
+// its first sighting (keyframe 14) the predicted offset is 12 cm: 1.7 sigma
+// of the pose, so the tape passes the gate, but 24 sigma of the line, in the
 // SoftLOne tail. Newton's model of that tail (the second-order curvature
 // correction) is nearly flat: its first step is 1.7 m and raises the cost
 // 20-fold. Halving it (the solver before the fix) left the solve short of
