@@ -233,6 +233,16 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->expected(2, 3);
   cmd->add_flag("--lidar", lines->lidar,
                 "--mode lines: add the LiDAR scan-match factor (needs lidar_scans)");
+  cmd->add_option("--solver", lines->solver,
+                  "--mode lines: window solver, chain (exact block elimination of the pose "
+                  "chain) or ceres (Levenberg-Marquardt, the reference)")
+      ->check(CLI::IsMember({"chain", "ceres"}))
+      ->capture_default_str();
+  cmd->add_option("--max-duration", lines->max_duration_s,
+                  "--mode lines/mapping: replay only this many seconds of data after the start "
+                  "(0: all), e.g. --max-duration 150")
+      ->check(CLI::Range(0.0, 1e9))
+      ->capture_default_str();
   cmd->callback([flags, carmen, lines, run] {
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;

@@ -6,6 +6,8 @@
 // unreadable images are named, counted and replaced by an empty observation.
 #include "localize_lines.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -117,9 +119,18 @@ nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHea
   line["junctions_used"] = health.junctions_used;
   line["landmarks_added"] = health.landmarks_added;
   line["window_size"] = health.window_size;
+  line["iterations"] = health.iterations;
   line["solve_ms"] = 1e3 * health.solve_time_s;
   line["update_ms"] = 1e3 * health.update_time_s;
   return line;
+}
+
+// CPU seconds of the calling thread: the update's own time, without the
+// time the thread waited for a core (wall time on a loaded machine).
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace
@@ -204,6 +215,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
                                         : localization::SmootherMode::kLocalization;
   smoother_options.window_s = flags.window_s;
   smoother_options.association.gate_chi2 = flags.gate_chi2;
+  smoother_options.solver = flags.solver == "ceres" ? localization::SmootherSolver::kCeres
+                                                    : localization::SmootherSolver::kChain;
   std::optional<LocalizeDiagnostics> diagnostics;
   if (flags.diagnose && !dataset->ground_truth.empty()) {
     diagnostics.emplace(dataset->ground_truth, *atlas, smoother_options.association);
@@ -221,6 +234,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   core::Trajectory odometry_rate{{start_s, start_pose, start_covariance}};
   std::ostringstream health_lines;
   std::vector<double> update_ms;
+  std::vector<double> update_cpu_ms;  // the updating thread's CPU time
   long frames_used = 0, frames_skipped = 0, images_unreadable = 0, solve_failures = 0;
   long lines_used = 0, lines_rejected = 0, lines_dropped = 0;
   const std::vector<core::ImageRecord>& images = dataset->images;
@@ -232,6 +246,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   for (std::size_t i = 0; i < readings.size(); ++i) {
     const core::WheelEncoderReading& r = readings[i];
     if (r.stamp_s <= start_s) continue;
+    if (flags.max_duration_s > 0.0 && r.stamp_s > start_s + flags.max_duration_s) break;
     if (i % 1000 == 0) progress.Update("replay", static_cast<double>(i) / readings.size());
     integrator.Integrate(localization::WheelAngleIncrement{r.left_delta_rad, r.right_delta_rad});
     std::optional<std::size_t> frame;
@@ -268,6 +283,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         if (!k.ok()) return Fail(k.message());
         scan_match = std::move(*k);
       }
+      const double cpu_before_s = ThreadCpuSeconds();
       core::Result<localization::KeyframeHealth> health =
           smoother.AddKeyframe(r.stamp_s, motion, converted.observations,
                                scan_match ? scan_match->relative : std::nullopt);
@@ -277,12 +293,14 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
                      health.message().c_str());
       } else {
         update_ms.push_back(1e3 * health->update_time_s);
+        update_cpu_ms.push_back(1e3 * (ThreadCpuSeconds() - cpu_before_s));
         lines_used += health->lines_used;
         lines_rejected += health->lines_rejected;
         lines_dropped += converted.dropped_lines;
         nlohmann::ordered_json line = HealthLine(
             static_cast<long>(keyframes.size()), *health, smoother.Latest(),
             frame ? std::optional(images[*frame].stamp_s) : std::nullopt, converted.dropped_lines);
+        line["update_cpu_ms"] = update_cpu_ms.back();
         if (diagnostics) {
           line.update(diagnosis);
           line.update(diagnostics->AfterUpdate(smoother.Latest()));
@@ -310,6 +328,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   nlohmann::ordered_json summary;
   summary["dataset"] = flags.dataset_dir;
   summary["mode"] = flags.mapping ? "mapping" : (flags.lidar ? "lines+lidar" : "lines");
+  summary["solver"] = flags.mapping ? "ceres" : flags.solver;
   summary["n_keyframes"] = keyframes.size();
   summary["frames_used"] = frames_used;
   summary["frames_skipped"] = frames_skipped;
@@ -321,6 +340,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["lines_dropped"] = lines_dropped;
   summary["update_ms_median"] = Percentile(update_ms, 0.5);
   summary["update_ms_p99"] = Percentile(update_ms, 0.99);
+  summary["update_cpu_ms_median"] = Percentile(update_cpu_ms, 0.5);
+  summary["update_cpu_ms_p99"] = Percentile(update_cpu_ms, 0.99);
   if (lidar) summary["lidar"] = lidar->Summary();
   std::printf(
       "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "

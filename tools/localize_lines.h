@@ -48,6 +48,11 @@ struct LocalizeLinesFlags {
   bool relocalize = false;
   std::vector<double> near;
   bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
+  // lines: the localization-mode window solver, "chain" (block elimination,
+  // the default) or "ceres" (the reference; SmootherSolver).
+  std::string solver = "chain";
+  // > 0: replay only this many seconds of data after the start.
+  double max_duration_s = 0.0;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).

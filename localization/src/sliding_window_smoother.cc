@@ -1,12 +1,11 @@
 #include "groundline/localization/sliding_window_smoother.h"
 
-#include <ceres/ceres.h>
+#include <ceres/loss_function.h>
 
 #include <Eigen/QR>
 #include <cassert>
 #include <chrono>
 
-#include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/relative_pose_factor.h"
 
@@ -21,7 +20,11 @@ double SecondsSince(Clock::time_point start) {
 
 core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
 
-const core::SE2Manifold kSe2Manifold;
+core::Matrix3 OdometryCovarianceFloor(const SmootherOptions& options) {
+  const double m2 = options.odometry_sigma_floor_m * options.odometry_sigma_floor_m;
+  const double rad2 = options.odometry_sigma_floor_rad * options.odometry_sigma_floor_rad;
+  return core::Vector3(m2, m2, rad2).asDiagonal();
+}
 
 }  // namespace
 
@@ -32,6 +35,11 @@ core::Status SmootherOptions::Validate() const {
     return core::Status::Error("smoother junction_loss_scale must be > 0");
   }
   if (max_iterations < 1) return core::Status::Error("smoother max_iterations must be >= 1");
+  if (!(step_tolerance > 0.0)) return core::Status::Error("smoother step_tolerance must be > 0");
+  if (!(ceres_tolerance > 0.0)) return core::Status::Error("smoother ceres_tolerance must be > 0");
+  if (!(odometry_sigma_floor_m > 0.0) || !(odometry_sigma_floor_rad > 0.0)) {
+    return core::Status::Error("smoother odometry_sigma_floor_m and _rad must be > 0");
+  }
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
   }
@@ -81,6 +89,18 @@ void SlidingWindowSmoother::Initialize(double stamp_s, const core::SE2& T_map_ba
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   latest_ = {stamp_s, T_map_base, covariance};
   keyframe_count_ = 1;
+  chain_ = ChainState();
+  InvalidateChain();
+}
+
+bool SlidingWindowSmoother::HoldKeyframe(double stamp_s, bool held) {
+  for (Keyframe& keyframe : window_) {
+    if (keyframe.stamp_s == stamp_s) {
+      keyframe.held = held;
+      return true;
+    }
+  }
+  return false;
 }
 
 Atlas SlidingWindowSmoother::CurrentAtlas() const {
@@ -190,7 +210,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   const PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
   const auto odometry_sqrt =
       SqrtInformationFromCovariance(0.5 * (motion.covariance + motion.covariance.transpose()) +
-                                    core::Matrix3::Identity() * 1e-12);
+                                    OdometryCovarianceFloor(options_));
   if (!odometry_sqrt.ok()) {
     return odometry_sqrt.status().WithContext("keyframe at " + std::to_string(stamp_s) +
                                               " s: odometry covariance");
@@ -211,70 +231,29 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   latest_ = predicted;
 
   core::Status status = Solve(&health);
-  while (status.ok() && window_.size() > 2 &&
+  while (status.ok() && window_.size() > 2 && !window_.front().held &&
          window_.back().stamp_s - window_.front().stamp_s > options_.window_s) {
     status = MarginalizeOldest();
   }
   if (!status.ok()) return status;
-  latest_ = {stamp_s, PoseOf(window_.back().pose), NewestCovariance()};
+  const auto information = NewestInformation();
+  if (!information.ok()) return information.status();
+  latest_ = {stamp_s, PoseOf(window_.back().pose),
+             information->completeOrthogonalDecomposition().pseudoInverse()};
   health.window_size = static_cast<int>(window_.size());
   health.update_time_s = SecondsSince(start);
   return health;
 }
 
-core::Status SlidingWindowSmoother::Solve(KeyframeHealth* health) {
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  auto* manifold = const_cast<core::SE2Manifold*>(&kSe2Manifold);
-  for (Keyframe& keyframe : window_) problem.AddParameterBlock(keyframe.pose.data(), 3, manifold);
-  problem.AddResidualBlock(prior_.get(), nullptr, window_.front().pose.data());
-  const bool mapping = options_.mode == SmootherMode::kMapping;
-  for (size_t i = 0; i < window_.size(); ++i) {
-    Keyframe& keyframe = window_[i];
-    for (auto& between : keyframe.between) {
-      problem.AddResidualBlock(between.get(), nullptr, window_[i - 1].pose.data(),
-                               keyframe.pose.data());
-    }
-    for (LandmarkFactor& factor : keyframe.lines) {
-      double* block = line_blocks_[factor.landmark].data();
-      problem.AddResidualBlock(factor.cost.get(), line_loss_.get(), keyframe.pose.data(), block);
-      if (!mapping) problem.SetParameterBlockConstant(block);
-    }
-    for (LandmarkFactor& factor : keyframe.junctions) {
-      double* block = junction_blocks_[factor.landmark].data();
-      problem.AddResidualBlock(factor.cost.get(), junction_loss_.get(), keyframe.pose.data(),
-                               block);
-      if (!mapping) problem.SetParameterBlockConstant(block);
-    }
-  }
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  options.num_threads = 1;
-  options.max_num_iterations = options_.max_iterations;
-  options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  const Clock::time_point start = Clock::now();
-  ceres::Solve(options, &problem, &summary);
-  health->solve_time_s = SecondsSince(start);
-  health->iterations = static_cast<int>(summary.iterations.size());
-  if (!summary.IsSolutionUsable()) {
-    return core::Status::Error("window solve failed: " + summary.message);
-  }
-  return core::Status::Ok();
-}
-
 std::vector<LinearizationFactor> SlidingWindowSmoother::UnaryFactors(
     const Keyframe& keyframe, std::vector<LinearizationVariable>* variables) {
   std::vector<LinearizationFactor> factors;
-  for (const LandmarkFactor& factor : keyframe.lines) {
+  for (const auto& factor : keyframe.lines) {
     variables->push_back({line_blocks_[factor.landmark].data(), 2, false});
     factors.push_back(
         {factor.cost.get(), line_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
   }
-  for (const LandmarkFactor& factor : keyframe.junctions) {
+  for (const auto& factor : keyframe.junctions) {
     variables->push_back({junction_blocks_[factor.landmark].data(), 2, false});
     factors.push_back(
         {factor.cost.get(), junction_loss_.get(), {0, static_cast<int>(variables->size()) - 1}});
@@ -312,45 +291,10 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   prior.sqrt_prior = std::move(sqrt_prior).value();
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   second.between.clear();
+  second.chain.valid = false;
   window_.pop_front();
+  InvalidateChain();
   return core::Status::Ok();
-}
-
-core::Matrix3 SlidingWindowSmoother::NewestCovariance() const {
-  // Eliminate the poses oldest first: information on pose i from the prior
-  // and everything before, plus its own factors, passed on through the
-  // odometry factor to pose i + 1.
-  auto* self = const_cast<SlidingWindowSmoother*>(this);
-  const MarginalPrior& prior = prior_->prior();
-  // The prior's Jacobian at the current estimate: J * Jr^-1(delta) ~ J.
-  Eigen::Matrix3d information = prior.sqrt_prior.J.transpose() * prior.sqrt_prior.J;
-  for (size_t i = 0; i < window_.size(); ++i) {
-    const Keyframe& keyframe = window_[i];
-    const bool last = i + 1 == window_.size();
-    std::vector<LinearizationVariable> variables = {{keyframe.pose.data(), 3, true}};
-    std::vector<LinearizationFactor> factors = self->UnaryFactors(keyframe, &variables);
-    int next = -1;
-    if (!last) {
-      variables.push_back({window_[i + 1].pose.data(), 3, true});
-      next = static_cast<int>(variables.size()) - 1;
-      for (const auto& between : window_[i + 1].between) {
-        factors.push_back({between.get(), nullptr, {0, next}});
-      }
-    }
-    auto system = LinearizeFactors(variables, factors);
-    if (!system.ok()) return latest_.covariance;
-    system->H.topLeftCorner<3, 3>() += information;
-    if (last) {
-      information = system->H.topLeftCorner<3, 3>();  // landmarks held fixed
-      break;
-    }
-    // Keep pose i + 1 (the last three tangent coordinates), eliminate pose i.
-    const int n = static_cast<int>(system->H.rows());
-    const std::vector<int> keep = {n - 3, n - 2, n - 1};
-    const std::vector<int> marginalize = {0, 1, 2};
-    information = MarginalizeSchur(*system, keep, marginalize)->H;
-  }
-  return information.completeOrthogonalDecomposition().pseudoInverse();
 }
 
 }  // namespace groundline::localization

@@ -37,6 +37,11 @@ TEST(SlidingWindowSmoother, WithoutObservationsItIsDeadReckoningWithOrWithoutMar
   keep_all.window_s = 1e6;
   SmootherOptions short_window;
   short_window.window_s = 1.0;  // keyframes every 0.1 s: ~10 in the window
+  for (SmootherOptions* options : {&keep_all, &short_window}) {
+    // Floors far below the increments' own noise, so the chain equals dead reckoning.
+    options->odometry_sigma_floor_m = 1e-7;
+    options->odometry_sigma_floor_rad = 1e-7;
+  }
   SlidingWindowSmoother full(keep_all, Atlas());
   SlidingWindowSmoother marginalizing(short_window, Atlas());
   full.Initialize(0.0, start, start_covariance);
@@ -97,6 +102,39 @@ TEST(SlidingWindowSmoother, RankDeficientRelativeMeasurementCorrectsOnlyItsDirec
   }
 }
 
+// A keyframe held for a loop closure stays in the window past window_s (and
+// so does everything newer); once released the window shrinks back, and the
+// estimate equals that of a smoother that never held anything (holding only
+// delays marginalization, which is exact here: dead reckoning).
+TEST(SlidingWindowSmoother, AHeldKeyframeIsNotMarginalizedUntilReleased) {
+  const std::vector<RelativeMotion> motions = RandomMotions(40, 7);
+  SmootherOptions options;
+  options.window_s = 1.0;  // ~10 keyframes
+  SlidingWindowSmoother held(options, Atlas());
+  SlidingWindowSmoother plain(options, Atlas());
+  const core::Matrix3 start_covariance = core::Matrix3::Identity() * 1e-4;
+  held.Initialize(0.0, core::SE2(), start_covariance);
+  plain.Initialize(0.0, core::SE2(), start_covariance);
+  EXPECT_FALSE(held.HoldKeyframe(0.05));  // no such keyframe
+  for (size_t i = 0; i < motions.size(); ++i) {
+    const double stamp_s = 0.1 * static_cast<double>(i + 1);
+    ASSERT_TRUE(held.AddKeyframe(stamp_s, motions[i], {}).ok());
+    ASSERT_TRUE(plain.AddKeyframe(stamp_s, motions[i], {}).ok());
+    if (i == 4) {
+      ASSERT_TRUE(held.HoldKeyframe(stamp_s));
+    }
+    if (i == 29) {
+      EXPECT_EQ(held.WindowSize(), 26);  // keyframes 0.5 s ... 3.0 s
+      ASSERT_TRUE(held.HoldKeyframe(0.5, false));
+    }
+  }
+  EXPECT_EQ(held.WindowSize(), plain.WindowSize());
+  EXPECT_LE(held.WindowSize(), 12);
+  EXPECT_TRUE(held.Latest().T_map_base.IsApprox(plain.Latest().T_map_base, 1e-9, 1e-9));
+  EXPECT_LT((held.Latest().covariance - plain.Latest().covariance).norm(),
+            1e-6 * plain.Latest().covariance.norm());
+}
+
 TEST(SlidingWindowSmoother, NonFiniteRelativeMeasurementIsAnError) {
   SlidingWindowSmoother smoother{SmootherOptions(), Atlas()};
   smoother.Initialize(0.0, core::SE2(), core::Matrix3::Identity() * 1e-4);
@@ -130,6 +168,9 @@ TEST(SmootherOptions, ValidateNamesTheField) {
   EXPECT_TRUE(options.Validate().ok());
   options.window_s = 0.0;
   EXPECT_NE(options.Validate().message().find("window_s"), std::string::npos);
+  options = SmootherOptions();
+  options.step_tolerance = 0.0;
+  EXPECT_NE(options.Validate().message().find("step_tolerance"), std::string::npos);
   options = SmootherOptions();
   options.association.gate_chi2 = -1.0;
   EXPECT_NE(options.Validate().message().find("gate_chi2"), std::string::npos);

@@ -9,13 +9,26 @@
 //  2. associates the observations with the atlas (floor_association.h);
 //     in mapping mode unmatched ones feed the LandmarkTracker and become
 //     landmarks after min_track_keyframes sightings;
-//  3. solves the window with Ceres (pseudo-Huber = ceres::SoftLOneLoss on line
-//     and junction factors, scales in whitened units);
+//  3. solves the window (pseudo-Huber = ceres::SoftLOneLoss on line and
+//     junction factors, scales in whitened units, by iteratively reweighted
+//     least squares). Localization mode (landmarks fixed, the window is a
+//     chain): Gauss-Newton warm-started from the previous solution, each step
+//     solved exactly in O(window) by block elimination (pose_chain_solver.h),
+//     Newton's model of the loss until a step raises the cost (an outlier
+//     far in the loss's tail), then the reweighted one (Ceres' model, whose
+//     steps descend; one that does not is halved), stopping when the largest
+//     step component is below step_tolerance or after max_iterations (then
+//     on the last poses that did not raise the cost);
+//     SmootherSolver::kCeres solves the same window with Ceres instead
+//     (the reference). Mapping mode (landmarks are variables): Ceres;
 //  4. marginalizes keyframes older than window_s (Schur complement,
-//     marginalization.h) into the prior on the oldest kept keyframe;
-//  5. computes the newest pose's covariance by eliminating the window's
-//     poses in order (exact for the window's chain structure in localization
-//     mode, where landmarks are fixed).
+//     marginalization.h) into the prior on the oldest kept keyframe; a
+//     keyframe held by HoldKeyframe (it carries an active loop closure) is
+//     not marginalized, nor is anything newer (the window is a chain and is
+//     marginalized from its old end), until it is released;
+//  5. the newest pose's covariance is the inverse of the last block of the
+//     chain's forward elimination (exact for the chain; in mapping mode the
+//     landmarks are treated as known).
 //
 // Landmarks stay in the atlas permanently: fixed in localization mode,
 // variables in mapping mode while a window keyframe observes them. When a
@@ -26,15 +39,15 @@
 // carried about the pose chain. Mapped landmark covariances are the tracker's
 // first-order fusion, and the newest-pose covariance in mapping mode treats
 // the landmarks as known (optimistic). There are no loop-closure factors
-// yet, so no keyframe is held back from marginalization.
+// yet; HoldKeyframe is the hold-back their owner will use.
 //
 // Other relative sensors (a LiDAR scan match between consecutive keyframes)
 // enter as an optional RelativePoseMeasurement per keyframe: a second
 // between-factor next to the odometry, whose square-root information may be
 // rank deficient (a corridor match carries nothing along the aisle).
 //
-// Memory: the window holds at most window_s of keyframes; everything else is
-// the atlas. Not thread-safe.
+// Memory: the window holds at most window_s of keyframes (more while a
+// keyframe is held); everything else is the atlas. Not thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
 #define GROUNDLINE_LOCALIZATION_SLIDING_WINDOW_SMOOTHER_H_
 
@@ -52,15 +65,23 @@
 #include "groundline/localization/landmark_tracker.h"
 #include "groundline/localization/marginalization.h"
 #include "groundline/localization/odometry_integrator.h"
+#include "groundline/localization/pose_chain_solver.h"
 
 namespace ceres {
-class CostFunction;
 class LossFunction;
 }  // namespace ceres
 
 namespace groundline::localization {
 
+class GroundLineFactor;
+class JunctionFactor;
+class RelativePoseFactor;
+
 enum class SmootherMode { kLocalization, kMapping };
+// How the localization-mode window is solved: the block-tridiagonal chain
+// solver, or Ceres (SPARSE_NORMAL_CHOLESKY, Levenberg-Marquardt) on the same
+// factors. Mapping mode always uses Ceres.
+enum class SmootherSolver { kChain, kCeres };
 
 struct SmootherOptions {
   SmootherMode mode = SmootherMode::kLocalization;
@@ -69,6 +90,19 @@ struct SmootherOptions {
   double line_loss_scale = 2.0;
   double junction_loss_scale = 2.0;
   int max_iterations = 10;
+  SmootherSolver solver = SmootherSolver::kChain;
+  // kChain: stop when every component of the Gauss-Newton step is below this
+  // (metres and radians).
+  double step_tolerance = 1e-7;
+  // kCeres and mapping mode: Ceres' relative function tolerance (and the
+  // parameter and gradient tolerances, when tighter than their defaults).
+  double ceres_tolerance = 1e-6;
+  // Floors on the odometry increment's standard deviations (x, y and yaw
+  // each), added in quadrature: the differential-drive model gives a turn
+  // in place zero lateral variance, an unbounded information that the
+  // window's block elimination cannot take.
+  double odometry_sigma_floor_m = 1e-3;
+  double odometry_sigma_floor_rad = 1e-4;
   AssociationOptions association;
   LandmarkTrackerOptions tracker;  // mapping mode
 
@@ -108,7 +142,7 @@ struct KeyframeHealth {
   int landmarks_added = 0;                 // mapping mode
   int window_size = 0;                     // keyframes in the window after this update
   int iterations = 0;
-  double solve_time_s = 0.0;   // Ceres solve
+  double solve_time_s = 0.0;   // the window solve
   double update_time_s = 0.0;  // the whole AddKeyframe
 };
 
@@ -137,25 +171,76 @@ class SlidingWindowSmoother {
   // The atlas with the current landmark estimates (mapping mode: normalized).
   Atlas CurrentAtlas() const;
   int WindowSize() const { return static_cast<int>(window_.size()); }
+  // The window's pose estimates, oldest first.
+  std::vector<core::SE2> WindowPoses() const;
+  // Holds (held = true) or releases the window keyframe of that stamp: a
+  // held keyframe carries an active loop closure and is not marginalized,
+  // nor is any newer one, until released (the window grows meanwhile).
+  // False when no window keyframe has that stamp.
+  bool HoldKeyframe(double stamp_s, bool held = true);
 
  private:
+  template <typename Factor>
   struct LandmarkFactor {
     int landmark = 0;  // index into atlas lines or junctions
-    std::unique_ptr<ceres::CostFunction> cost;
+    std::unique_ptr<Factor> cost;
+  };
+  // A keyframe's (or the prior's) linearized terms in the chain, kept until
+  // its poses move (sliding_window_chain.cc): the unary factors on this pose
+  // and the between factors from the previous one.
+  struct ChainTerms {
+    bool valid = false;
+    std::array<double, 3> at{};           // this pose when linearized
+    std::array<double, 3> at_previous{};  // the previous pose when linearized
+    long prior_version = -1;              // the prior's terms: which prior
+    double cost = 0.0;
+    core::Matrix3 H_unary = core::Matrix3::Zero();  // the step's Hessian
+    core::Matrix3 information_unary = core::Matrix3::Zero();
+    core::Vector3 b_unary = core::Vector3::Zero();
+    core::Matrix3 H_previous = core::Matrix3::Zero();  // between: (prev, prev)
+    core::Matrix3 H_cross = core::Matrix3::Zero();     // (prev, this)
+    core::Matrix3 H_current = core::Matrix3::Zero();   // (this, this)
+    core::Vector3 b_previous = core::Vector3::Zero();
+    core::Vector3 b_current = core::Vector3::Zero();
+  };
+  // The assembled chain and its eliminations; blocks before *_clean are
+  // unchanged since they were last assembled / eliminated.
+  struct ChainState {
+    PoseChainSystem system;
+    PoseChainSystem information;
+    PoseChainElimination step_elimination;
+    PoseChainElimination newest_elimination;
+    int system_clean = 0;
+    int step_clean = 0;
+    int newest_clean = 0;
+    ChainTerms prior;
   };
   struct Keyframe {
     double stamp_s = 0.0;
+    bool held = false;  // HoldKeyframe
+    ChainTerms chain;
     std::array<double, 3> pose{};
     // From the previous keyframe (empty for the first): the odometry factor,
     // then any RelativePoseMeasurement factor.
-    std::vector<std::unique_ptr<ceres::CostFunction>> between;
-    std::vector<LandmarkFactor> lines;
-    std::vector<LandmarkFactor> junctions;
+    std::vector<std::unique_ptr<RelativePoseFactor>> between;
+    std::vector<LandmarkFactor<GroundLineFactor>> lines;
+    std::vector<LandmarkFactor<JunctionFactor>> junctions;
   };
 
+  // sliding_window_solve.cc: the window solve and the newest information.
   core::Status Solve(KeyframeHealth* health);
+  core::Status SolveCeres(KeyframeHealth* health);
+  core::Status SolveChain(KeyframeHealth* health);
+  // sliding_window_chain.cc: chain_ at the current estimates (landmarks
+  // fixed), relinearizing the terms whose poses moved (all of them when
+  // relinearize_all); returns the robust cost.
+  double LinearizeChain(bool relinearize_all);
+  void LinearizeKeyframe(int index);
+  void LinearizePrior();
+  core::Result<core::Matrix3> NewestInformation();
+  void InvalidateChain();
+
   core::Status MarginalizeOldest();
-  core::Matrix3 NewestCovariance() const;
   std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
                                                 std::vector<LinearizationVariable>* variables);
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
@@ -173,6 +258,12 @@ class SlidingWindowSmoother {
   std::unique_ptr<ceres::LossFunction> junction_loss_;
   LandmarkTracker tracker_;
   PoseEstimate latest_;
+  // The newest pose's marginal information from the last chain solve
+  // (valid when newest_information_valid_).
+  core::Matrix3 newest_information_ = core::Matrix3::Zero();
+  bool newest_information_valid_ = false;
+  ChainState chain_;
+  long prior_version_ = 0;
   long keyframe_count_ = 0;
 };
 
