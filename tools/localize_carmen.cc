@@ -53,6 +53,7 @@ nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T
   line["weakest_direction"] = {d(0), d(1), d(2)};
   line["keyframe"] = r.keyframe;
   line["loops_found"] = r.loops_found;
+  line["loops_rejected_free_space"] = r.loops_rejected_free_space;
   return line;
 }
 
@@ -80,13 +81,13 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
     relations = std::move(*read);
   }
 
-  lidar::LidarSlamOptions options;
-  const lidar::ScanPointsOptions points_options;
+  const lidar::LidarSlamOptions options;
+  const lidar::ScanPointsOptions& points_options = options.points;
   lidar::LidarSlam slam(options);
   std::vector<lidar::ScanReport> reports;
   reports.reserve(scans.size());
   const auto slam_start = std::chrono::steady_clock::now();
-  int degenerate = 0, matched = 0, loops = 0;
+  int degenerate = 0, matched = 0, loops = 0, loops_rejected_free_space = 0;
   for (std::size_t i = 0; i < scans.size(); ++i) {
     const io::CarmenLaserScan& s = *scans[i];
     const core::SE2 T_base_laser = s.robot_pose->Between(*s.laser_pose);
@@ -99,6 +100,7 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
     degenerate += report->information.degenerate;
     matched += report->matched;
     loops += report->loops_found;
+    loops_rejected_free_space += report->loops_rejected_free_space;
     reports.push_back(std::move(*report));
     if (i % 100 == 0) progress.Update("slam", static_cast<double>(i) / scans.size());
   }
@@ -131,13 +133,15 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["n_submaps"] = slam.num_submaps();
   summary["n_loops_found"] = loops;
   summary["n_loops_accepted"] = slam.graph().num_loops();
+  summary["n_loops_rejected_free_space"] = loops_rejected_free_space;
   summary["n_optimizations"] = slam.num_optimizations();
   summary["log_duration_s"] = log_duration_s;
   std::printf(
       "%s: %zu scans over %.1f s, %d matched, %d degenerate, %d nodes, %d submaps, "
-      "%d of %d loop closures kept\n",
+      "%d of %d loop closures kept (%d more contradicted free space)\n",
       flags.log_path.c_str(), scans.size(), log_duration_s, matched, degenerate,
-      slam.graph().num_nodes(), slam.num_submaps(), slam.graph().num_loops(), loops);
+      slam.graph().num_nodes(), slam.num_submaps(), slam.graph().num_loops(), loops,
+      loops_rejected_free_space);
   if (!relations.empty()) {
     core::Result<core::RelationErrorSummary> errors =
         core::ComputeRelationErrors(trajectory, relations);

@@ -30,8 +30,9 @@ TEST(LidarAcesPiece, RelationErrorOfFirstMinuteIsCentimetres) {
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
   const auto dir = testing::SharedDataDir() / "lidar2d";
 
-  lidar::LidarSlam slam(lidar::LidarSlamOptions{});
-  const lidar::ScanPointsOptions points_options;
+  const lidar::LidarSlamOptions options;
+  lidar::LidarSlam slam(options);
+  const lidar::ScanPointsOptions& points_options = options.points;
   core::Trajectory odometry;
   int scans = 0;
   core::Result<io::CarmenReadSummary> read =

@@ -25,9 +25,9 @@ const core::Matrix3 kSubmapOriginSqrtInformation = core::Matrix3::Identity() * 1
 }  // namespace
 
 core::Status LidarSlamOptions::Validate() const {
-  for (const core::Status& s :
-       {grid.Validate(), matcher.Validate(), information.Validate(), loop_search.Validate(),
-        graph.Validate(), odometry_noise.Validate()}) {
+  for (const core::Status& s : {points.Validate(), grid.Validate(), matcher.Validate(),
+                                information.Validate(), loop_search.Validate(), graph.Validate(),
+                                odometry_noise.Validate(), loop_free_space.Validate()}) {
     if (!s.ok()) return s;
   }
   if (scans_per_submap < 2) return core::Status::Error("scans_per_submap must be >= 2");
@@ -188,7 +188,7 @@ void LidarSlam::AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan
   node_submaps_.push_back(ids);
   ++nodes_since_optimization_;
   if (node % options_.loop_search_every_n_nodes == 0) {
-    report->loops_found = SearchLoops(node, scan);
+    SearchLoops(node, scan, report);
     loops_since_optimization_ += report->loops_found;
   }
 }
@@ -216,11 +216,12 @@ const PrecomputedGrids& LidarSlam::Precomputed(const Submap& submap) {
   return *precomputed_.emplace(submap.id, std::move(grids)).first->second;
 }
 
-int LidarSlam::SearchLoops(int node, const ScanPoints& scan) {
-  if (scan.points.empty()) return 0;
+void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report) {
+  if (scan.points.empty()) return;
   const std::vector<core::Vector2> points = PositionsOf(scan);
+  const MatchInformation information = ComputeMatchInformation(scan.points, options_.information);
+  if (information.rank == 0) return;
   const std::vector<int>& own = node_submaps_[static_cast<std::size_t>(node)];
-  int found = 0;
   for (const std::shared_ptr<Submap>& submap : submaps_.all()) {
     if (!submap->finished) continue;
     if (std::find(own.begin(), own.end(), submap->id) != own.end()) continue;
@@ -233,13 +234,16 @@ int LidarSlam::SearchLoops(int node, const ScanPoints& scan) {
     core::Result<ScanMatchResult> refined =
         MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, coarse->T_grid_base);
     if (!refined.ok() || refined->score < options_.loop_min_score) continue;
-    const MatchInformation information = ComputeMatchInformation(scan.points, options_.information);
-    if (information.rank == 0) continue;
+    const FreeSpaceCheck free_space =
+        CheckFreeSpace(submap->grid, scan, refined->T_grid_base, options_.loop_free_space);
+    if (!free_space.consistent) {
+      ++report->loops_rejected_free_space;
+      continue;
+    }
     graph_.AddConstraint({ConstraintKind::kLoop, submap->id, node, refined->T_grid_base,
                           information.sqrt_information});
-    ++found;
+    ++report->loops_found;
   }
-  return found;
 }
 
 core::Result<PoseGraphSummary> LidarSlam::Finish() {

@@ -57,6 +57,16 @@ bool ProbabilityGrid::IsKnown(const CellIndex& cell) const {
                      : !std::isnan(log_odds_[Index(cell)]);
 }
 
+bool ProbabilityGrid::IsFreeAround(const CellIndex& cell, double free_probability) const {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      const CellIndex n{cell.x + dx, cell.y + dy};
+      if (!IsKnown(n) || Probability(n) >= free_probability) return false;
+    }
+  }
+  return true;
+}
+
 void ProbabilityGrid::Compress() {
   if (compressed_) return;
   compressed_probability_.resize(probability_.size());
@@ -134,19 +144,11 @@ void ProbabilityGrid::InsertScan(const core::Vector2& sensor_origin_m,
   const CellIndex start = CellOf(sensor_origin_m);
   auto trace = [&](const core::Vector2& end_m, bool stop_before_end) {
     const CellIndex end = CellOf(end_m);
-    int x = start.x, y = start.y;
-    const int dx = std::abs(end.x - x), dy = -std::abs(end.y - y);
-    const int sx = x < end.x ? 1 : -1, sy = y < end.y ? 1 : -1;
-    int err = dx + dy;
-    while (true) {
-      const bool at_end = x == end.x && y == end.y;
-      if (at_end && stop_before_end) break;
-      Update(static_cast<int>(Index({x, y})), miss_log_odds_);
-      if (at_end) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) err += dy, x += sx;
-      if (e2 <= dx) err += dx, y += sy;
-    }
+    ForEachCellOnLine(start, end, [&](const CellIndex& c) {
+      if (stop_before_end && c.x == end.x && c.y == end.y) return false;
+      Update(static_cast<int>(Index(c)), miss_log_odds_);
+      return true;
+    });
   };
   for (const core::Vector2& p : hits_m) trace(p, true);
   for (const core::Vector2& p : misses_only_m) trace(p, false);

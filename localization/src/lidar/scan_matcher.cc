@@ -207,15 +207,7 @@ core::Result<ScanMatchResult> MatchScan(const ProbabilityGrid& grid,
   std::vector<core::Vector2> kept;
   kept.reserve(points_base_m.size());
   for (const core::Vector2& p : points_base_m) {
-    const CellIndex c = grid.CellOf(initial * p);
-    bool free = grid.IsKnown(c);
-    for (int dy = -1; dy <= 1 && free; ++dy) {
-      for (int dx = -1; dx <= 1 && free; ++dx) {
-        const CellIndex n{c.x + dx, c.y + dy};
-        if (!grid.IsKnown(n) || grid.Probability(n) >= options.free_probability) free = false;
-      }
-    }
-    if (free) {
+    if (grid.IsFreeAround(grid.CellOf(initial * p), options.free_probability)) {
       ++result.points_rejected_free;
     } else {
       kept.push_back(p);

@@ -23,7 +23,8 @@
 //   4. every loop_search_every_n_nodes-th node is searched (branch and bound,
 //      loop_closure.h) in each finished submap whose area contains its
 //      current global estimate; a match scoring at least loop_min_score after
-//      refinement becomes a loop constraint (checked again in
+//      refinement whose scan also agrees with the submap's free space
+//      (loop_verification.h) becomes a loop constraint (checked again in
 //      PoseGraph::Optimize);
 //   5. the graph is solved every optimize_every_n_nodes nodes when new loop
 //      constraints arrived, and in Finish().
@@ -50,6 +51,7 @@
 #include "groundline/core/trajectory.h"
 #include "groundline/localization/diff_drive_odometry.h"
 #include "groundline/localization/lidar/loop_closure.h"
+#include "groundline/localization/lidar/loop_verification.h"
 #include "groundline/localization/lidar/match_information.h"
 #include "groundline/localization/lidar/pose_graph.h"
 #include "groundline/localization/lidar/scan_matcher.h"
@@ -59,6 +61,11 @@
 namespace groundline::localization::lidar {
 
 struct LidarSlamOptions {
+  // How callers turn ranges into the ScanPoints given to AddScan. The voxel
+  // filter keeps a point per half cell (Cartographer's 2D value): at the
+  // 5 cm of the cell, a cell's worth of returns became one point and the
+  // matcher lost a wall's sub-cell spread (docs/lidar_slam.md).
+  ScanPointsOptions points{.voxel_size_m = 0.025};
   ProbabilityGridOptions grid;
   ScanMatcherOptions matcher;
   // Degenerate below 1 % of the largest scaled eigenvalue (the default 5 %
@@ -97,6 +104,9 @@ struct LidarSlamOptions {
   // a branch-and-bound search over this window around the prediction.
   BranchAndBoundOptions recovery_search{1.0, 3.14159265358979, 5, 150};
   double loop_min_score = 0.6;
+  // A loop match must also agree with the submap's free space
+  // (loop_verification.h) before it enters the graph.
+  FreeSpaceCheckOptions loop_free_space;
   int loop_search_every_n_nodes = 3;
   int optimize_every_n_nodes = 60;
   int precomputed_cache_size = 24;  // submaps whose loop-search grids stay in memory
@@ -114,6 +124,7 @@ struct ScanReport {
   bool keyframe = false;
   int node = -1;  // pose-graph node of a keyframe
   int loops_found = 0;
+  int loops_rejected_free_space = 0;  // matches that contradicted a submap's free space
 };
 
 class LidarSlam {
@@ -140,7 +151,8 @@ class LidarSlam {
     int node;  // last keyframe node at or before the scan
   };
   void AddKeyframe(const core::SE2& T_odom_base, const ScanPoints& scan, ScanReport* report);
-  int SearchLoops(int node, const ScanPoints& scan);
+  // Adds the verified loop constraints of `node`; counts in *report.
+  void SearchLoops(int node, const ScanPoints& scan, ScanReport* report);
   const PrecomputedGrids& Precomputed(const Submap& submap);
   // Odometry increment covariance of a motion, with the floor.
   core::Matrix3 MotionCovariance(const core::SE2& motion) const;

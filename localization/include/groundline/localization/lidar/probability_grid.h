@@ -51,6 +51,23 @@ struct CellIndex {
   int y = 0;
 };
 
+// Visits the cells of Bresenham's line from `from` to `to` in order,
+// both included, calling visit(CellIndex) until it returns false.
+template <typename Visit>
+void ForEachCellOnLine(const CellIndex& from, const CellIndex& to, Visit&& visit) {
+  int x = from.x, y = from.y;
+  const int dx = to.x > x ? to.x - x : x - to.x, dy = -(to.y > y ? to.y - y : y - to.y);
+  const int sx = x < to.x ? 1 : -1, sy = y < to.y ? 1 : -1;
+  int err = dx + dy;
+  while (true) {
+    if (!visit(CellIndex{x, y})) return;
+    if (x == to.x && y == to.y) return;
+    const int e2 = 2 * err;
+    if (e2 >= dy) err += dy, x += sx;
+    if (e2 <= dx) err += dx, y += sy;
+  }
+}
+
 class ProbabilityGrid {
  public:
   // An empty grid of width x height cells whose corner is at origin_m.
@@ -70,6 +87,9 @@ class ProbabilityGrid {
     return cell.x >= 0 && cell.y >= 0 && cell.x < width_ && cell.y < height_;
   }
   bool IsKnown(const CellIndex& cell) const;
+  // The cell and its 8 neighbours are known and below free_probability:
+  // space the grid has seen through, with nothing occupied within one cell.
+  bool IsFreeAround(const CellIndex& cell, double free_probability) const;
   // Occupancy probability; min_probability for unknown or outside cells.
   double Probability(const CellIndex& cell) const {
     return Contains(cell) ? CellProbability(Index(cell)) : options_.min_probability;
