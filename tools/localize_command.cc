@@ -259,7 +259,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::Range(1.0, 3600.0))
       ->capture_default_str();
   cmd->add_flag("--lidar", lines->lidar,
-                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans)");
+                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans) and the "
+                "straight faces (rack faces, walls) of the scans as line observations against "
+                "the atlas' wall lines");
+  cmd->add_flag("--no-wall-lines{false}", lines->wall_lines,
+                "--mode lines --lidar: no wall lines (only the scan-match factor)");
   cmd->callback([flags, carmen, lines, run] {
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;

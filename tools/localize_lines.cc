@@ -29,6 +29,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/keyframe_selector.h"
 #include "groundline/localization/observations_from_extraction.h"
 #include "groundline/localization/odometry_integrator.h"
@@ -37,6 +38,7 @@
 #include "groundline/perception/line_extractor.h"
 #include "localize_diagnostics.h"
 #include "localize_lidar.h"
+#include "localize_walls.h"
 #include "progress.h"
 #include "run_resources.h"
 
@@ -147,6 +149,15 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   if (!mount.ok()) return Fail(mount.message());
   core::Result<localization::Atlas> atlas = LoadAtlas(flags, *dataset);
   if (!atlas.ok()) return Fail(atlas.message());
+  const bool use_walls = flags.lidar && flags.wall_lines && !flags.mapping;
+  if (use_walls && localization::CountWallLines(*atlas) == 0) {
+    core::Result<std::vector<localization::WallSegment>> walls = SimulatedWallSegments(*dataset);
+    if (!walls.ok()) return Fail(flags.dataset_dir + ": " + walls.message());
+    if (core::Status s = localization::AppendWallLines(*walls, {}, &*atlas); !s.ok()) {
+      return Fail(s.message());
+    }
+    std::printf("atlas: %zu wall lines from the simulated zone's faces\n", walls->size());
+  }
 
   // Start pose: --initial-pose, else the first ground-truth pose, else the origin.
   double start_s = dataset->wheel_encoders.front().stamp_s;
@@ -190,6 +201,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   if (flags.diagnose && !dataset->ground_truth.empty()) {
     diagnostics.emplace(dataset->ground_truth, *atlas, smoother_options.association);
   }
+  std::optional<WallLineSource> walls;  // --lidar: rack faces and walls as lines
+  if (use_walls) walls.emplace(*dataset, *atlas, smoother_options.association);
   localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
   smoother.Initialize(start_s, start_pose, start_covariance);
   std::unique_ptr<LidarKeyframeSource> lidar;  // --lidar: the scan-match factor
@@ -255,6 +268,15 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         if (!k.ok()) return Fail(k.message());
         scan_match = std::move(*k);
       }
+      nlohmann::ordered_json wall_health;
+      if (walls) {
+        const std::vector<localization::LineObservation> seen = walls->Observe(
+            *lidar, r.stamp_s,
+            localization::PropagateFromKeyframe(smoother.Latest(), motion, r.stamp_s),
+            &wall_health);
+        converted.observations.lines.insert(converted.observations.lines.end(), seen.begin(),
+                                            seen.end());
+      }
       core::Result<localization::KeyframeHealth> health =
           smoother.AddKeyframe(r.stamp_s, motion, converted.observations,
                                scan_match ? scan_match->relative : std::nullopt);
@@ -275,6 +297,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
           line.update(diagnostics->AfterUpdate(smoother.Latest()));
         }
         if (scan_match) lidar->AddHealth(*scan_match, &line);
+        line.update(wall_health);
         health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
@@ -308,6 +331,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["update_ms_median"] = Percentile(update_ms, 0.5);
   summary["update_ms_p99"] = Percentile(update_ms, 0.99);
   if (lidar) summary["lidar"] = lidar->Summary();
+  if (walls) summary["walls"] = walls->Summary();
   std::printf(
       "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
       "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99\n",

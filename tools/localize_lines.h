@@ -43,6 +43,9 @@ struct LocalizeLinesFlags {
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
   bool lidar = false;  // lines: add the LiDAR scan-match factor (localize_lidar.h)
+  // With lidar: rack faces / walls in the scans as line observations against
+  // the atlas' wall lines (localize_walls.h).
+  bool wall_lines = true;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).
