@@ -137,9 +137,9 @@ TEST(ExtractWallLines, FindsTheUprightFaceNotTheLoadsAndThePlainWall) {
       EXPECT_NEAR(l.rho_m, 1.125, 0.01);
     } else {
       ++wall;
-      // The one-sided search for the front leaves a bias of ~0.5 sigma of
-      // the square-on rays (1.5 cm).
-      EXPECT_NEAR(l.rho_m, 1.125, 0.01);
+      // The one-sided search for the front puts a plain wall up to ~1 sigma
+      // of the square-on rays (1.5 cm) in front of it (wall_lines.h, step 4).
+      EXPECT_NEAR(l.rho_m, 1.125, 0.025);
     }
     EXPECT_GE((w.endpoint_b_m - w.endpoint_a_m).norm(), 3.0);
     EXPECT_GT(w.covariance(0, 0), 0.0);

@@ -88,7 +88,7 @@ TEST(WallFaces, ScansOfTheSimulatedAisleGiveItsFaces) {
         localization::lidar::WallLineObservations(
             localization::lidar::ExtractWallLines(points, options));
     // Both rack faces of the aisle are found, and whatever the association
-    // gate accepts at the true pose is the right face within 1.5 cm, 0.3 deg.
+    // gate accepts at the true pose is the right face within 1 cm, 0.3 deg.
     // (Pallet sides aligned across the rows make transverse "lines" through
     // the racks; no wall of the atlas is there, the gate rejects them.)
     const core::Matrix3 pose_covariance = core::Vector3(1e-4, 1e-4, 1e-5).asDiagonal();
@@ -100,7 +100,7 @@ TEST(WallFaces, ScansOfTheSimulatedAisleGiveItsFaces) {
       const Eigen::Vector2d d = perception::LineDifference(
           perception::InverseTransformLine(T_map_base, atlas.lines[m.landmark].line_map),
           z.line_base);
-      EXPECT_LT(std::abs(d(0)), 0.015) << "scan " << k << " rho " << z.line_base.rho_m;
+      EXPECT_LT(std::abs(d(0)), 0.01) << "scan " << k << " rho " << z.line_base.rho_m;
       EXPECT_LT(std::abs(d(1)), 0.3 * std::numbers::pi / 180.0) << "scan " << k;
       faces += std::abs(std::abs(z.line_base.rho_m) - 1.125) < 0.2;
     }

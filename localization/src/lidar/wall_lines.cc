@@ -110,49 +110,21 @@ double PerpendicularSigma(const Eigen::Vector2d& n, const RangePoint& p, const W
   return std::sqrt(o.range_sigma_m * o.range_sigma_m * u * u + o.face_sigma_m * o.face_sigma_m);
 }
 
-// The face's points along the fitted direction (1-D): the offset c with the
-// most points within front_sigma of their own noise (|s_i - c| <=
-// front_sigma sigma_i; s_i the signed distance, smaller nearer the sensor)
-// among the offsets with at most max_in_front (+ 0.5 % of the band) points
-// clearly in front of them (s_i < c - 3 sigma_i), which a face cannot have.
-// The loads behind the upright fronts have the fronts in front of them and
-// drop out however many points they have.
+// The face's points along the fitted direction (1-D); see the header, step 4.
 std::vector<int> FrontPoints(const OrientedLine& line, std::span<const RangePoint> points,
                              const std::vector<int>& band, const WallLineOptions& o) {
-  std::vector<double> s, sigma, bound, sharp_bound;
+  std::vector<double> s, sigma, bound;
   for (int i : band) {
     s.push_back(line.Distance(points[i].point_m));
     sigma.push_back(PerpendicularSigma(line.n, points[i], o));
     bound.push_back(s.back() + o.front_sigma * sigma.back());
-    if (sigma.back() <= o.front_max_sigma_m) sharp_bound.push_back(bound.back());
   }
-  // The front from the sharp points where there are enough: the noise of
-  // square-on rays would put it in front of a plain wall.
-  std::vector<double>& from =
-      static_cast<int>(sharp_bound.size()) > o.front_rank ? sharp_bound : bound;
-  if (static_cast<int>(from.size()) <= o.front_rank) return {};
-  std::nth_element(from.begin(), from.begin() + o.front_rank, from.end());
-  const double c_front = from[o.front_rank];
-  // The front points, then once (no walk: the uprights' side faces make a
-  // continuum back to the loads) a symmetric gate about their weighted mean,
-  // which takes out the bias of the one-sided selection on a plain wall.
-  const auto weighted_mean = [&](const std::vector<std::size_t>& idx) {
-    double sw = 0.0, sws = 0.0;
-    for (std::size_t j : idx) {
-      sw += 1.0 / (sigma[j] * sigma[j]);
-      sws += s[j] / (sigma[j] * sigma[j]);
-    }
-    return sws / sw;
-  };
-  std::vector<std::size_t> selected;
-  for (std::size_t j = 0; j < s.size(); ++j) {
-    if (s[j] - o.front_sigma * sigma[j] <= c_front) selected.push_back(j);
-  }
-  if (selected.empty()) return {};
-  const double c_mean = weighted_mean(selected);
+  if (static_cast<int>(bound.size()) <= o.front_rank) return {};
+  std::nth_element(bound.begin(), bound.begin() + o.front_rank, bound.end());
+  const double c_front = bound[o.front_rank];
   std::vector<int> front;
   for (std::size_t j = 0; j < s.size(); ++j) {
-    if (std::abs(s[j] - c_mean) <= std::min(2.0 * sigma[j], o.max_gate_m)) front.push_back(band[j]);
+    if (s[j] - o.front_sigma * sigma[j] <= c_front) front.push_back(band[j]);
   }
   return front;
 }
@@ -189,9 +161,8 @@ core::Status WallLineOptions::Validate() const {
   for (const auto& [field, value] :
        {std::pair("range_sigma_m", range_sigma_m), std::pair("min_range_m", min_range_m),
         std::pair("max_range_m", max_range_m), std::pair("band_m", band_m),
-        std::pair("front_sigma", front_sigma), std::pair("front_max_sigma_m", front_max_sigma_m),
-        std::pair("min_length_m", min_length_m), std::pair("max_gap_m", max_gap_m),
-        std::pair("face_rho_sigma_m", face_rho_sigma_m),
+        std::pair("front_sigma", front_sigma), std::pair("min_length_m", min_length_m),
+        std::pair("max_gap_m", max_gap_m), std::pair("face_rho_sigma_m", face_rho_sigma_m),
         std::pair("face_alpha_sigma_rad", face_alpha_sigma_rad)}) {
     if (core::Status s = Positive(field, value); !s.ok()) return s;
   }
