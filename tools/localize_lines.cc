@@ -297,7 +297,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
           line.update(diagnostics->AfterUpdate(smoother.Latest()));
         }
         if (scan_match) lidar->AddHealth(*scan_match, &line);
-        line.update(wall_health);
+        if (walls) line.update(wall_health);
         health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
