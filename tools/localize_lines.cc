@@ -149,14 +149,20 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   if (!mount.ok()) return Fail(mount.message());
   core::Result<localization::Atlas> atlas = LoadAtlas(flags, *dataset);
   if (!atlas.ok()) return Fail(atlas.message());
-  const bool use_walls = flags.lidar && flags.wall_lines && !flags.mapping;
+  // Wall lines: the atlas' own, else the simulated zone's faces; without
+  // either the run goes on without them (a warning, not a failure).
+  bool use_walls = flags.lidar && flags.wall_lines && !flags.mapping;
   if (use_walls && localization::CountWallLines(*atlas) == 0) {
     core::Result<std::vector<localization::WallSegment>> walls = SimulatedWallSegments(*dataset);
-    if (!walls.ok()) return Fail(flags.dataset_dir + ": " + walls.message());
-    if (core::Status s = localization::AppendWallLines(*walls, {}, &*atlas); !s.ok()) {
-      return Fail(s.message());
+    core::Status added =
+        walls.ok() ? localization::AppendWallLines(*walls, {}, &*atlas) : walls.status();
+    if (added.ok()) {
+      std::printf("atlas: %zu wall lines from the simulated zone's faces\n", walls->size());
+    } else {
+      std::fprintf(stderr, "groundline localize: %s: no wall lines: %s\n",
+                   flags.dataset_dir.c_str(), added.message().c_str());
+      use_walls = false;
     }
-    std::printf("atlas: %zu wall lines from the simulated zone's faces\n", walls->size());
   }
 
   // Start pose: --initial-pose, else the first ground-truth pose, else the origin.

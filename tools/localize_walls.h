@@ -1,5 +1,6 @@
 // LiDAR wall lines in `groundline localize --mode lines --lidar` (on by
-// default, --no-wall-lines turns them off): the atlas gets the dataset's
+// default, --no-wall-lines turns them off; without wall faces for the
+// dataset the run warns and goes on without them): the atlas gets the dataset's
 // wall faces as kWall lines, and each keyframe gets the straight faces of
 // the scan nearest its stamp (localization/lidar/wall_lines.h), deskewed to
 // the keyframe by the odometry, as line observations next to the floor lines.
