@@ -43,7 +43,7 @@
 //     band's.
 // The measurement covariance is the fit's plus diag(face_rho_sigma_m^2,
 // face_alpha_sigma_rad^2): what the point noise does not capture (an
-// upright's side face leaking into the slab, the survey of the face).
+// upright's side face among the front points, the survey of the face).
 //
 // Pure functions; thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_WALL_LINES_H_
