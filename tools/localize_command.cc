@@ -232,7 +232,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "2 m); needed where the floor repeats (identical aisle mouths)")
       ->expected(2, 3);
   cmd->add_flag("--lidar", lines->lidar,
-                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans)");
+                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans) and the "
+                "straight faces (rack faces, walls) of the scans as line observations against "
+                "the atlas' wall lines");
+  cmd->add_flag("--no-wall-lines{false}", lines->wall_lines,
+                "--mode lines --lidar: no wall lines (only the scan-match factor)");
   cmd->add_option("--solver", lines->solver,
                   "--mode lines: window solver, chain (exact block elimination of the pose "
                   "chain) or ceres (Levenberg-Marquardt, the reference)")

@@ -45,6 +45,7 @@ struct LidarKeyframeSource::Impl {
 
   core::LaserScanReader reader;
   std::optional<core::LaserScan> pending;
+  std::optional<core::LaserScan> last;  // the last scan fed to the odometry
   bool done = false;
   core::SE2 T_base_lidar;
   core::Trajectory odometry;  // T_map_base per encoder reading
@@ -93,6 +94,16 @@ core::SE2 LidarKeyframeSource::OdometryAt(double stamp_s) const {
   return sim::InterpolatePose(impl_->odometry, stamp_s);
 }
 
+const core::LaserScan* LidarKeyframeSource::ScanNearest(double stamp_s) const {
+  const Impl& m = *impl_;
+  if (m.last && m.pending) {
+    return stamp_s - m.last->stamp_s <= m.pending->stamp_s - stamp_s ? &*m.last : &*m.pending;
+  }
+  return m.last ? &*m.last : (m.pending ? &*m.pending : nullptr);
+}
+
+const core::SE2& LidarKeyframeSource::T_base_lidar() const { return impl_->T_base_lidar; }
+
 core::Result<lidar::ScanOdometryKeyframe> LidarKeyframeSource::KeyframeAt(double stamp_s) {
   Impl& m = *impl_;
   while (true) {
@@ -120,6 +131,7 @@ core::Result<lidar::ScanOdometryKeyframe> LidarKeyframeSource::KeyframeAt(double
       }
       m.matched += report->matched;
     }
+    m.last = std::move(m.pending);
     m.pending.reset();
   }
   return m.scan_odometry.Keyframe(stamp_s, OdometryAt(stamp_s));

@@ -44,6 +44,10 @@ class LidarKeyframeSource {
   core::Result<localization::lidar::ScanOdometryKeyframe> KeyframeAt(double stamp_s);
   // The odometry pose at stamp_s (interpolated between encoder readings).
   core::SE2 OdometryAt(double stamp_s) const;
+  // After KeyframeAt(stamp_s): the scan nearest stamp_s (the last one fed or
+  // the next one read ahead), or nullptr before the first scan.
+  const core::LaserScan* ScanNearest(double stamp_s) const;
+  const core::SE2& T_base_lidar() const;
 
   // Adds the degeneracy fields (and the ground-truth region) to a health line
   // and counts them for Summary().

@@ -29,6 +29,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/keyframe_selector.h"
 #include "groundline/localization/observations_from_extraction.h"
 #include "groundline/localization/odometry_integrator.h"
@@ -38,6 +39,7 @@
 #include "localize_diagnostics.h"
 #include "localize_lidar.h"
 #include "localize_relocalize.h"
+#include "localize_walls.h"
 #include "progress.h"
 #include "run_summary.h"
 
@@ -156,6 +158,21 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   if (!mount.ok()) return Fail(mount.message());
   core::Result<localization::Atlas> atlas = LoadAtlas(flags, *dataset);
   if (!atlas.ok()) return Fail(atlas.message());
+  // Wall lines: the atlas' own, else the simulated zone's faces; without
+  // either the run goes on without them (a warning, not a failure).
+  bool use_walls = flags.lidar && flags.wall_lines && !flags.mapping;
+  if (use_walls && localization::CountWallLines(*atlas) == 0) {
+    core::Result<std::vector<localization::WallSegment>> walls = SimulatedWallSegments(*dataset);
+    core::Status added =
+        walls.ok() ? localization::AppendWallLines(*walls, {}, &*atlas) : walls.status();
+    if (added.ok()) {
+      std::printf("atlas: %zu wall lines from the simulated zone's faces\n", walls->size());
+    } else {
+      std::fprintf(stderr, "groundline localize: %s: no wall lines: %s\n",
+                   flags.dataset_dir.c_str(), added.message().c_str());
+      use_walls = false;
+    }
+  }
 
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = 2;
@@ -221,6 +238,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   if (flags.diagnose && !dataset->ground_truth.empty()) {
     diagnostics.emplace(dataset->ground_truth, *atlas, smoother_options.association);
   }
+  std::optional<WallLineSource> walls;  // --lidar: rack faces and walls as lines
+  if (use_walls) walls.emplace(*dataset, *atlas, smoother_options.association);
   localization::SlidingWindowSmoother smoother(smoother_options, std::move(*atlas));
   smoother.Initialize(start_s, start_pose, start_covariance);
   std::unique_ptr<LidarKeyframeSource> lidar;  // --lidar: the scan-match factor
@@ -283,6 +302,15 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         if (!k.ok()) return Fail(k.message());
         scan_match = std::move(*k);
       }
+      nlohmann::ordered_json wall_health;
+      if (walls) {
+        const std::vector<localization::LineObservation> seen = walls->Observe(
+            *lidar, r.stamp_s,
+            localization::PropagateFromKeyframe(smoother.Latest(), motion, r.stamp_s),
+            &wall_health);
+        converted.observations.lines.insert(converted.observations.lines.end(), seen.begin(),
+                                            seen.end());
+      }
       const double cpu_before_s = ThreadCpuSeconds();
       core::Result<localization::KeyframeHealth> health =
           smoother.AddKeyframe(r.stamp_s, motion, converted.observations,
@@ -306,6 +334,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
           line.update(diagnostics->AfterUpdate(smoother.Latest()));
         }
         if (scan_match) lidar->AddHealth(*scan_match, &line);
+        if (walls) line.update(wall_health);
         health_lines << line.dump() << "\n";
       }
       const localization::PoseEstimate& latest = smoother.Latest();
@@ -343,6 +372,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["update_cpu_ms_median"] = Percentile(update_cpu_ms, 0.5);
   summary["update_cpu_ms_p99"] = Percentile(update_cpu_ms, 0.99);
   if (lidar) summary["lidar"] = lidar->Summary();
+  if (walls) summary["walls"] = walls->Summary();
   std::printf(
       "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
       "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99\n",

@@ -53,6 +53,9 @@ struct LocalizeLinesFlags {
   std::string solver = "chain";
   // > 0: replay only this many seconds of data after the start.
   double max_duration_s = 0.0;
+  // With lidar: rack faces / walls in the scans as line observations against
+  // the atlas' wall lines (localize_walls.h).
+  bool wall_lines = true;
 };
 
 // Exit code: 0 ok, 1 data failure (named on stderr).

@@ -22,7 +22,8 @@ constexpr std::pair<MarkingKind, std::string_view> kKindNames[] = {
     {MarkingKind::kStopBar, "stop_bar"},
     {MarkingKind::kCrosswalkStripe, "crosswalk_stripe"},
     {MarkingKind::kStagingBoxEdge, "staging_box_edge"},
-    {MarkingKind::kJoint, "joint"}};
+    {MarkingKind::kJoint, "joint"},
+    {MarkingKind::kWall, "wall"}};
 constexpr double kMinVertexSpacing_m = 1e-3;
 
 std::optional<FieldProblem> CheckMarking(const FloorMarking& m, const std::string& p) {

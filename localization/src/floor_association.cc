@@ -51,6 +51,10 @@ Match Select(int observation, int num_landmarks, const Distance& distance, const
 
 }  // namespace
 
+bool KindsCompatible(core::MarkingKind observed, core::MarkingKind landmark) {
+  return (observed == core::MarkingKind::kWall) == (landmark == core::MarkingKind::kWall);
+}
+
 core::Status AssociationOptions::Validate() const {
   if (!(gate_chi2 > 0.0)) return core::Status::Error("association gate_chi2 must be > 0");
   if (!(ambiguity_margin_chi2 >= 0.0)) {
@@ -111,6 +115,9 @@ std::vector<Match> AssociateLines(const std::vector<LineObservation>& observatio
         static_cast<int>(i), static_cast<int>(atlas.lines.size()),
         [&](int j) {
           const AtlasLine& landmark = atlas.lines[j];
+          if (!KindsCompatible(observation.kind, landmark.kind)) {
+            return std::numeric_limits<double>::infinity();
+          }
           if (!ExtentsOverlap(observation, landmark, T_map_base, options.extent_margin_m)) {
             return std::numeric_limits<double>::infinity();
           }

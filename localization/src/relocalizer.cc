@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "groundline/localization/floor_association.h"
 #include "groundline/perception/hesse_line.h"
 
 namespace groundline::localization {
@@ -208,6 +209,7 @@ void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
       }
       for (std::size_t j = 0; j < atlas_.junctions.size(); ++j) {
         for (std::size_t l : junction_lines_[j]) {
+          if (!KindsCompatible(through.kind, atlas_.lines[l].kind)) continue;
           const double base_yaw = atlas_.lines[l].line_map.alpha_rad - through.line_base.alpha_rad;
           for (double flip : {0.0, std::numbers::pi}) {
             const double yaw = core::WrapAngle(base_yaw + flip);
@@ -265,6 +267,7 @@ void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observ
                     options_.birth_sigma_rad * options_.birth_sigma_rad)
           .asDiagonal();
   for (const AtlasLine& line : atlas_.lines) {
+    if (!KindsCompatible(longest->kind, line.kind)) continue;
     const Eigen::Vector2d a = line.endpoint_a_m, b = line.endpoint_b_m;
     if (DistanceToSegment(*options_.near_m, a, b) > reach_m) continue;
     const double length_m = (b - a).norm();
@@ -329,6 +332,7 @@ double Relocalizer::LineLogLikelihood(const Hypothesis& h, const LineObservation
   Eigen::Matrix2d best_R = Eigen::Matrix2d::Identity();
   for (std::size_t l : LinesNear(T.translation())) {
     const AtlasLine& line = atlas_.lines[l];
+    if (!KindsCompatible(o.kind, line.kind)) continue;
     double length = 0.0, t_lo = 0.0, t_hi = 0.0;
     if (!ExtentAlong(line.endpoint_a_m, line.endpoint_b_m, a_map, b_map, &length, &t_lo, &t_hi) ||
         t_hi < -options_.extent_margin_m || t_lo > length + options_.extent_margin_m) {

@@ -31,9 +31,13 @@ enum class MarkingKind {
   kCrosswalkStripe,  // one stripe of a pedestrian crossing (one marking per stripe)
   kStagingBoxEdge,   // outline of a floor staging area
   kJoint,            // saw-cut expansion joint in the concrete (a dark groove)
+  // Not a floor marking: a straight vertical face (rack face, wall) seen by the
+  // planar LiDAR. Atlas lines of this kind associate only with LiDAR wall
+  // observations (floor_association.h); floor maps of the simulator hold none.
+  kWall,
 };
 // The file spelling: "tape_solid", "tape_dashed", "stop_bar",
-// "crosswalk_stripe", "staging_box_edge", "joint".
+// "crosswalk_stripe", "staging_box_edge", "joint", "wall".
 std::string_view MarkingKindName(MarkingKind kind);
 std::optional<MarkingKind> MarkingKindFromName(std::string_view name);
 

@@ -9,7 +9,8 @@
 // line's). A pair is a candidate when d2 <= gate_chi2 (chi-square, 2 dof;
 // 9.21 is the 0.99 quantile) and, for lines, the observed extent overlaps the
 // atlas segment (projected on the atlas line, extended by extent_margin_m):
-// collinear markings far apart along an aisle are different landmarks.
+// collinear markings far apart along an aisle are different landmarks, and
+// the kinds are compatible (KindsCompatible: walls only with walls).
 // The nearest candidate wins unless a second candidate is within
 // ambiguity_margin_chi2 of it; then the observation is rejected as ambiguous
 // (unless the two are duplicates of one marking, see the options).
@@ -59,6 +60,11 @@ double JunctionMahalanobis2(const JunctionObservation& observation, const AtlasJ
 // segment extended by margin_m at both ends.
 bool ExtentsOverlap(const LineObservation& observation, const AtlasLine& landmark,
                     const core::SE2& T_map_base, double margin_m);
+
+// A LiDAR wall observation (kind kWall) may match only a wall landmark, a
+// floor-marking observation only a floor-marking landmark: a rack face and
+// the aisle tape beside it are parallel and a few centimetres apart.
+bool KindsCompatible(core::MarkingKind observed, core::MarkingKind landmark);
 
 // One Match per observation, in order.
 std::vector<Match> AssociateLines(const std::vector<LineObservation>& observations,
