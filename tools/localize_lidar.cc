@@ -40,6 +40,16 @@ std::optional<sim::Zone> SimulatedZone(const core::DatasetManifest& manifest) {
   return parsed.ok() ? std::optional(*parsed) : std::nullopt;
 }
 
+// Datasets from `groundline sim` before it stamped scans at the middle of the
+// sweep (docs/dataset.md; its provenance then says lidar_stamp: mid_sweep)
+// stamp the first ray: their scans describe a time half a sweep later.
+bool StampsFirstRay(const core::DatasetManifest& manifest) {
+  const auto generator = manifest.provenance.find("generator");
+  const auto stamp = manifest.provenance.find("lidar_stamp");
+  return generator != manifest.provenance.end() && generator->second == "groundline sim" &&
+         (stamp == manifest.provenance.end() || stamp->second != "mid_sweep");
+}
+
 }  // namespace
 
 struct LidarKeyframeSource::Impl {
@@ -50,6 +60,7 @@ struct LidarKeyframeSource::Impl {
   bool done = false;
   core::SE2 T_base_lidar;
   double lidar_rate_hz = 0.0;
+  bool stamps_first_ray = false;
   core::Trajectory odometry;  // T_map_base per encoder reading
   core::Trajectory ground_truth;
   std::optional<sim::Zone> zone;
@@ -87,6 +98,7 @@ core::Result<std::unique_ptr<LidarKeyframeSource>> LidarKeyframeSource::Open(
   auto impl = std::make_unique<Impl>(std::move(*reader));
   impl->T_base_lidar = manifest.lidar->T_base_lidar;
   impl->lidar_rate_hz = manifest.lidar->rate_hz;
+  impl->stamps_first_ray = StampsFirstRay(manifest);
   impl->odometry = std::move(odometry->odometry_rate);
   impl->ground_truth = dataset.ground_truth;
   impl->zone = SimulatedZone(manifest);

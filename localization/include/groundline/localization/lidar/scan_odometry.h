@@ -91,8 +91,8 @@ class ScanOdometry {
   explicit ScanOdometry(const ScanOdometryOptions& options);
 
   // Every scan, in time order; stamp_s: the time the scan describes (for a
-  // sweeping scanner its stamp + MidSweepOffsetS), T_odom_base: the odometry
-  // at stamp_s.
+  // sweeping scanner the middle of the sweep, MidSweepOffsetS after its first
+  // ray), T_odom_base: the odometry at stamp_s.
   // Errors: stamps not increasing.
   core::Result<ScanReport> AddScan(double stamp_s, const core::SE2& T_odom_base,
                                    const ScanPoints& scan);
@@ -114,8 +114,9 @@ class ScanOdometry {
   std::optional<ScanOdometryKeyframe> previous_;
 };
 
-// The time a sweeping scanner's scan describes, after its stamp (the time of
-// its first ray, the ROS LaserScan convention): the middle of the sweep. The
+// The time a sweeping scanner's scan describes, after the time of its first
+// ray (the ROS LaserScan stamp): the middle of the sweep, where the dataset
+// format stamps it (docs/dataset.md), so only first-ray stamps need it. The
 // rays are spread over the sweep, so a match of the whole scan estimates the
 // pose at about that time; stamping it at the first ray lags the estimate by
 // half a sweep, which a relative measurement does not see at constant
