@@ -38,6 +38,16 @@ std::optional<sim::Zone> SimulatedZone(const core::DatasetManifest& manifest) {
   return parsed.ok() ? std::optional(*parsed) : std::nullopt;
 }
 
+// Datasets from `groundline sim` before it stamped scans at the middle of the
+// sweep (docs/dataset.md; its provenance then says lidar_stamp: mid_sweep)
+// stamp the first ray: their scans describe a time half a sweep later.
+bool StampsFirstRay(const core::DatasetManifest& manifest) {
+  const auto generator = manifest.provenance.find("generator");
+  const auto stamp = manifest.provenance.find("lidar_stamp");
+  return generator != manifest.provenance.end() && generator->second == "groundline sim" &&
+         (stamp == manifest.provenance.end() || stamp->second != "mid_sweep");
+}
+
 }  // namespace
 
 struct LidarKeyframeSource::Impl {
@@ -48,6 +58,8 @@ struct LidarKeyframeSource::Impl {
   std::optional<core::LaserScan> last;  // the last scan fed to the odometry
   bool done = false;
   core::SE2 T_base_lidar;
+  double lidar_rate_hz = 0.0;
+  bool stamps_first_ray = false;
   core::Trajectory odometry;  // T_map_base per encoder reading
   core::Trajectory ground_truth;
   std::optional<sim::Zone> zone;
@@ -84,6 +96,8 @@ core::Result<std::unique_ptr<LidarKeyframeSource>> LidarKeyframeSource::Open(
   if (!odometry.ok()) return core::Status::Error(dir.string() + ": " + odometry.message());
   auto impl = std::make_unique<Impl>(std::move(*reader));
   impl->T_base_lidar = manifest.lidar->T_base_lidar;
+  impl->lidar_rate_hz = manifest.lidar->rate_hz;
+  impl->stamps_first_ray = StampsFirstRay(manifest);
   impl->odometry = std::move(odometry->odometry_rate);
   impl->ground_truth = dataset.ground_truth;
   impl->zone = SimulatedZone(manifest);
@@ -117,14 +131,19 @@ core::Result<lidar::ScanOdometryKeyframe> LidarKeyframeSource::KeyframeAt(double
         m.done = true;
       }
     }
-    if (!m.pending || m.pending->stamp_s > stamp_s) break;
+    if (!m.pending) break;
     const core::LaserScan& s = *m.pending;
-    if (s.stamp_s > m.odometry.front().stamp_s) {
+    // The scan describes the middle of its sweep (scan_odometry.h).
+    const double scan_s =
+        s.stamp_s +
+        lidar::MidSweepOffsetS(s.ranges_m.size(), s.angle_increment_rad, m.lidar_rate_hz);
+    if (scan_s > stamp_s) break;
+    if (scan_s > m.odometry.front().stamp_s) {
       const lidar::ScanPoints points =
           lidar::ScanPointsFromRanges(s.ranges_m, s.angle_min_rad, s.angle_increment_rad,
                                       s.range_max_m, m.T_base_lidar, m.points_options);
       core::Result<lidar::ScanReport> report =
-          m.scan_odometry.AddScan(s.stamp_s, OdometryAt(s.stamp_s), points);
+          m.scan_odometry.AddScan(scan_s, OdometryAt(scan_s), points);
       if (!report.ok()) {
         return core::Status::Error(m.reader.file() + " line " + std::to_string(m.reader.line()) +
                                    ": " + report.message());
@@ -148,6 +167,7 @@ void LidarKeyframeSource::AddHealth(const lidar::ScanOdometryKeyframe& k,
   (*line)["lidar_aliased"] = k.aliasing.aliased;
   (*line)["lidar_alias_score"] = k.aliasing.best_score;
   (*line)["lidar_alias_shift_m"] = k.aliasing.best_shift_m;
+  (*line)["lidar_alias_evidence"] = k.aliasing.evidence;
   (*line)["lidar_rank"] = info.rank;
   (*line)["lidar_scaled_eigenvalues"] = {info.scaled_eigenvalues(0), info.scaled_eigenvalues(1),
                                          info.scaled_eigenvalues(2)};

@@ -98,6 +98,9 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
   manifest.provenance["seed"] = std::to_string(options.seed);
   manifest.provenance["route_length_m"] = std::to_string(options.route.length_m);
   manifest.provenance["route_closed_loop"] = options.route.closed_loop ? "true" : "false";
+  // Scans are stamped at the middle of the sweep (docs/dataset.md); datasets
+  // written before this key existed stamped the first ray.
+  if (options.with_lidar) manifest.provenance["lidar_stamp"] = "mid_sweep";
   return manifest;
 }
 
@@ -151,9 +154,20 @@ core::FloorMap ToFloorMap(const World& world) {
   return map;
 }
 
+namespace {
+
+// Half the sweep of a scan: the dataset stamps a scan at the middle of its
+// sweep (docs/dataset.md), the simulator's LaserScan at its first ray.
+double MidSweepS(const LidarOptions& options) {
+  return 0.5 * static_cast<double>(options.NumRays() - 1) * options.TimeIncrementS();
+}
+
+}  // namespace
+
 core::LaserScan ToDatasetScan(const LaserScan& scan) {
   core::LaserScan out;
-  out.stamp_s = scan.stamp_s;
+  const double rays = static_cast<double>(scan.ranges_m.size());
+  out.stamp_s = scan.stamp_s + 0.5 * std::max(0.0, rays - 1.0) * scan.time_increment_s;
   out.angle_min_rad = scan.angle_min_rad;
   out.angle_increment_rad = scan.angle_increment_rad;
   out.range_min_m = scan.range_min_m;
@@ -214,7 +228,7 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
     const auto n_scans = static_cast<std::uint64_t>(std::floor((t1 - t0) * lidar_options.rate_hz));
     for (std::uint64_t k = 0; k <= n_scans; ++k) {
       const double t = t0 + static_cast<double>(k) / lidar_options.rate_hz;
-      if (t > t1) break;
+      if (t + MidSweepS(lidar_options) > t1) break;
       dataset.scans.push_back(ToDatasetScan(lidar.ScanAlong(truth, t, k)));
       if (k % 200 == 0) report("lidar", static_cast<double>(k) / static_cast<double>(n_scans + 1));
     }

@@ -116,5 +116,73 @@ TEST(ScanOdometry, RelativeInformationDropsTheDirectionEitherMatchMisses) {
   EXPECT_EQ(rank(RelativeInformation(Z, corridor_x, corridor_y)), 1);
 }
 
+TEST(ScanOdometry, MidSweepOffsetIsHalfTheSweep) {
+  // The simulator's TiM571: 819 rays of 0.33 deg, one mirror turn per scan at 15 Hz.
+  const double increment = 0.33 * M_PI / 180.0;
+  EXPECT_NEAR(MidSweepOffsetS(819, increment, 15.0), 0.5 * 818 * 0.33 / 360.0 / 15.0, 1e-12);
+  EXPECT_NEAR(MidSweepOffsetS(819, -increment, 15.0), 0.025, 1e-4);  // clockwise scanner
+  EXPECT_EQ(MidSweepOffsetS(1, increment, 15.0), 0.0);
+}
+
+// The vehicle drives along x at 1 m/s and from t = 1 s turns left at 0.6 rad/s.
+core::SE2 TurningPose(double t) {
+  constexpr double kTurnStartS = 1.0, kRateRadS = 0.6;
+  if (t <= kTurnStartS) return core::SE2(-2.0 + t, 0.2, 0.0);
+  const double a = kRateRadS * (t - kTurnStartS), r = 1.0 / kRateRadS;
+  return core::SE2(-2.0 + kTurnStartS + r * std::sin(a), 0.2 + r * (1.0 - std::cos(a)), a);
+}
+
+// A 270 deg sweep of 1 deg rays, one mirror turn per scan at 15 Hz (ray i at
+// t0 + i * per_ray_s, 50 ms for the sweep), each ray cast from the pose at
+// its own time and reported in the base frame of that time, as a real
+// sweeping scanner does.
+constexpr int kSweepRays = 271;
+constexpr double kSweepIncrementRad = M_PI / 180.0;
+
+ScanPoints SweepScan(const std::vector<Segment>& walls, double t0) {
+  const double angle_min = -0.5 * (kSweepRays - 1) * kSweepIncrementRad;
+  const double per_ray_s = kSweepIncrementRad / (2.0 * M_PI * 15.0);
+  std::vector<double> ranges;
+  for (int i = 0; i < kSweepRays; ++i) {
+    const core::SE2 pose = TurningPose(t0 + i * per_ray_s);
+    const double a = pose.yaw() + angle_min + i * kSweepIncrementRad;
+    const double r = testing::CastRay(walls, pose.translation(), {std::cos(a), std::sin(a)});
+    ranges.push_back(std::isfinite(r) && r < 30.0 ? r : 30.0);
+  }
+  return ScanPointsFromRanges(ranges, angle_min, kSweepIncrementRad, 30.0, core::SE2(), {});
+}
+
+// The largest heading error of the relative measurements (every 3 scans) over
+// 1.4 s through the start of the turn, the scans added at stamp + offset_s
+// (exact odometry).
+double WorstRelativeHeadingError(double offset_s) {
+  const std::vector<Segment> walls = RoomWorld();
+  ScanOdometry odometry{ScanOdometryOptions()};
+  double worst = 0.0;
+  core::SE2 previous_truth;
+  for (int i = 6; i <= 27; ++i) {
+    const double stamp = i / 15.0, t = stamp + offset_s;
+    EXPECT_TRUE(odometry.AddScan(t, TurningPose(t), SweepScan(walls, stamp)).ok());
+    if (i % 3 != 0) continue;
+    const ScanOdometryKeyframe kf = odometry.Keyframe(t, TurningPose(t));
+    const core::SE2 truth = TurningPose(t);
+    if (kf.relative) {
+      const core::SE2 error = kf.relative->T_prev_curr.Between(previous_truth.Between(truth));
+      worst = std::max(worst, std::abs(error.yaw()));
+    }
+    previous_truth = truth;
+  }
+  return worst;
+}
+
+TEST(ScanOdometry, MidSweepStampRemovesTheTurnOnsetHeadingError) {
+  const double at_first_ray = WorstRelativeHeadingError(0.0);
+  const double at_mid_sweep =
+      WorstRelativeHeadingError(MidSweepOffsetS(kSweepRays, kSweepIncrementRad, 15.0));
+  // Half a sweep of lag times the 0.6 rad/s change of turn rate: ~0.015 rad.
+  EXPECT_GT(at_first_ray, 0.008) << at_mid_sweep;
+  EXPECT_LT(at_mid_sweep, 0.5 * at_first_ray) << at_first_ray;
+}
+
 }  // namespace
 }  // namespace groundline::localization::lidar

@@ -4,7 +4,9 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "groundline/localization/relative_pose_factor.h"
@@ -92,6 +94,13 @@ core::Matrix3 RelativeInformation(const core::SE2& T_prev_curr, const core::Matr
   return information;
 }
 
+double MidSweepOffsetS(std::size_t num_rays, double angle_increment_rad, double rate_hz) {
+  assert(rate_hz > 0.0);
+  if (num_rays < 2) return 0.0;
+  const double per_ray_s = std::abs(angle_increment_rad) / (2.0 * std::numbers::pi * rate_hz);
+  return 0.5 * static_cast<double>(num_rays - 1) * per_ray_s;
+}
+
 ScanOdometry::ScanOdometry(const ScanOdometryOptions& options)
     : options_(options), slam_([&] {
         assert(options.Validate().ok());
@@ -106,7 +115,7 @@ core::Result<ScanReport> ScanOdometry::AddScan(double stamp_s, const core::SE2& 
   last_odom_ = T_odom_base;
   last_local_ = report->T_local_base;
   last_report_ = *report;
-  last_points_ = scan.points;
+  last_scan_ = scan;
   ++num_scans_;
   ++scans_since_keyframe_;
   return report;
@@ -129,8 +138,7 @@ ScanOdometryKeyframe ScanOdometry::Keyframe(double stamp_s, const core::SE2& T_o
   out.information = last_report_.information;
   out.sqrt_information_kept = out.information.sqrt_information;
   if (options_.check_aliasing) {
-    out.aliasing =
-        DetectScanAliasing(last_points_, WeakestTranslation(out.information), options_.aliasing);
+    out.aliasing = DetectScanAliasing(last_scan_, out.information, options_.aliasing);
     if (out.aliasing.aliased) {
       out.sqrt_information_kept =
           RemoveTranslation(out.sqrt_information_kept, out.aliasing.direction);

@@ -146,7 +146,8 @@ core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun
 core::FloorMap ToFloorMap(const World& world);
 
 // Converts a simulated scan to the dataset's encoding: no return and
-// closer-than-minimum both become core::kNoReturnRange_m.
+// closer-than-minimum both become core::kNoReturnRange_m, and the stamp moves
+// from the first ray to the middle of the sweep (docs/dataset.md).
 core::LaserScan ToDatasetScan(const LaserScan& scan);
 
 }  // namespace groundline::sim

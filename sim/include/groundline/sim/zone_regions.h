@@ -3,9 +3,11 @@
 // LiDAR-degenerate corridor or in open space?
 //
 // - B: kAisle inside an aisle (between the facing rack faces, the rack run in
-//   y) and more than end_margin_m from both aisle ends, where the scan sees
-//   only the periodic rack faces; kAisleEnd in the rest of an aisle;
-//   kCrossAisle elsewhere (the cross-aisles at both ends).
+//   y) and more than end_margin_m from both aisle ends; kAisleEnd in the rest
+//   of an aisle; kCrossAisle elsewhere (the cross-aisles at both ends). Only
+//   where the aisle's end ahead is beyond the scanner's range (25 m for the
+//   simulated TiM571, more than the 5 m margin the localizer's report uses)
+//   does the scan see nothing but the periodic rack faces.
 // - D: kCorridor inside one of the two long corridors, more than end_margin_m
 //   from the end walls and from the side of every cross-corridor opening;
 //   kJunction elsewhere (cross corridors, their openings, the ends).
