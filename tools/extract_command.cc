@@ -38,6 +38,8 @@ struct ExtractFlags {
   double min_sigma_px = perception::LineExtractorOptions{}.min_sigma_px;
   double rho_floor_mm = 1e3 * perception::LineExtractorOptions{}.rho_floor_m;
   double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
+  double noise_prior_px = perception::LineExtractorOptions{}.noise_prior_sigma_px;
+  double noise_prior_dof = perception::LineExtractorOptions{}.noise_prior_dof;
   bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
   int supersampling = 2;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
@@ -65,8 +67,9 @@ Writes into --out:
                  junctions [point_m, cov, lines, shape L/T/X]; with ground
                  truth also each line's truth
                  (marking_id, kind, edge, evaluated, error [d rho m, d alpha
-                 rad], nees; null when unmatched) and missed_marking_ids
-                 (visible markings 1.0-2.5 m ahead that no line matched)
+                 rad], nees; null when unmatched), missed_marking_ids and
+                 missed (visible markings 1.0-2.5 m ahead that no line
+                 matched; missed: each true line in base_link)
   bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
@@ -187,6 +190,8 @@ int RunExtract(const ExtractFlags& flags) {
   options.min_sigma_px = flags.min_sigma_px;
   options.rho_floor_m = 1e-3 * flags.rho_floor_mm;
   options.alpha_floor_rad = flags.alpha_floor_deg * M_PI / 180.0;
+  options.noise_prior_sigma_px = flags.noise_prior_px;
+  options.noise_prior_dof = flags.noise_prior_dof;
   options.single_bar_edges = flags.single_bar_edges;
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
@@ -239,6 +244,7 @@ int RunExtract(const ExtractFlags& flags) {
 
     std::vector<perception::TrueLine> truths;
     std::vector<std::int64_t> missed;
+    nlohmann::ordered_json missed_lines = nlohmann::ordered_json::array();
     std::vector<nlohmann::ordered_json> line_truths(extraction.lines.size());
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
@@ -258,6 +264,7 @@ int RunExtract(const ExtractFlags& flags) {
         for (size_t j = 0; j < truths.size(); ++j) {
           if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
             missed.push_back(truths[j].marking_id);
+            missed_lines.push_back(MissedTruthToJson(truths[j]));
           }
         }
         for (size_t k = 0; k < extraction.lines.size(); ++k) {
@@ -272,6 +279,7 @@ int RunExtract(const ExtractFlags& flags) {
         frame["lines"][k]["truth"] = line_truths[k];
       }
       frame["missed_marking_ids"] = missed;
+      frame["missed"] = missed_lines;
     }
     jsonl << frame.dump() << "\n";
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
@@ -361,6 +369,13 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
       ->capture_default_str();
   cmd->add_option("--rho-floor-mm", flags->rho_floor_mm,
                   "Line covariance: standard deviation of rho errors constant along a line [mm]")
+      ->capture_default_str();
+  cmd->add_option("--noise-prior-px", flags->noise_prior_px,
+                  "Line covariance: prior pixel noise pooled with each line's measured one "
+                  "(0: none) [px]")
+      ->capture_default_str();
+  cmd->add_option("--noise-prior-dof", flags->noise_prior_dof,
+                  "Line covariance: degrees of freedom of that prior")
       ->capture_default_str();
   cmd->add_option("--alpha-floor-deg", flags->alpha_floor_deg,
                   "Line covariance: standard deviation of alpha errors constant along a line [deg]")

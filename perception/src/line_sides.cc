@@ -1,6 +1,7 @@
 // Side contrast and wide-bar edge pairing (line_sides.h).
 #include "line_sides.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
@@ -9,6 +10,7 @@
 namespace groundline::perception::internal {
 
 void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
+                         double near_offset_m, double min_local_contrast,
                          CandidateLine* candidate) {
   const Eigen::Vector2d n = candidate->line.line.Normal();
   double centre = 0.0, plus = 0.0, minus = 0.0;
@@ -27,9 +29,47 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
     ++count;
   }
   if (count == 0) return;
+  // Narrow: the profile is back halfway to each side's level near_offset_m out.
+  const double sign = candidate->line.kind.polarity == LinePolarity::kBright ? 1.0 : -1.0;
+  int narrow = 0, tried = 0;
+  for (const Eigen::Vector2d& p : candidate->centres_m) {
+    const float c = sample(p), a = sample(p + offset_m * n), b = sample(p - offset_m * n);
+    const float near_a = sample(p + near_offset_m * n), near_b = sample(p - near_offset_m * n);
+    if (c == 0.0f || a == 0.0f || b == 0.0f || near_a == 0.0f || near_b == 0.0f) continue;
+    ++tried;
+    const double depth_a = sign * (c - a), depth_b = sign * (c - b);
+    const double recovered_a = sign * (near_a - c), recovered_b = sign * (near_b - c);
+    // recovered: how far the grey level has come back toward the side (>= 0).
+    if (std::min(depth_a, depth_b) >= min_local_contrast && -recovered_a >= 0.5 * depth_a &&
+        -recovered_b >= 0.5 * depth_b) {
+      ++narrow;
+    }
+  }
+  candidate->narrow_share = tried > 0 ? static_cast<double>(narrow) / tried : 0.0;
   candidate->contrast_plus = (centre - plus) / count;
   candidate->contrast_minus = (centre - minus) / count;
   candidate->centre_grey = centre / count;
+}
+
+double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m) {
+  if (points_m.size() < 3) return 0.0;
+  const Eigen::Vector2d d = line.Direction();
+  double lo = d.dot(points_m.front()), hi = lo;
+  for (const Eigen::Vector2d& p : points_m) {
+    lo = std::min(lo, d.dot(p));
+    hi = std::max(hi, d.dot(p));
+  }
+  const double mid = 0.5 * (lo + hi);
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& p : points_m) {
+    const double t = d.dot(p) - mid;
+    const Eigen::Vector3d phi(1.0, t, t * t);
+    A += phi * phi.transpose();
+    b += phi * SignedDistance(line, p);
+  }
+  const Eigen::Vector3d q = A.ldlt().solve(b);
+  return std::abs(q(2)) * 0.25 * (hi - lo) * (hi - lo);
 }
 
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
@@ -95,6 +135,11 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                              options.single_edge_min_relative_contrast * candidates[i].centre_grey;
     if (polarity == LinePolarity::kBright && !strong_edge &&
         candidates[i].centre_grey < floor_median_grey + options.min_bright_excess) {
+      continue;
+    }
+    if (polarity == LinePolarity::kDark &&
+        (candidates[i].narrow_share < options.min_dark_narrow_share ||
+         candidates[i].sagitta_m > options.max_dark_sagitta_m)) {
       continue;
     }
     if (std::min(plus, minus) >= min_contrast) {
@@ -260,23 +305,65 @@ void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<Extr
   lines->resize(kept);
 }
 
-void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {
+void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
+                           std::vector<ExtractedLine>* lines) {
   std::stable_sort(
       lines->begin(), lines->end(),
       [](const ExtractedLine& a, const ExtractedLine& b) { return a.samples > b.samples; });
+  auto same_construction = [](const ExtractedLine& a, const ExtractedLine& b) {
+    return a.kind.polarity == b.kind.polarity && a.from_bar_edges == b.from_bar_edges &&
+           a.single_bar_edge == b.single_bar_edge;
+  };
   std::vector<ExtractedLine> kept;
+  std::vector<std::vector<const ExtractedLine*>> groups;
   for (const ExtractedLine& line : *lines) {
-    bool merged = false;
-    for (ExtractedLine& k : kept) {
-      if (k.kind.polarity != line.kind.polarity) continue;
-      const Eigen::Vector2d r = LineDifference(line.line, k.line);
-      if (std::abs(r(0)) > kDuplicateRhoM || std::abs(r(1)) > kDuplicateAlphaRad) continue;
-      const ExtractedLine keep = k;
-      SpanEndpoints(keep, line, &k);
-      merged = true;
-      break;
+    int group = -1;
+    bool pieces = false;
+    for (size_t k = 0; k < kept.size() && group < 0; ++k) {
+      if (!same_construction(kept[k], line)) continue;
+      const Eigen::Vector2d r = LineDifference(line.line, kept[k].line);
+      pieces = std::abs(r(0)) <= kDuplicateRhoM && std::abs(r(1)) <= kDuplicateAlphaRad;
+      const ExtractedLine& longer = kept[k].LengthM() >= line.LengthM() ? kept[k] : line;
+      const ExtractedLine& shorter = &longer == &line ? kept[k] : line;
+      const bool close = std::abs(r(1)) <= max_angle_rad &&
+                         std::abs(SignedDistance(longer.line, shorter.start_m)) <= max_distance_m &&
+                         std::abs(SignedDistance(longer.line, shorter.end_m)) <= max_distance_m &&
+                         Overlap(longer, shorter) >= 0.5 * shorter.LengthM();
+      if (pieces || close) group = static_cast<int>(k);
     }
-    if (!merged) kept.push_back(line);
+    if (group < 0) {
+      kept.push_back(line);
+      groups.push_back({&line});
+    } else if (pieces) {
+      // The same ridge (its centres sampled twice): the first spans both.
+      const ExtractedLine keep = kept[group];
+      SpanEndpoints(keep, line, &kept[group]);
+    } else {
+      groups[group].push_back(&line);
+    }
+  }
+  for (size_t k = 0; k < kept.size(); ++k) {
+    if (groups[k].size() == 1) continue;
+    groups[k].front() = &kept[k];  // with the span of its pieces
+    // Samples-weighted mean about the first (most samples) line.
+    const ExtractedLine& first = *groups[k].front();
+    double total = 0.0;
+    Eigen::Vector2d mean_difference = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+    for (const ExtractedLine* member : groups[k]) total += member->samples;
+    ExtractedLine merged = first;
+    for (const ExtractedLine* member : groups[k]) {
+      const double w = member->samples / total;
+      mean_difference += w * LineDifference(member->line, first.line);
+      covariance += w * member->covariance;
+      SpanEndpoints(merged, *member, &merged);
+    }
+    merged.line = NormalizeLine(first.line.rho_m + mean_difference(0),
+                                first.line.alpha_rad + mean_difference(1));
+    merged.covariance = covariance;
+    merged.samples = static_cast<int>(total);
+    SpanEndpoints(merged, merged, &merged);
+    kept[k] = merged;
   }
   *lines = std::move(kept);
 }
