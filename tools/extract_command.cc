@@ -38,8 +38,6 @@ struct ExtractFlags {
   double min_sigma_px = perception::LineExtractorOptions{}.min_sigma_px;
   double rho_floor_mm = 1e3 * perception::LineExtractorOptions{}.rho_floor_m;
   double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
-  double noise_prior_px = perception::LineExtractorOptions{}.noise_prior_sigma_px;
-  double noise_prior_dof = perception::LineExtractorOptions{}.noise_prior_dof;
   bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
   int supersampling = 2;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
@@ -190,8 +188,6 @@ int RunExtract(const ExtractFlags& flags) {
   options.min_sigma_px = flags.min_sigma_px;
   options.rho_floor_m = 1e-3 * flags.rho_floor_mm;
   options.alpha_floor_rad = flags.alpha_floor_deg * M_PI / 180.0;
-  options.noise_prior_sigma_px = flags.noise_prior_px;
-  options.noise_prior_dof = flags.noise_prior_dof;
   options.single_bar_edges = flags.single_bar_edges;
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
@@ -369,13 +365,6 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
       ->capture_default_str();
   cmd->add_option("--rho-floor-mm", flags->rho_floor_mm,
                   "Line covariance: standard deviation of rho errors constant along a line [mm]")
-      ->capture_default_str();
-  cmd->add_option("--noise-prior-px", flags->noise_prior_px,
-                  "Line covariance: prior pixel noise pooled with each line's measured one "
-                  "(0: none) [px]")
-      ->capture_default_str();
-  cmd->add_option("--noise-prior-dof", flags->noise_prior_dof,
-                  "Line covariance: degrees of freedom of that prior")
       ->capture_default_str();
   cmd->add_option("--alpha-floor-deg", flags->alpha_floor_deg,
                   "Line covariance: standard deviation of alpha errors constant along a line [deg]")

@@ -85,10 +85,6 @@ core::Status LineNoiseModel::Validate() const {
   if (!(correlation_samples >= 1.0) || !std::isfinite(correlation_samples)) {
     return bad("correlation_samples", "a number >= 1");
   }
-  if (!(prior_sigma_px >= 0.0) || !std::isfinite(prior_sigma_px)) {
-    return bad("prior_sigma_px", "a number >= 0");
-  }
-  if (!(prior_dof >= 0.0) || !std::isfinite(prior_dof)) return bad("prior_dof", "a number >= 0");
   if (!(rho_floor_m >= 0.0) || !std::isfinite(rho_floor_m)) {
     return bad("rho_floor_m", "a number >= 0");
   }
@@ -116,12 +112,7 @@ core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> 
   }
   const double count = static_cast<double>(points_m.size());
   const double independent = std::max(3.0, count / model.correlation_samples);
-  double lambda2 = sum / count * independent / (independent - 2.0);
-  if (model.prior_sigma_px > 0.0) {
-    const double dof = independent - 2.0;
-    lambda2 = (model.prior_dof * model.prior_sigma_px * model.prior_sigma_px + dof * lambda2) /
-              (model.prior_dof + dof);
-  }
+  const double lambda2 = sum / count * independent / (independent - 2.0);
   const double sigma2 = std::max(lambda2, model.min_sigma_px * model.min_sigma_px);
   fit->covariance *= model.correlation_samples * sigma2;
   fit->covariance(0, 0) += model.rho_floor_m * model.rho_floor_m;

@@ -63,8 +63,6 @@ core::Status LineExtractorOptions::Validate() const {
   noise.min_sigma_px = min_sigma_px;
   noise.rho_floor_m = rho_floor_m;
   noise.alpha_floor_rad = alpha_floor_rad;
-  noise.prior_sigma_px = noise_prior_sigma_px;
-  noise.prior_dof = noise_prior_dof;
   if (core::Status s = noise.Validate(); !s.ok()) return s;
   return core::Status::Ok();
 }
@@ -116,8 +114,6 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   noise_.min_sigma_px = options.min_sigma_px;
   noise_.rho_floor_m = options.rho_floor_m;
   noise_.alpha_floor_rad = options.alpha_floor_rad;
-  noise_.prior_sigma_px = options.noise_prior_sigma_px;
-  noise_.prior_dof = options.noise_prior_dof;
 }
 
 namespace {

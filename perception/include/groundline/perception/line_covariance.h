@@ -88,19 +88,8 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
 // where the floor holds what the scatter cannot show: errors constant along
 // a line (the sub-cell phase of a line running along the BEV grid, edge
 // asymmetry of wide bars).
-//
-// Few independent samples (N_eff - 2 degrees of freedom, often 3-6) make
-// lambda^2 itself uncertain, and the NEES of lines whose noise is under- or
-// over-estimated falls outside the chi-square band on both sides. With
-// prior_sigma_px > 0 the measured value is pooled with a prior worth
-// prior_dof degrees of freedom (the posterior mean of a scaled inverse
-// chi-square prior):
-//
-//   lambda^2 <- (prior_dof prior_sigma_px^2 + (N_eff - 2) lambda^2) / (prior_dof + N_eff - 2).
 struct LineNoiseModel {
   double min_sigma_px = 0.3;
-  double prior_sigma_px = 0.0;       // 0: no prior
-  double prior_dof = 0.0;            // >= 0
   double correlation_samples = 1.0;  // >= 1
   double rho_floor_m = 0.0;
   double alpha_floor_rad = 0.0;
