@@ -1,5 +1,6 @@
-// Private to the line extractor: the side-contrast test on the BEV and the
-// pairing of wide-bar edges into centre lines (line_extractor.h, steps 4-5).
+// Private to the line extractor: the side-contrast test on the BEV, the
+// pairing of wide-bar edges into centre lines (line_sides.cc), side-lobe
+// removal and the merging of one marking's lines (line_merging.cc).
 #ifndef GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
 #define GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
 
@@ -79,6 +80,13 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
 
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
+
+// Sets merged's endpoints to the span of a's and b's endpoints projected
+// onto merged's line (merged may alias a or b).
+void SpanEndpoints(const ExtractedLine& a, const ExtractedLine& b, ExtractedLine* merged);
+
+// The overlap of two lines' extents along a's direction, metres (< 0: a gap).
+double Overlap(const ExtractedLine& a, const ExtractedLine& b);
 
 // The ridge filter's response to a dark line has bright side lobes about
 // sqrt(3) sigma to either side: bright lines (not bars) within max_distance_m
