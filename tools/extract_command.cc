@@ -65,8 +65,9 @@ Writes into --out:
                  junctions [point_m, cov, lines, shape L/T/X]; with ground
                  truth also each line's truth
                  (marking_id, kind, edge, evaluated, error [d rho m, d alpha
-                 rad], nees; null when unmatched) and missed_marking_ids
-                 (visible markings 1.0-2.5 m ahead that no line matched)
+                 rad], nees; null when unmatched), missed_marking_ids and
+                 missed (visible markings 1.0-2.5 m ahead that no line
+                 matched; missed: each true line in base_link)
   bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
@@ -239,6 +240,7 @@ int RunExtract(const ExtractFlags& flags) {
 
     std::vector<perception::TrueLine> truths;
     std::vector<std::int64_t> missed;
+    nlohmann::ordered_json missed_lines = nlohmann::ordered_json::array();
     std::vector<nlohmann::ordered_json> line_truths(extraction.lines.size());
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
@@ -258,6 +260,7 @@ int RunExtract(const ExtractFlags& flags) {
         for (size_t j = 0; j < truths.size(); ++j) {
           if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
             missed.push_back(truths[j].marking_id);
+            missed_lines.push_back(MissedTruthToJson(truths[j]));
           }
         }
         for (size_t k = 0; k < extraction.lines.size(); ++k) {
@@ -272,6 +275,7 @@ int RunExtract(const ExtractFlags& flags) {
         frame["lines"][k]["truth"] = line_truths[k];
       }
       frame["missed_marking_ids"] = missed;
+      frame["missed"] = missed_lines;
     }
     jsonl << frame.dump() << "\n";
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {

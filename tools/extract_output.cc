@@ -38,6 +38,7 @@ nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
     line["edge"] = l.single_bar_edge;
     line["samples"] = l.samples;
     line["rms_residual_m"] = l.rms_residual_m;
+    line["noise_sigma_px"] = l.noise_sigma_px;
     lines.push_back(line);
   }
   frame["lines"] = lines;
@@ -65,6 +66,19 @@ nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
   out["evaluated"] = truth.evaluated;
   out["error"] = Vec(r);
   out["nees"] = Number(r.dot(line.covariance.inverse() * r));
+  return out;
+}
+
+nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth) {
+  nlohmann::ordered_json out;
+  out["marking_id"] = truth.marking_id;
+  out["kind"] = std::string(core::MarkingKindName(truth.kind));
+  out["edge"] = truth.edge;
+  out["rho_m"] = truth.line.rho_m;
+  out["alpha_rad"] = truth.line.alpha_rad;
+  out["start_m"] = Vec(truth.start_m);
+  out["end_m"] = Vec(truth.end_m);
+  out["evaluated_length_m"] = truth.evaluated_length_m;
   return out;
 }
 

@@ -16,7 +16,8 @@
 namespace groundline::tools {
 
 // {"image", "ms", "lines": [{rho_m, alpha_rad, cov, kind, start_m, end_m,
-// length_m, bar, edge, samples, rms_residual_m}], "junctions": [{point_m, cov,
+// length_m, bar, edge, samples, rms_residual_m,
+// noise_sigma_px}], "junctions": [{point_m, cov,
 // lines, shape}]}.
 nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
                                    const perception::LineExtraction& extraction);
@@ -25,6 +26,10 @@ nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
 // evaluated, error: [d rho m, d alpha rad] (extracted - true), nees}.
 nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
                                    const perception::TrueLine& truth);
+
+// A missed (evaluated, unmatched) true line: {marking_id, kind, edge, rho_m,
+// alpha_rad, start_m, end_m, evaluated_length_m} (base_link).
+nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth);
 
 // The summary's rate fields of one breakdown.
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);

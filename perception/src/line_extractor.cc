@@ -32,6 +32,16 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(min_line_length_m > 0.0)) return bad("min_line_length_m", "a number > 0");
   if (!(min_support >= 0.0 && min_support <= 1.0)) return bad("min_support", "a number in [0, 1]");
   if (!(max_width_variation > 0.0)) return bad("max_width_variation", "a number > 0");
+  if (!(width_outlier_fraction > 0.0)) return bad("width_outlier_fraction", "a number > 0");
+  if (!(dark_narrow_offset_cells > 0.0 && dark_narrow_offset_cells < side_offset_cells)) {
+    return bad("dark_narrow_offset_cells", "a number in (0, side_offset_cells)");
+  }
+  if (!(min_dark_narrow_share >= 0.0 && min_dark_narrow_share <= 1.0)) {
+    return bad("min_dark_narrow_share", "a number in [0, 1]");
+  }
+  if (!(max_dark_sagitta_m > 0.0)) return bad("max_dark_sagitta_m", "a number > 0");
+  if (!(same_marking_distance_m >= 0.0)) return bad("same_marking_distance_m", "a number >= 0");
+  if (!(same_marking_angle_deg >= 0.0)) return bad("same_marking_angle_deg", "a number >= 0");
   if (!(side_offset_cells > 0.0)) return bad("side_offset_cells", "a number > 0");
   if (!(bar_max_width_m > bar_min_width_m && bar_min_width_m >= 0.0)) {
     return bad("bar_min_width_m / bar_max_width_m", "0 <= min < max");
@@ -134,7 +144,8 @@ bool FitFloorPoints(const std::vector<Eigen::Vector2d>& points_m, const BevGrid&
     J << j[0], j[1], j[2], j[3];
     jacobians.push_back(J);
   }
-  core::Result<LineFit> fit = FitLineWithMeasuredNoise(points_m, jacobians, noise);
+  core::Result<LineFit> fit =
+      FitLineWithMeasuredNoise(points_m, jacobians, noise, &line->noise_sigma_px);
   if (!fit.ok()) return false;
   line->line = fit->line;
   line->covariance = fit->covariance;
@@ -169,13 +180,22 @@ std::optional<internal::CandidateLine> FitSegment(
   std::erase_if(samples, [&](const RidgeSample& s) {
     return std::abs(SignedDistance(first->line, s.centre_cell)) > options.outlier_cells;
   });
+  // Width outliers: where something crosses or overlaps the line.
+  std::vector<double> widths;
+  for (const RidgeSample& s : samples) widths.push_back(s.width_cells);
+  std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+  const double median_width = widths[widths.size() / 2];
+  std::erase_if(samples, [&](const RidgeSample& s) {
+    return std::abs(s.width_cells - median_width) > options.width_outlier_fraction * median_width;
+  });
   if (samples.size() < 3) return std::nullopt;
   const double span_cells = samples.back().along_cell - samples.front().along_cell;
   if (span_cells * grid.cell_m() < options.min_line_length_m) return std::nullopt;
   if (static_cast<double>(samples.size()) < options.min_support * (span_cells + 1.0)) {
     return std::nullopt;
   }
-  std::vector<double> widths, energies;
+  std::vector<double> energies;
+  widths.clear();
   for (const RidgeSample& s : samples) {
     widths.push_back(s.width_cells);
     energies.push_back(s.energy);
@@ -194,6 +214,7 @@ std::optional<internal::CandidateLine> FitSegment(
     return std::nullopt;
   }
   candidate.line.energy = Mean(energies);
+  candidate.sagitta_m = internal::SagittaM(candidate.line.line, candidate.centres_m);
   return candidate;
 }
 
@@ -287,7 +308,9 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
           view, segment, threshold, search_mask_, floor_from_pixel_, grid_, options_, noise_);
       if (!candidate) continue;
       candidate->line.kind.polarity = polarity;
-      internal::MeasureSideContrast(bev_float, grid_, side_offset_m, &*candidate);
+      internal::MeasureSideContrast(bev_float, grid_, side_offset_m,
+                                    options_.dark_narrow_offset_cells * grid_.cell_m(),
+                                    0.5 * options_.min_dark_side_contrast, &*candidate);
       candidates.push_back(std::move(*candidate));
     }
     std::vector<internal::CandidateLine> unpaired_edges;
@@ -304,7 +327,9 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
   }
   internal::DropSideLobes(options_.side_lobe_distance_cells * grid_.cell_m(),
                           options_.side_lobe_angle_deg * std::numbers::pi / 180.0, &result.lines);
-  internal::MergeDuplicateLines(&result.lines);
+  internal::MergeSameMarkingLines(options_.same_marking_distance_m,
+                                  options_.same_marking_angle_deg * std::numbers::pi / 180.0,
+                                  &result.lines);
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;
   std::vector<LineSegmentEstimate> estimates;
   for (ExtractedLine& line : result.lines) {

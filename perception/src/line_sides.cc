@@ -1,6 +1,7 @@
 // Side contrast and wide-bar edge pairing (line_sides.h).
 #include "line_sides.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
@@ -9,6 +10,7 @@
 namespace groundline::perception::internal {
 
 void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
+                         double near_offset_m, double min_local_contrast,
                          CandidateLine* candidate) {
   const Eigen::Vector2d n = candidate->line.line.Normal();
   double centre = 0.0, plus = 0.0, minus = 0.0;
@@ -27,9 +29,47 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
     ++count;
   }
   if (count == 0) return;
+  // Narrow: the profile is back halfway to each side's level near_offset_m out.
+  const double sign = candidate->line.kind.polarity == LinePolarity::kBright ? 1.0 : -1.0;
+  int narrow = 0, tried = 0;
+  for (const Eigen::Vector2d& p : candidate->centres_m) {
+    const float c = sample(p), a = sample(p + offset_m * n), b = sample(p - offset_m * n);
+    const float near_a = sample(p + near_offset_m * n), near_b = sample(p - near_offset_m * n);
+    if (c == 0.0f || a == 0.0f || b == 0.0f || near_a == 0.0f || near_b == 0.0f) continue;
+    ++tried;
+    const double depth_a = sign * (c - a), depth_b = sign * (c - b);
+    const double recovered_a = sign * (near_a - c), recovered_b = sign * (near_b - c);
+    // recovered: how far the grey level has come back toward the side (>= 0).
+    if (std::min(depth_a, depth_b) >= min_local_contrast && -recovered_a >= 0.5 * depth_a &&
+        -recovered_b >= 0.5 * depth_b) {
+      ++narrow;
+    }
+  }
+  candidate->narrow_share = tried > 0 ? static_cast<double>(narrow) / tried : 0.0;
   candidate->contrast_plus = (centre - plus) / count;
   candidate->contrast_minus = (centre - minus) / count;
   candidate->centre_grey = centre / count;
+}
+
+double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m) {
+  if (points_m.size() < 3) return 0.0;
+  const Eigen::Vector2d d = line.Direction();
+  double lo = d.dot(points_m.front()), hi = lo;
+  for (const Eigen::Vector2d& p : points_m) {
+    lo = std::min(lo, d.dot(p));
+    hi = std::max(hi, d.dot(p));
+  }
+  const double mid = 0.5 * (lo + hi);
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& p : points_m) {
+    const double t = d.dot(p) - mid;
+    const Eigen::Vector3d phi(1.0, t, t * t);
+    A += phi * phi.transpose();
+    b += phi * SignedDistance(line, p);
+  }
+  const Eigen::Vector3d q = A.ldlt().solve(b);
+  return std::abs(q(2)) * 0.25 * (hi - lo) * (hi - lo);
 }
 
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
@@ -51,8 +91,6 @@ double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
   }
   return 0.0;
 }
-
-namespace {
 
 // Projections of both lines' endpoints onto `line` span the merged segment.
 void SpanEndpoints(const ExtractedLine& a, const ExtractedLine& b, ExtractedLine* merged) {
@@ -76,8 +114,6 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
   return std::min(a1, b1) - std::max(a0, b0);
 }
 
-}  // namespace
-
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  double floor_median_grey, const LineExtractorOptions& options,
                  std::vector<ExtractedLine>* out, std::vector<CandidateLine>* unpaired_edges) {
@@ -95,6 +131,11 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                              options.single_edge_min_relative_contrast * candidates[i].centre_grey;
     if (polarity == LinePolarity::kBright && !strong_edge &&
         candidates[i].centre_grey < floor_median_grey + options.min_bright_excess) {
+      continue;
+    }
+    if (polarity == LinePolarity::kDark &&
+        (candidates[i].narrow_share < options.min_dark_narrow_share ||
+         candidates[i].sagitta_m > options.max_dark_sagitta_m)) {
       continue;
     }
     if (std::min(plus, minus) >= min_contrast) {
@@ -232,53 +273,6 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
     }
   }
   return static_cast<double>(open) / static_cast<double>(edge_points_m.size());
-}
-
-void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines) {
-  std::vector<bool> drop(lines->size(), false);
-  for (size_t b = 0; b < lines->size(); ++b) {
-    const ExtractedLine& bright = (*lines)[b];
-    if (bright.kind.polarity != LinePolarity::kBright || bright.from_bar_edges ||
-        bright.single_bar_edge) {
-      continue;
-    }
-    for (const ExtractedLine& dark : *lines) {
-      if (dark.kind.polarity != LinePolarity::kDark) continue;
-      const Eigen::Vector2d r = LineDifference(bright.line, dark.line);
-      if (std::abs(r(1)) > max_angle_rad) continue;
-      const Eigen::Vector2d mid = 0.5 * (bright.start_m + bright.end_m);
-      if (std::abs(SignedDistance(dark.line, mid)) > max_distance_m) continue;
-      if (Overlap(bright, dark) < 0.5 * bright.LengthM()) continue;
-      drop[b] = true;
-      break;
-    }
-  }
-  size_t kept = 0;
-  for (size_t i = 0; i < lines->size(); ++i) {
-    if (!drop[i]) (*lines)[kept++] = (*lines)[i];
-  }
-  lines->resize(kept);
-}
-
-void MergeDuplicateLines(std::vector<ExtractedLine>* lines) {
-  std::stable_sort(
-      lines->begin(), lines->end(),
-      [](const ExtractedLine& a, const ExtractedLine& b) { return a.samples > b.samples; });
-  std::vector<ExtractedLine> kept;
-  for (const ExtractedLine& line : *lines) {
-    bool merged = false;
-    for (ExtractedLine& k : kept) {
-      if (k.kind.polarity != line.kind.polarity) continue;
-      const Eigen::Vector2d r = LineDifference(line.line, k.line);
-      if (std::abs(r(0)) > kDuplicateRhoM || std::abs(r(1)) > kDuplicateAlphaRad) continue;
-      const ExtractedLine keep = k;
-      SpanEndpoints(keep, line, &k);
-      merged = true;
-      break;
-    }
-    if (!merged) kept.push_back(line);
-  }
-  *lines = std::move(kept);
 }
 
 }  // namespace groundline::perception::internal

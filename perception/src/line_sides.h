@@ -1,5 +1,6 @@
-// Private to the line extractor: the side-contrast test on the BEV and the
-// pairing of wide-bar edges into centre lines (line_extractor.h, steps 4-5).
+// Private to the line extractor: the side-contrast test on the BEV, the
+// pairing of wide-bar edges into centre lines (line_sides.cc), side-lobe
+// removal and the merging of one marking's lines (line_merging.cc).
 #ifndef GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
 #define GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
 
@@ -22,11 +23,26 @@ struct CandidateLine {
   double contrast_plus = 0.0;
   double contrast_minus = 0.0;
   double centre_grey = 0.0;  // mean BEV grey level at the centres
+  // The share of centres where the line is a narrow ridge of its polarity
+  // (MeasureSideContrast).
+  double narrow_share = 0.0;
+  double sagitta_m = 0.0;  // SagittaM of the centres about the line
 };
 
-// Fills contrast_plus / contrast_minus from the BEV (CV_32FC1).
+// Straightness: the centres' deviation across `line` fitted by a parabola in
+// the position along it; the parabola's sagitta over the centres' span
+// (|c| (L / 2)^2 for y = a + b t + c t^2, t centred), metres. A straight
+// marking gives noise; an arc of radius R over a length L gives L^2 / (8 R).
+double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m);
+
+// Fills contrast_plus / contrast_minus / centre_grey from the BEV (CV_32FC1),
+// and narrow_share: the share of the centres (seen with both sides) whose
+// local contrast against each side (offset_m away) is >= min_local_contrast
+// and whose grey level near_offset_m to each side has recovered at least
+// half of the way from the centre to that side. The line's polarity must be
+// set.
 void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
-                         CandidateLine* candidate);
+                         double near_offset_m, double min_local_contrast, CandidateLine* candidate);
 
 // The kept lines of one polarity: lines brighter (bright) or darker (dark)
 // than both sides by min_contrast; for bright, also the centre lines of
@@ -65,17 +81,34 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
 
+// Sets merged's endpoints to the span of a's and b's endpoints projected
+// onto merged's line (merged may alias a or b).
+void SpanEndpoints(const ExtractedLine& a, const ExtractedLine& b, ExtractedLine* merged);
+
+// The overlap of two lines' extents along a's direction, metres (< 0: a gap).
+double Overlap(const ExtractedLine& a, const ExtractedLine& b);
+
 // The ridge filter's response to a dark line has bright side lobes about
 // sqrt(3) sigma to either side: bright lines (not bars) within max_distance_m
 // and max_angle_rad of a dark line, overlapping it over half their length,
 // are dropped.
 void DropSideLobes(double max_distance_m, double max_angle_rad, std::vector<ExtractedLine>* lines);
 
-// Lines of one polarity closer than these are one line (pieces of a marking
-// interrupted by a crossing one): the one with more samples is kept, spanning both.
+// Lines of one polarity and kind of construction (ridge, bar centre, single
+// edge) are one marking when their angles differ by <= max_angle_rad, both
+// endpoints of the shorter lie within max_distance_m of the longer's line and
+// they overlap over half of the shorter one (or are pieces of one line
+// interrupted by a crossing marking: within 1 cm and 1 deg, any overlap).
+// Pieces (the same ridge sampled from two Hough segments) keep the line with
+// more samples, spanning both. Other groups (two ridges of one marking: a
+// tape split by a joint under it, a biased second ridge) become the
+// samples-weighted mean of (rho, alpha) (LineDifference) with the
+// samples-weighted mean of their covariances (their errors are shared: no
+// reduction), spanning all. Processes the lines with the most samples first.
 inline constexpr double kDuplicateRhoM = 0.01;
 inline constexpr double kDuplicateAlphaRad = 0.0175;
-void MergeDuplicateLines(std::vector<ExtractedLine>* lines);
+void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
+                           std::vector<ExtractedLine>* lines);
 
 }  // namespace groundline::perception::internal
 
