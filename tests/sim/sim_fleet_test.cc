@@ -90,12 +90,15 @@ TEST(SimFleet, EachRobotHasItsRunAndSeesTheOthersBoxes) {
   int exact = 0, checked = 0, in_front = 0;
   for (std::size_t k = 0; k < r0.dataset.scans.size(); ++k) {
     const core::LaserScan& scan = r0.dataset.scans[k];
-    const LaserScan walls = static_lidar.ScanAlong(r0.route.T_map_base, scan.stamp_s, k);
+    // Dataset scans are stamped at mid-sweep; the simulator's at the first ray.
+    const double first_ray_s =
+        scan.stamp_s - 0.5 * static_cast<double>(scan.ranges_m.size() - 1) * dt;
+    const LaserScan walls = static_lidar.ScanAlong(r0.route.T_map_base, first_ray_s, k);
     std::vector<OrientedBox> boxes;
-    for (const MovingObstacle& m : r0.world.moving) boxes.push_back(m.FootprintAt(scan.stamp_s));
+    for (const MovingObstacle& m : r0.world.moving) boxes.push_back(m.FootprintAt(first_ray_s));
     for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
       const core::SE2 T_map_lidar =
-          InterpolatePose(r0.route.T_map_base, scan.stamp_s + static_cast<double>(i) * dt) *
+          InterpolatePose(r0.route.T_map_base, first_ray_s + static_cast<double>(i) * dt) *
           options.lidar.T_base_lidar;
       const double angle = T_map_lidar.yaw() + scan.BeamAngle_rad(i);
       const Vector2 dir(std::cos(angle), std::sin(angle));
