@@ -2,8 +2,9 @@
 # README command 1: install what is needed, build groundline, and run the main
 # job on the bundled default: simulate 400 m through the high-bay rack aisles
 # of zone B (seed 1, floor camera at 2 Hz), replay it through `groundline
-# localize` twice (the floor-line factor graph, and the odometry-only
-# baseline), and print both accuracies side by side against ground truth.
+# localize` three times (the full system: floor lines, odometry and LiDAR;
+# floor lines and odometry; the odometry-only baseline), and print the
+# accuracies side by side against ground truth.
 # When the shared real data is present (../shared/data), also run the LiDAR
 # SLAM on the ACES CARMEN log and score it and the raw odometry against the
 # log's Kuemmerle relations.
@@ -28,13 +29,17 @@ echo "== localizing: floor lines + wheel odometry (sliding-window factor graph o
 "$gl" localize --dataset "$out/zone_b_seed1" --mode lines --out "$out/run_lines"
 
 echo
+echo "== localizing: the full system, floor lines + wheel odometry + LiDAR (scan matching that keeps only"
+echo "   the directions the scan constrains, and rack faces as lines against the atlas) =="
+"$gl" localize --dataset "$out/zone_b_seed1" --mode lines --lidar --out "$out/run_full"
+echo
 echo "== localizing: wheel odometry only (the baseline) =="
 "$gl" localize --dataset "$out/zone_b_seed1" --out "$out/run_odometry"
 
 echo
 echo "== accuracy table =="
-"$gl" eval --est "$out/run_lines/trajectory.tum" --est "$out/run_odometry/trajectory.tum" \
-  --label lines --label odometry \
+"$gl" eval --est "$out/run_full/trajectory.tum" --est "$out/run_lines/trajectory.tum" \
+  --est "$out/run_odometry/trajectory.tum" --label lines_lidar --label lines --label odometry \
   --ref "$out/zone_b_seed1/ground_truth.tum" --json "$out/eval_zone_b_seed1.json"
 
 data="${GROUNDLINE_DATA_DIR:-../shared/data}"
@@ -53,5 +58,5 @@ fi
 
 echo
 echo "Outputs in $out: the dataset (zone_b_seed1/, with layout.png and sample frames), the runs"
-echo "(run_lines/, run_odometry/, run_aces_lidar/: trajectory.tum, health.jsonl, summary.json)"
+echo "(run_full/, run_lines/, run_odometry/, run_aces_lidar/: trajectory.tum, health.jsonl, summary.json)"
 echo "and the eval JSON files."
