@@ -97,6 +97,12 @@ class RelocalizationZones : public ::testing::TestWithParam<std::tuple<sim::Zone
 // along them after its first line seed and is then past the prior's reach).
 TEST_P(RelocalizationZones, WithACoarsePriorCommitsToTheTruePose) {
   const auto [zone, seed] = GetParam();
+#ifdef __SANITIZE_ADDRESS__
+  if (zone == sim::Zone::kC || zone == sim::Zone::kD) {
+    GTEST_SKIP() << "CI time: zones C and D drive the whole 150 s without committing (up to 30 s "
+                    "each under AddressSanitizer); A and B run here, all four in release";
+  }
+#endif
   const Outcome o = Relocalize(zone, seed, 150.0, 2.0);
   std::printf(
       "zone %d seed %lu, 2 m prior: committed %d after %.1f m, %zu seeds, error %.3f m "
