@@ -98,9 +98,9 @@ class RelocalizationZones : public ::testing::TestWithParam<std::tuple<sim::Zone
 TEST_P(RelocalizationZones, WithACoarsePriorCommitsToTheTruePose) {
   const auto [zone, seed] = GetParam();
 #ifdef __SANITIZE_ADDRESS__
-  if (zone == sim::Zone::kC || zone == sim::Zone::kD) {
-    GTEST_SKIP() << "CI time: zones C and D drive the whole 150 s without committing (up to 30 s "
-                    "each under AddressSanitizer); A and B run here, all four in release";
+  if (zone != sim::Zone::kB) {
+    GTEST_SKIP() << "CI time: zones A, C and D take 30-90 s each under AddressSanitizer (a "
+                    "large atlas; C and D never commit); zone B runs here, all four in release";
   }
 #endif
   const Outcome o = Relocalize(zone, seed, 150.0, 2.0);
