@@ -122,6 +122,7 @@ nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHea
   line["landmarks_added"] = health.landmarks_added;
   line["window_size"] = health.window_size;
   line["iterations"] = health.iterations;
+  line["converged"] = health.converged;
   line["solve_ms"] = 1e3 * health.solve_time_s;
   line["update_ms"] = 1e3 * health.update_time_s;
   return line;
@@ -255,6 +256,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   std::vector<double> update_ms;
   std::vector<double> update_cpu_ms;  // the updating thread's CPU time
   long frames_used = 0, frames_skipped = 0, images_unreadable = 0, solve_failures = 0;
+  long solves_unconverged = 0;  // stopped at max_iterations
   long lines_used = 0, lines_rejected = 0, lines_dropped = 0;
   const std::vector<core::ImageRecord>& images = dataset->images;
   std::size_t next_image = 0;
@@ -323,6 +325,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
         update_ms.push_back(1e3 * health->update_time_s);
         update_cpu_ms.push_back(1e3 * (ThreadCpuSeconds() - cpu_before_s));
         lines_used += health->lines_used;
+        solves_unconverged += health->converged ? 0 : 1;
         lines_rejected += health->lines_rejected;
         lines_dropped += converted.dropped_lines;
         nlohmann::ordered_json line = HealthLine(
@@ -364,6 +367,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
   summary["images_unreadable"] = images_unreadable;
   if (!relocalized.empty()) summary["relocalized"] = relocalized;
   summary["solve_failures"] = solve_failures;
+  summary["solves_unconverged"] = solves_unconverged;
   summary["lines_used"] = lines_used;
   summary["lines_rejected"] = lines_rejected;
   summary["lines_dropped"] = lines_dropped;

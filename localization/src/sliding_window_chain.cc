@@ -242,6 +242,7 @@ core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
       break;
     }
   }
+  health->converged = converged;
   if (!converged && std::isfinite(previous_cost) && Uphill(LinearizeChain(false), previous_cost)) {
     // The iterations ran out on a step (or its halving) that goes uphill:
     // back to the last poses that did not.

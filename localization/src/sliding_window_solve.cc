@@ -88,6 +88,7 @@ core::Status SlidingWindowSmoother::SolveCeres(KeyframeHealth* health) {
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   health->iterations = static_cast<int>(summary.iterations.size());
+  health->converged = summary.termination_type == ceres::CONVERGENCE;
   if (!summary.IsSolutionUsable()) {
     return core::Status::Error("window solve failed: " + summary.message);
   }

@@ -135,6 +135,8 @@ void ExpectChainEqualsCeres(double window_s, bool with_relative) {
     const auto b = ceres.AddKeyframe(step.stamp_s, step.motion, step.observations, relative);
     ASSERT_TRUE(a.ok()) << a.status().message();
     ASSERT_TRUE(b.ok()) << b.status().message();
+    EXPECT_TRUE(a->converged) << "keyframe " << step.stamp_s;
+    EXPECT_TRUE(b->converged) << "keyframe " << step.stamp_s;
     EXPECT_EQ(a->lines_used, b->lines_used);
     EXPECT_GE(a->lines_used, 2);
     if (std::lround(step.stamp_s * 10) % 7 == 0) {
@@ -179,8 +181,13 @@ TEST(SlidingWindowChain, OutlierTapeAfterABlindStretchConvergesWithTheDefaultOpt
   SlidingWindowSmoother chain(chain_options, AisleAtlas());
   SlidingWindowSmoother ceres(ceres_options, AisleAtlas());
   const core::Matrix3 start_covariance = Eigen::Vector3d(1e-6, 1e-6, 1e-8).asDiagonal();
+  // The same solve stopped after one iteration must say that it did not converge.
+  SmootherOptions capped_options = chain_options;
+  capped_options.max_iterations = 1;
+  SlidingWindowSmoother capped(capped_options, AisleAtlas());
   chain.Initialize(0.0, core::SE2(), start_covariance);
   ceres.Initialize(0.0, core::SE2(), start_covariance);
+  capped.Initialize(0.0, core::SE2(), start_covariance);
   const double line_sigma = 0.005;
   const AtlasLine tape = AisleAtlas().lines[0];  // y = +0.6 m
   core::SE2 T;                                   // the truth: y = 0, yaw 0
@@ -209,6 +216,13 @@ TEST(SlidingWindowChain, OutlierTapeAfterABlindStretchConvergesWithTheDefaultOpt
     ASSERT_TRUE(a.ok()) << "keyframe " << i << ": " << a.status().message();
     ASSERT_TRUE(b.ok()) << "keyframe " << i << ": " << b.status().message();
     ASSERT_EQ(a->lines_used, b->lines_used) << "keyframe " << i;
+    EXPECT_TRUE(a->converged) << "keyframe " << i;
+    const auto c = capped.AddKeyframe(observations.stamp_s, motion, observations);
+    ASSERT_TRUE(c.ok()) << "keyframe " << i << ": " << c.status().message();
+    // Blind keyframes: the odometry prediction is the solution, one step is
+    // zero. The tape's first sighting needs more than one.
+    if (i < 14) EXPECT_TRUE(c->converged) << "keyframe " << i;
+    if (i == 14) EXPECT_FALSE(c->converged) << "keyframe " << i;
     tape_keyframes += a->lines_used;
     const std::vector<core::SE2> poses_chain = chain.WindowPoses();
     const std::vector<core::SE2> poses_ceres = ceres.WindowPoses();

@@ -142,6 +142,10 @@ struct KeyframeHealth {
   int landmarks_added = 0;                 // mapping mode
   int window_size = 0;                     // keyframes in the window after this update
   int iterations = 0;
+  // The solve met its step tolerance (chain) or Ceres' convergence test;
+  // false when it stopped at max_iterations (the estimate is then the last
+  // pose set that lowered the cost).
+  bool converged = false;
   double solve_time_s = 0.0;   // the window solve
   double update_time_s = 0.0;  // the whole AddKeyframe
 };
