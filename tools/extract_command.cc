@@ -40,6 +40,8 @@ struct ExtractFlags {
   double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
   bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
   int supersampling = 2;
+  bool tape_occludes_joints = perception::VisibleLineOptions{}.tape_occludes_joints;
+  double min_visible_run_m = perception::VisibleLineOptions{}.min_evaluated_run_m;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
 };
 
@@ -67,7 +69,11 @@ Writes into --out:
                  (marking_id, kind, edge, evaluated, error [d rho m, d alpha
                  rad], nees; null when unmatched), missed_marking_ids and
                  missed (visible markings 1.0-2.5 m ahead that no line
-                 matched; missed: each true line in base_link)
+                 matched; missed: each true line in base_link). Visible: in
+                 the search footprint, on a dash, and for a joint not under a
+                 tape's paint (--tape-occludes-joints); evaluated when >= 30 cm
+                 of it lies 1.0-2.5 m ahead, >= 20 cm of that unbroken
+                 (--min-visible-run-m)
   bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
@@ -245,7 +251,10 @@ int RunExtract(const ExtractFlags& flags) {
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
       if (pose) {
-        truths = perception::VisibleMarkingLines(*input->floor_map, *pose, footprint, {});
+        perception::VisibleLineOptions visible;
+        visible.tape_occludes_joints = flags.tape_occludes_joints;
+        visible.min_evaluated_run_m = flags.min_visible_run_m;
+        truths = perception::VisibleMarkingLines(*input->floor_map, *pose, footprint, visible);
         std::vector<perception::LineSegmentEstimate> estimates;
         std::vector<core::MarkingPolarity> polarities;
         for (const perception::ExtractedLine& l : extraction.lines) {
@@ -302,6 +311,8 @@ int RunExtract(const ExtractFlags& flags) {
   summary["ms_per_frame_median"] =
       ms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(perception::Median(ms));
   if (evaluate) {
+    summary["tape_occludes_joints"] = flags.tape_occludes_joints;
+    summary["min_visible_run_m"] = flags.min_visible_run_m;
     const nlohmann::ordered_json overall = ErrorSummaryToJson(evaluation.overall());
     for (auto it = overall.begin(); it != overall.end(); ++it) summary[it.key()] = it.value();
     nlohmann::ordered_json by_truth, by_extracted;
@@ -372,6 +383,17 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option(
          "--single-bar-edges", flags->single_bar_edges,
          "Report the one visible edge of a wide bar (stop bar, crosswalk stripe) as a line")
+      ->capture_default_str();
+  cmd->add_option("--tape-occludes-joints", flags->tape_occludes_joints,
+                  "Ground truth: a joint under a tape's paint (on a dash) is not seen; it counts "
+                  "only between dashes or beside the tape (false: the definition before the "
+                  "issue 4 audit)")
+      ->capture_default_str();
+  cmd->add_option("--min-visible-run-m", flags->min_visible_run_m,
+                  "Ground truth: a true line counts only with one unbroken run of at least this "
+                  "many metres seen 1.0-2.5 m ahead (the extractor's least line length; 0: off, "
+                  "the definition before the issue 4 audit)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->callback([cmd, flags, run]() {
     if (flags->input.empty() == flags->dataset.empty()) {

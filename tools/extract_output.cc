@@ -79,6 +79,7 @@ nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth) {
   out["start_m"] = Vec(truth.start_m);
   out["end_m"] = Vec(truth.end_m);
   out["evaluated_length_m"] = truth.evaluated_length_m;
+  out["longest_evaluated_run_m"] = truth.longest_evaluated_run_m;
   return out;
 }
 

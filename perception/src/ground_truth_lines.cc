@@ -14,19 +14,76 @@ struct SeenLine {
   TrueLine line;
   bool any = false;
 
-  void Add(const Eigen::Vector2d& p, const VisibleLineOptions& options) {
+  double run_m = 0.0;                  // the current run of evaluated samples
+  double last_evaluated_s_m = -1e300;  // arc length of the last evaluated sample
+
+  // p: the sample at arc length s_m along the piece.
+  void Add(const Eigen::Vector2d& p, double s_m, const VisibleLineOptions& options) {
     if (!any) line.start_m = p;
     line.end_m = p;
     any = true;
     line.seen_length_m += options.sample_step_m;
     if (p.x() >= options.eval_x_min_m && p.x() <= options.eval_x_max_m) {
       line.evaluated_length_m += options.sample_step_m;
+      const bool next = s_m - last_evaluated_s_m <= 1.5 * options.sample_step_m;
+      run_m = next ? run_m + options.sample_step_m : options.sample_step_m;
+      last_evaluated_s_m = s_m;
+      line.longest_evaluated_run_m = std::max(line.longest_evaluated_run_m, run_m);
     }
   }
   bool LongEnough(const VisibleLineOptions& options) const {
-    return line.evaluated_length_m >= options.min_evaluated_length_m - 1e-9;
+    return line.evaluated_length_m >= options.min_evaluated_length_m - 1e-9 &&
+           line.longest_evaluated_run_m >= options.min_evaluated_run_m - 1e-9;
   }
 };
+
+// A straight piece of a bright marking as painted (one dash of a dashed
+// tape), in base_link: the floor it covers.
+struct Cover {
+  Eigen::Vector2d a_m, dir;
+  double length_m = 0.0, half_width_m = 0.0;
+
+  bool Contains(const Eigen::Vector2d& p) const {
+    const double along = dir.dot(p - a_m);
+    const double across = std::abs(dir.x() * (p.y() - a_m.y()) - dir.y() * (p.x() - a_m.x()));
+    return along >= 0.0 && along <= length_m && across <= half_width_m;
+  }
+};
+
+// The painted pieces of the bright markings that reach within reach_m of
+// base_link's origin.
+std::vector<Cover> BrightCovers(const core::FloorMap& map, const core::SE2& T_base_map,
+                                double reach_m) {
+  std::vector<Cover> covers;
+  for (const core::FloorMarking& marking : map.markings) {
+    if (marking.polarity != core::MarkingPolarity::kBright) continue;
+    const bool dashed =
+        marking.kind == core::MarkingKind::kTapeDashed && marking.dash_m && marking.gap_m;
+    const double period = dashed ? *marking.dash_m + *marking.gap_m : 0.0;
+    double arc_m = 0.0;
+    for (size_t k = 0; k + 1 < marking.polyline_m.size(); ++k) {
+      const Eigen::Vector2d a = T_base_map * marking.polyline_m[k];
+      const Eigen::Vector2d b = T_base_map * marking.polyline_m[k + 1];
+      const double length = (b - a).norm();
+      const Eigen::Vector2d dir = (b - a) / length;
+      // Closest approach of the piece to the origin.
+      const double t = std::clamp(-dir.dot(a), 0.0, length);
+      if ((a + t * dir).norm() <= reach_m + 0.5 * marking.width_m) {
+        if (!dashed) {
+          covers.push_back({a, dir, length, 0.5 * marking.width_m});
+        } else {
+          for (double s = std::floor(arc_m / period) * period; s < arc_m + length; s += period) {
+            const double d0 = std::max(s, arc_m) - arc_m;
+            const double d1 = std::min(s + *marking.dash_m, arc_m + length) - arc_m;
+            if (d1 > d0) covers.push_back({a + d0 * dir, dir, d1 - d0, 0.5 * marking.width_m});
+          }
+        }
+      }
+      arc_m += length;
+    }
+  }
+  return covers;
+}
 
 }  // namespace
 
@@ -34,11 +91,18 @@ std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core:
                                           const FootprintPredicate& footprint,
                                           const VisibleLineOptions& options) {
   const core::SE2 T_base_map = T_map_base.Inverse();
+  const std::vector<Cover> covers = options.tape_occludes_joints
+                                        ? BrightCovers(map, T_base_map, options.occlusion_reach_m)
+                                        : std::vector<Cover>{};
+  auto occluded = [&](const Eigen::Vector2d& p) {
+    return std::any_of(covers.begin(), covers.end(), [&](const Cover& c) { return c.Contains(p); });
+  };
   std::vector<TrueLine> lines;
   for (const core::FloorMarking& marking : map.markings) {
     const bool dashed =
         marking.kind == core::MarkingKind::kTapeDashed && marking.dash_m && marking.gap_m;
     const bool wide = marking.width_m >= options.edge_min_width_m;
+    const bool coverable = marking.polarity == core::MarkingPolarity::kDark;
     const double half_width = 0.5 * marking.width_m;
     double arc_m = 0.0;  // arc length at the start of the piece
     for (size_t k = 0; k + 1 < marking.polyline_m.size(); ++k) {
@@ -55,14 +119,14 @@ std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core:
         }
         const Eigen::Vector2d p = a + s * d;
         if (!wide) {
-          if (footprint(p)) seen[0].Add(p, options);
+          if (footprint(p) && !(coverable && occluded(p))) seen[0].Add(p, s, options);
           continue;
         }
         const Eigen::Vector2d pl = p + half_width * left, pr = p - half_width * left;
         const bool seen_left = footprint(pl), seen_right = footprint(pr);
-        if (seen_left && seen_right) seen[0].Add(p, options);
-        if (seen_left) seen[1].Add(pl, options);
-        if (seen_right) seen[2].Add(pr, options);
+        if (seen_left && seen_right) seen[0].Add(p, s, options);
+        if (seen_left) seen[1].Add(pl, s, options);
+        if (seen_right) seen[2].Add(pr, s, options);
       }
       arc_m += length;
       // Which one line the extractor reports (see the header).

@@ -52,6 +52,7 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(single_edge_min_contrast > 0.0)) return bad("single_edge_min_contrast", "a number > 0");
   if (!(single_edge_max_gap_m > 0.0)) return bad("single_edge_max_gap_m", "a number > 0");
   if (!(single_edge_min_length_m > 0.0)) return bad("single_edge_min_length_m", "a number > 0");
+  if (!(single_edge_extension_m >= 0.0)) return bad("single_edge_extension_m", "a number >= 0");
   if (!(single_edge_min_relative_contrast > 0.0 && single_edge_min_relative_contrast <= 1.0)) {
     return bad("single_edge_min_relative_contrast", "a number in (0, 1]");
   }
@@ -225,8 +226,34 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
                                               const cv::Mat& floor_from_pixel, const BevGrid& grid,
                                               const LineExtractorOptions& options,
                                               const LineNoiseModel& noise) {
+  // The ridge of a bar's inner flank fades near the bar's corners and the
+  // footprint's border before the edge ends: the edge is also looked for
+  // beyond the ridge's ends, along its line (where there is no step, the bar
+  // has ended and LocateBarEdge finds nothing).
+  internal::CandidateLine extended = candidate;
+  const Eigen::Vector2d ridge_d = candidate.line.line.Direction();
+  const Eigen::Vector2d foot = candidate.line.line.rho_m * candidate.line.line.Normal();
+  double lo = ridge_d.dot(candidate.centres_m.front()), hi = lo;
+  for (const Eigen::Vector2d& p : candidate.centres_m) {
+    lo = std::min(lo, ridge_d.dot(p));
+    hi = std::max(hi, ridge_d.dot(p));
+  }
+  const int steps = static_cast<int>(std::floor(options.single_edge_extension_m / grid.cell_m()));
+  for (int k = 1; k <= steps; ++k) {
+    for (const double along : {lo - k * grid.cell_m(), hi + k * grid.cell_m()}) {
+      const Eigen::Vector2d p = foot + along * ridge_d;
+      const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+      const int c = static_cast<int>(std::lround(cell.x()));
+      const int r = static_cast<int>(std::lround(cell.y()));
+      if (c < 0 || r < 0 || c >= search_mask.cols || r >= search_mask.rows ||
+          search_mask.at<std::uint8_t>(r, c) == 0) {
+        continue;
+      }
+      extended.centres_m.push_back(p);
+    }
+  }
   std::vector<Eigen::Vector2d> points =
-      internal::LocateBarEdge(bev_float, grid, candidate, options.single_edge_min_contrast);
+      internal::LocateBarEdge(bev_float, grid, extended, options.single_edge_min_contrast);
   if (points.size() < 3 || points.size() < options.min_support * candidate.centres_m.size()) {
     return std::nullopt;
   }

@@ -110,6 +110,61 @@ TEST(GroundTruthLines, WideStripeHalfOutOfViewIsItsEdge) {
   EXPECT_FALSE(oblique[2].evaluated);
 }
 
+// A joint running under dashed tape is seen only between the dashes; one
+// beside the tape (off it by more than its half width) is seen everywhere.
+TEST(GroundTruthLines, TapeOccludesJointUnderItsDashes) {
+  core::FloorMap map;
+  core::FloorMarking dashed;
+  dashed.id = 1;
+  dashed.kind = core::MarkingKind::kTapeDashed;
+  dashed.width_m = 0.1;
+  dashed.dash_m = 1.0;
+  dashed.gap_m = 1.0;
+  dashed.polyline_m = {core::Vector2(0.0, 0.0), core::Vector2(10.0, 0.0)};
+  map.markings.push_back(dashed);
+  core::FloorMarking joint;
+  joint.id = 2;
+  joint.kind = core::MarkingKind::kJoint;
+  joint.polarity = core::MarkingPolarity::kDark;
+  joint.width_m = 0.008;
+  joint.polyline_m = {core::Vector2(0.0, 0.0), core::Vector2(10.0, 0.0)};
+  map.markings.push_back(joint);
+  core::FloorMarking beside = joint;
+  beside.id = 3;
+  beside.polyline_m = {core::Vector2(0.0, 0.06), core::Vector2(10.0, 0.06)};
+  map.markings.push_back(beside);
+  // Base x 0.6 .. 2.4 is map x 1.6 .. 3.4: a gap up to 2.0, a dash 2.0-3.0,
+  // a gap from 3.0.
+  const core::SE2 T_map_base(1.0, 0.0, 0.0);
+  const std::vector<TrueLine> lines =
+      VisibleMarkingLines(map, T_map_base, Footprint, VisibleLineOptions{});
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[1].marking_id, 2);
+  EXPECT_NEAR(lines[1].seen_length_m, 0.8, 0.025);       // 0.4 + 0.4 between dashes
+  EXPECT_NEAR(lines[1].evaluated_length_m, 0.4, 0.025);  // base x 2.0 .. 2.4
+  EXPECT_TRUE(lines[1].evaluated);
+  EXPECT_EQ(lines[2].marking_id, 3);
+  EXPECT_NEAR(lines[2].seen_length_m, 1.8, 0.02);
+
+  // The definition before the audit sees the joint under the dash too.
+  VisibleLineOptions old_definition;
+  old_definition.tape_occludes_joints = false;
+  const std::vector<TrueLine> old_lines =
+      VisibleMarkingLines(map, T_map_base, Footprint, old_definition);
+  ASSERT_EQ(old_lines.size(), 3u);
+  EXPECT_NEAR(old_lines[1].seen_length_m, 1.8, 0.02);
+
+  // Under solid tape the joint is not seen at all; the one beside it is.
+  map.markings[0].kind = core::MarkingKind::kTapeSolid;
+  map.markings[0].dash_m.reset();
+  map.markings[0].gap_m.reset();
+  const std::vector<TrueLine> covered =
+      VisibleMarkingLines(map, T_map_base, Footprint, VisibleLineOptions{});
+  ASSERT_EQ(covered.size(), 2u);
+  EXPECT_EQ(covered[0].marking_id, 1);
+  EXPECT_EQ(covered[1].marking_id, 3);
+}
+
 TEST(GroundTruthLines, MatchGatesOverlapAndDuplicates) {
   TrueLine truth;
   truth.line = {0.3, kPi / 2};

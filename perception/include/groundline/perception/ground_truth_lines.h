@@ -7,9 +7,15 @@
 // transformed into base_link, sampled every sample_step_m, and clipped to the
 // footprint (a predicate on base_link points: the part of the floor where the
 // extractor can find lines) and, for dashed tape, to the dashes (the pattern
-// starts with a dash at the first vertex, along the arc length). A piece with
+// starts with a dash at the first vertex, along the arc length). With
+// tape_occludes_joints, a sample of a dark marking (a joint) that lies under
+// a bright marking's paint (within its half width, on a dash) is not seen:
+// the tape covers the groove, and the extractor reports tape and groove there
+// as the one tape line (LineExtractorOptions::same_marking_distance_m); the
+// joint counts only where it runs between dashes or beside the tape. A piece with
 // any seen sample is a TrueLine; it is `evaluated` when at least
-// min_evaluated_length_m of it lies eval_x_min_m..eval_x_max_m ahead. Wear is
+// min_evaluated_length_m of it lies eval_x_min_m..eval_x_max_m ahead, with
+// one unbroken run of at least min_evaluated_run_m there. Wear is
 // not in the map, so a fully worn marking still counts.
 //
 // Wide markings (width_m >= edge_min_width_m: stop bars, crosswalk stripes)
@@ -52,8 +58,15 @@ struct VisibleLineOptions {
   double eval_x_min_m = 1.0;  // the range ahead where errors and rates count
   double eval_x_max_m = 2.5;
   double min_evaluated_length_m = 0.30;
+  // .. of which one run without unseen samples is at least this long: the
+  // extractor's least line (LineExtractorOptions::min_line_length_m; a piece
+  // that only grazes the footprint's border, seen at scattered cells, or
+  // seen in short bits between dashes, is no line it can find). 0: off.
+  double min_evaluated_run_m = 0.20;
   double edge_min_width_m = 0.12;       // wide markings: seen as two edges (see above)
   double edge_min_seen_length_m = 0.6;  // LineExtractorOptions::single_edge_min_length_m
+  bool tape_occludes_joints = true;     // false: the definition before issue 4's audit
+  double occlusion_reach_m = 4.0;       // bright markings farther from base_link are ignored
 };
 
 struct TrueLine {
@@ -65,8 +78,9 @@ struct TrueLine {
   HesseLine line;  // base_link
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();  // first and last seen sample, base_link
   Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
-  double seen_length_m = 0.0;       // in the footprint (and on dashes)
-  double evaluated_length_m = 0.0;  // of that, eval_x_min_m..eval_x_max_m ahead
+  double seen_length_m = 0.0;            // in the footprint (and on dashes)
+  double evaluated_length_m = 0.0;       // of that, eval_x_min_m..eval_x_max_m ahead
+  double longest_evaluated_run_m = 0.0;  // the longest run of consecutive such samples
   bool evaluated = false;
 };
 

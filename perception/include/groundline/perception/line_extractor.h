@@ -100,6 +100,11 @@ struct LineExtractorOptions {
   double single_edge_min_contrast = 10.0;  // grey levels
   double single_edge_max_gap_m = 0.1;
   double single_edge_min_length_m = 0.6;
+  // Edge points are also looked for this far beyond the ends of the ridge
+  // (within the search footprint): the one-sided ridge 3-4 cm inside a bar
+  // fades near the bar's corners and the footprint's border before the edge
+  // ends (a 71 cm edge had ridge centres over 56 cm only).
+  double single_edge_extension_m = 0.12;
   // A bright edge whose dark side is darker than its bright side by this
   // fraction of the bright grey is kept even where the frame's median floor
   // grey is that of the markings filling most of the view.

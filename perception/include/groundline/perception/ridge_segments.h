@@ -34,7 +34,12 @@ struct RidgeSegmentOptions {
   // cv::HoughLinesP: accumulator votes, shortest segment, largest gap (cells).
   int hough_votes = 15;
   double hough_min_length_cells = 15.0;
-  double hough_max_gap_cells = 4.0;
+  // A gap of 8: non-maximum suppression puts the centres of a ridge that runs
+  // along the grid half a cell off the cell centres in runs of 5-20 on either
+  // neighbouring cell, and HoughLinesP's walk along one pixel line must
+  // bridge the runs on the other (with 4, a joint at y = 0.5 m in zone C and
+  // dashes of the centre tape in zone A were missed whole).
+  double hough_max_gap_cells = 8.0;
   // Merging collinear segments: direction within this, both endpoints of the
   // shorter within merge_offset_cells of the longer one's line, and at most
   // merge_gap_cells of empty line between them.
