@@ -78,15 +78,43 @@ class ScanGrid {
   std::vector<std::uint8_t> cells_;
 };
 
+// The weight of each point along d: (n . d)^2 (0 without a normal), each
+// surface's total capped at options.max_surface_points. A surface is a run of
+// consecutive points (beam order) less than surface_gap_m apart.
+std::vector<double> SurfaceCappedWeights(const std::vector<ScanPoint>& points,
+                                         const core::Vector2& d,
+                                         const ScanAliasingOptions& options) {
+  std::vector<double> weights(points.size(), 0.0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].has_normal()) weights[i] = std::pow(points[i].normal.dot(d), 2);
+  }
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= points.size(); ++i) {
+    if (i < points.size() &&
+        (points[i].point_m - points[i - 1].point_m).norm() <= options.surface_gap_m) {
+      continue;
+    }
+    double total = 0.0;
+    for (std::size_t j = begin; j < i; ++j) total += weights[j];
+    if (total > options.max_surface_points) {
+      const double scale = options.max_surface_points / total;
+      for (std::size_t j = begin; j < i; ++j) weights[j] *= scale;
+    }
+    begin = i;
+  }
+  return weights;
+}
+
 }  // namespace
 
 core::Status ScanAliasingOptions::Validate() const {
   if (!(resolution_m > 0.0 && min_shift_m > 0.0 && max_shift_m >= min_shift_m &&
         free_stop_m >= 0.0 && min_consistent_share > 0.0 && min_consistent_share <= 1.0 &&
-        min_points >= 1)) {
+        surface_gap_m > 0.0 && max_surface_points > 0.0 && min_points >= 1)) {
     return core::Status::Error(
         "ScanAliasingOptions: need resolution_m > 0, 0 < min_shift_m <= max_shift_m, "
-        "free_stop_m >= 0, min_consistent_share in (0, 1], min_points >= 1");
+        "free_stop_m >= 0, min_consistent_share in (0, 1], surface_gap_m > 0, "
+        "max_surface_points > 0, min_points >= 1");
   }
   return core::Status::Ok();
 }
@@ -97,15 +125,17 @@ ScanAliasing DetectScanAliasing(const ScanPoints& scan, const MatchInformation& 
   out.direction = WeakestTranslation(information);
   if (static_cast<int>(scan.points.size()) < options.min_points) return out;
   const ScanGrid grid(scan, options);
+  const std::vector<double> weights = SurfaceCappedWeights(scan.points, out.direction, options);
   const double inv = 1.0 / options.resolution_m;
   const int first = static_cast<int>(std::ceil(options.min_shift_m * inv - 1e-9));
   const int last = static_cast<int>(std::floor(options.max_shift_m * inv + 1e-9));
   for (int k = first; k <= last; ++k) {
     const core::Vector2 shift = k * options.resolution_m * out.direction;
     double consistent = 0.0, contradicted = 0.0;
-    for (const ScanPoint& p : scan.points) {
-      if (!p.has_normal()) continue;
-      const double weight = std::pow(p.normal.dot(out.direction), 2);
+    for (std::size_t i = 0; i < scan.points.size(); ++i) {
+      const double weight = weights[i];
+      if (weight <= 0.0) continue;
+      const ScanPoint& p = scan.points[i];
       for (const core::Vector2& q :
            {core::Vector2(p.point_m + shift), core::Vector2(p.point_m - shift)}) {
         const Cell cell = grid.At(q);
