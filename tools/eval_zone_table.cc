@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <optional>
+
+#include <nlohmann/json.hpp>
 
 namespace groundline::tools {
 namespace {
@@ -76,6 +80,37 @@ void PrintZoneTable(const std::string& zone, const std::string& dataset,
     std::string verdict = failed.empty() ? "met" : "missed:";
     for (const std::string& f : failed) verdict += " " + f;
     std::printf("  %s\n", verdict.c_str());
+  }
+}
+
+void PrintDetectorShares(const std::vector<EvalRun>& runs) {
+  bool title = false;
+  for (const EvalRun& run : runs) {
+    const std::filesystem::path summary_path =
+        std::filesystem::path(run.est_path).parent_path() / "summary.json";
+    std::ifstream in(summary_path);
+    if (!in) continue;
+    const nlohmann::json summary = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (summary.is_discarded() || !summary.contains("lidar") ||
+        !summary["lidar"].contains("detector")) {
+      continue;
+    }
+    if (!title) {
+      std::printf(
+          "LiDAR degeneracy detector, keyframes flagged per region "
+          "(issue 7: aisle >= 95 %%, open < 5 %%)\n");
+      title = true;
+    }
+    std::printf("  %s:", run.label.c_str());
+    for (const auto& [region, counts] : summary["lidar"]["detector"].items()) {
+      const double share = counts.value("fraction_flagged", 0.0);
+      std::string verdict;
+      if (region == "aisle") verdict = share >= 0.95 ? " met" : " missed";
+      if (region == "open") verdict = share < 0.05 ? " met" : " missed";
+      std::printf(" %s %d/%d = %.1f %%%s", region.c_str(), counts.value("flagged_degenerate", 0),
+                  counts.value("keyframes", 0), 100.0 * share, verdict.c_str());
+    }
+    std::printf("\n");
   }
 }
 

@@ -32,6 +32,13 @@ std::vector<std::string> FailedZoneTargets(const EvalRun& run, const std::string
 void PrintZoneTable(const std::string& zone, const std::string& dataset,
                     const std::vector<EvalRun>& runs);
 
+// For the runs given as --run LABEL=DIR whose DIR/summary.json has the LiDAR
+// degeneracy detector's counts (`localize --lidar` or `--mode lidar`): one
+// line per run with the share of keyframes flagged in each region, checked
+// against issue 7 (aisle >= 95 %, open < 5 %; other regions unscored).
+// Prints nothing when no run has them.
+void PrintDetectorShares(const std::vector<EvalRun>& runs);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_

@@ -1,8 +1,10 @@
 // `groundline localize --mode lidar` end to end on a short simulated zone B
 // run (no camera): the LiDAR + odometry trajectory beats dead reckoning, and
-// the health carries the degeneracy fields and the ground-truth region.
+// the health carries the degeneracy fields and the ground-truth region, and
+// `eval --zone` prints the degeneracy detector's shares from its summary.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -64,7 +66,22 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
     ++lines;
   }
   EXPECT_GT(lines, 50);
-  EXPECT_TRUE(with_lidar["lidar"].contains("detector"));
+  ASSERT_TRUE(with_lidar["lidar"].contains("detector"));
+
+  // The zone table adds the detector's shares, as localize counted them.
+  ASSERT_EQ(RunGroundline("eval --dataset " + Quoted(dataset) + " --zone B --run lidar=" +
+                              Quoted(lidar) + " --assoc interp --max-dt-s 0.05",
+                          dir, &out),
+            0)
+      << out;
+  ASSERT_NE(out.find("LiDAR degeneracy detector"), std::string::npos) << out;
+  for (const auto& [region, counts] : with_lidar["lidar"]["detector"].items()) {
+    char expected[96];
+    std::snprintf(expected, sizeof(expected), "%s %d/%d = %.1f %%", region.c_str(),
+                  counts["flagged_degenerate"].get<int>(), counts["keyframes"].get<int>(),
+                  100.0 * counts["fraction_flagged"].get<double>());
+    EXPECT_NE(out.find(expected), std::string::npos) << expected << " not in:\n" << out;
+  }
 }
 
 }  // namespace
