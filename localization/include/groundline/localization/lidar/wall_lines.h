@@ -26,29 +26,39 @@
 //     spanning min_length_m;
 //  3. the direction: FitWallLine on the whole band (upright faces and the
 //     loads behind them are parallel);
-//  4. the offset, the front of the band along that direction (1-D): a rack
-//     face is its uprights; the loads between them stand a few centimetres
-//     behind with many more points. With s_i the signed distance (smaller
-//     nearer the sensor) and sigma_i the point's noise across the line,
-//     c_front is the (front_rank + 1)-th smallest s_i + front_sigma sigma_i
-//     and the face's points are those with s_i - front_sigma sigma_i <=
-//     c_front: the loads drop out however many points they have. They must
-//     number min_face_inliers over min_face_span_m (two uprights); the line
-//     moves to their weighted mean distance (rho's variance gains
-//     1 / sum 1/sigma_i^2). The selection is one-sided: on a plain wall it
-//     sits ~0.5-1 sigma of the square-on rays (up to ~1-2 cm with 1.5 cm
-//     range noise) in front of the face; on the simulated rack faces the
-//     error is within 1 cm (tests). The band's points are removed and the
-//     search repeats (at most max_lines lines). The line's extent is the
+//  4. the offset, along that direction (1-D), with s_i the signed distance
+//     (smaller nearer the sensor) and sigma_i the point's noise across the
+//     line (range noise along the ray, projected, and the face floor):
+//     a. the band's centre c: from the weighted median of s, iterated
+//        symmetric gating, c <- the weighted mean of the s_i with
+//        |s_i - c| <= gate_sigma sigma_i. On a unimodal band (a plain wall)
+//        the gate cuts both tails alike, so c is unbiased (an iteration
+//        shrinks an offset d of c to ~0.09 d at gate_sigma 2.5);
+//     b. a plain wall is a band with fewer than recess_min_points points
+//        more than recess_sigma sigma_i off c on either side and at least
+//        centre_min_fraction of its points within the gate: the face's
+//        points are the gated ones, the offset c;
+//     c. otherwise the band is recessed (a rack face: uprights in front of
+//        loads a few centimetres behind with many more points, which pull c
+//        back) and the offset is the band's front: c_front is the
+//        (front_rank + 1)-th smallest s_i + front_sigma sigma_i and the
+//        face's points are those with s_i - front_sigma sigma_i <= c_front,
+//        the loads drop out however many points they have. The selection
+//        is one-sided (a plain wall's front sits ~1 sigma of the square-on
+//        rays in front of it, hence 4b) but on rack faces the uprights'
+//        side faces, also among the front points, balance it: within 3 mm
+//        (tests; +0.7 mm mean on zone B's racks at the true pose).
+//     The face's points must number min_face_inliers over min_face_span_m
+//     (two uprights); the line moves to their weighted mean distance (rho's
+//     variance gains 1 / sum 1/sigma_i^2). The band's points are removed and
+//     the search repeats (at most max_lines lines). The line's extent is the
 //     band's.
-// The measurement covariance is the fit's plus diag(face_rho_sigma_m^2,
-// face_alpha_sigma_rad^2): what the point noise does not capture (an
-// upright's side face among the front points, the survey of the face, and
-// the one-sided front search's bias on plain walls: at the true pose the used
-// walls' rho error was 10 mm RMS on zone B's racks but +13 to +17 mm mean on
-// the plain walls of zones A, C, D, 1.2 km runs, seed 11). The 15 mm rho
-// floor covers it: zone C lines+lidar ATE 4.07 -> 2.86 cm (lines alone
-// 3.96), zone B 0.82 -> 0.73 cm, against a 5 mm floor.
+// The measurement covariance is the fit's plus diag(floor^2,
+// face_alpha_sigma_rad^2), floor = face_rho_sigma_m for a plain wall (4b),
+// recessed_rho_sigma_m for a recessed band (4c): what the point noise does
+// not capture (an upright's side face among the front points, the survey of
+// the face, a band that holds two faces at different offsets such as a dock
+// wall and its doors 10 cm behind).
 //
 // Pure functions; thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_WALL_LINES_H_
@@ -98,6 +108,10 @@ struct WallLineOptions {
   double band_m = 0.08;  // RANSAC inlier band, +-
   double front_sigma = 1.0;
   int front_rank = 2;
+  double gate_sigma = 2.5;           // symmetric gate about the face, in point sigmas
+  double recess_sigma = 3.0;         // a point this far off the band's centre is off it
+  int recess_min_points = 4;         // points off it on one side that make a recess
+  double centre_min_fraction = 0.8;  // of the band within the gate, for a plain wall
   double min_length_m = 3.0;
   double max_gap_m = 3.0;
   int min_inliers = 12;
@@ -106,6 +120,7 @@ struct WallLineOptions {
   int ransac_iterations = 150;
   int max_lines = 4;
   double face_rho_sigma_m = 0.015;
+  double recessed_rho_sigma_m = 0.015;
   double face_alpha_sigma_rad = 0.002;
   unsigned seed = 1;
 
@@ -118,6 +133,7 @@ struct WallLine {
   core::Vector2 endpoint_a_m = core::Vector2::Zero();    // extent of the inliers, on the line
   core::Vector2 endpoint_b_m = core::Vector2::Zero();
   int num_inliers = 0;
+  bool recessed = false;  // offset from the band's front (step 4c), not its centre
 };
 
 // The faces in one scan (options asserted valid), longest support first.
