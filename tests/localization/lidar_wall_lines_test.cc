@@ -177,8 +177,10 @@ TEST(ExtractWallLines, RackFaceAndPlainWallOffsetsAreUnbiased) {
       }
     }
   }
-  // A rack band's front can miss two uprights' span (min_face_span_m).
-  ASSERT_GE(rack, scans - 3);
+  // A rack band is dropped when its front misses two uprights' span
+  // (min_face_span_m) or runs off the band's direction (front_tilt_sigma,
+  // which trades a third of these rack faces for the dock walls' mixed bands).
+  ASSERT_GE(rack, 20);
   ASSERT_EQ(wall, scans);
   EXPECT_NEAR(rack_sum / rack, 0.0, 0.003);
   EXPECT_NEAR(wall_sum / wall, 0.0, 0.003);

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <string>
@@ -204,6 +205,22 @@ FaceOffset FaceAlong(const OrientedLine& line, std::span<const RangePoint> point
   return face;
 }
 
+// A recessed band's front points run along the band's direction (uprights
+// all along a rack face); a band over two faces at different offsets (a dock
+// wall and its doors behind) fits a direction between them, which its front
+// points, the nearer face's, do not follow (header, step 4c).
+bool FrontAlignedWithBand(std::span<const RangePoint> points, const std::vector<int>& front,
+                          const WallLineFit& band_fit, const WallLineOptions& o) {
+  const core::Result<WallLineFit> front_fit =
+      FitWallLine(Gather(points, front), o.range_sigma_m, o.face_sigma_m);
+  if (!front_fit.ok()) return false;
+  const double tilt_rad = std::abs(
+      std::remainder(front_fit->line.alpha_rad - band_fit.line.alpha_rad, std::numbers::pi));
+  const double sigma_rad =
+      std::sqrt(front_fit->covariance(1, 1) + band_fit.covariance(1, 1)) + o.face_alpha_sigma_rad;
+  return tilt_rad <= o.front_tilt_sigma * sigma_rad;
+}
+
 // RANSAC: the line through two points with the most band inliers.
 std::optional<OrientedLine> BestHypothesis(std::span<const RangePoint> points,
                                            const std::vector<int>& active, const WallLineOptions& o,
@@ -239,8 +256,8 @@ core::Status WallLineOptions::Validate() const {
         std::pair("front_sigma", front_sigma), std::pair("gate_sigma", gate_sigma),
         std::pair("recess_sigma", recess_sigma),
         std::pair("centre_min_fraction", centre_min_fraction),
-        std::pair("min_length_m", min_length_m), std::pair("max_gap_m", max_gap_m),
-        std::pair("face_rho_sigma_m", face_rho_sigma_m),
+        std::pair("front_tilt_sigma", front_tilt_sigma), std::pair("min_length_m", min_length_m),
+        std::pair("max_gap_m", max_gap_m), std::pair("face_rho_sigma_m", face_rho_sigma_m),
         std::pair("recessed_rho_sigma_m", recessed_rho_sigma_m),
         std::pair("face_alpha_sigma_rad", face_alpha_sigma_rad)}) {
     if (core::Status s = Positive(field, value); !s.ok()) return s;
@@ -316,6 +333,10 @@ std::vector<WallLine> ExtractWallLines(std::span<const RangePoint> points,
     line = Orient(band_fit->line, points, band);
     const FaceOffset face = FaceAlong(line, points, band, o);
     if (!FaceSupported(Along(line.n, points, face.points), o)) {
+      remove_band();
+      continue;
+    }
+    if (face.recessed && !FrontAlignedWithBand(points, face.points, *band_fit, o)) {
       remove_band();
       continue;
     }
