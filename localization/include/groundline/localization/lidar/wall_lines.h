@@ -47,7 +47,7 @@
 //        is one-sided (a plain wall's front sits ~1 sigma of the square-on
 //        rays in front of it, hence 4b) but on rack faces the uprights'
 //        side faces, also among the front points, balance it: within 3 mm
-//        (tests; +0.7 mm mean on zone B's racks at the true pose). The
+//        (tests; +0.9 mm mean on zone B's racks at the true pose). The
 //        front's own direction (FitWallLine on its points) must agree with
 //        the band's within front_tilt_sigma times their combined alpha
 //        sigma (plus face_alpha_sigma_rad), else the band is dropped: a band
@@ -67,7 +67,7 @@
 // the face, mixed bands that pass 4c). At the true pose (benchmark
 // localization_wall_rho_bias, 1.2 km per zone, seed 11) plain-wall bands
 // come out -0.1 to +0.1 mm mean, 1.1-4.2 mm RMS (zones A, C, D) and
-// recessed bands +0.7 mm mean, 6.2 mm RMS on zone B's racks (2-3 cm off on
+// recessed bands +0.9 mm mean, 5.9 mm RMS on zone B's racks (2-3 cm off on
 // the few mixed bands elsewhere). In the localizer (lines + LiDAR, same
 // datasets) the used walls' residual at the true pose is 6.5-13 mm RMS on
 // plain walls (zones A, B, C; 1.3 mm on D) and 9.0 mm on B's racks, hence
