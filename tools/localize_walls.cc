@@ -100,8 +100,8 @@ std::vector<localization::LineObservation> WallLineSource::Observe(
       [&source](double t) { return source.OdometryAt(t); },
       std::max(options_.min_range_m, scan->range_min_m),
       std::min(options_.max_range_m, scan->range_max_m));
-  std::vector<localization::LineObservation> observations =
-      lidar::WallLineObservations(lidar::ExtractWallLines(points, options_));
+  const std::vector<lidar::WallLine> walls = lidar::ExtractWallLines(points, options_);
+  std::vector<localization::LineObservation> observations = lidar::WallLineObservations(walls);
   const std::vector<localization::Match> matches = localization::AssociateLines(
       observations, walls_, predicted.T_map_base, predicted.covariance, association_);
   int used = 0, ambiguous = 0;
@@ -118,6 +118,7 @@ std::vector<localization::LineObservation> WallLineSource::Observe(
     rho_residual_m_.push_back(nu(0));
     alpha_residual_rad_.push_back(nu(1));
     d2_.push_back(nu.dot(z.covariance.ldlt().solve(nu)));
+    recessed_.push_back(walls[match.observation].recessed);
   }
   const int n = static_cast<int>(observations.size());
   observed_ += n;
@@ -138,12 +139,21 @@ nlohmann::ordered_json WallLineSource::Summary() const {
   out["used"] = used_;
   out["rejected"] = rejected_;
   out["ambiguous"] = ambiguous_;
-  if (!rho_residual_m_.empty()) {
-    out["at_truth"] = {{"rho_mean_m", Mean(rho_residual_m_)},
-                       {"rho_rms_m", Rms(rho_residual_m_)},
-                       {"alpha_mean_rad", Mean(alpha_residual_rad_)},
-                       {"alpha_rms_rad", Rms(alpha_residual_rad_)},
-                       {"mahalanobis2_mean", Mean(d2_)}};
+  // All used walls, then those whose offset came from the band's centre
+  // (plain walls) and from its front (recessed: rack faces).
+  for (const auto& [key, which] : {std::pair("at_truth", -1), std::pair("at_truth_centre", 0),
+                                   std::pair("at_truth_recessed", 1)}) {
+    std::vector<double> rho, alpha, d2;
+    for (std::size_t k = 0; k < rho_residual_m_.size(); ++k) {
+      if (which >= 0 && recessed_[k] != (which == 1)) continue;
+      rho.push_back(rho_residual_m_[k]);
+      alpha.push_back(alpha_residual_rad_[k]);
+      d2.push_back(d2_[k]);
+    }
+    if (rho.empty()) continue;
+    out[key] = {{"count", rho.size()},         {"rho_mean_m", Mean(rho)},
+                {"rho_rms_m", Rms(rho)},       {"alpha_mean_rad", Mean(alpha)},
+                {"alpha_rms_rad", Rms(alpha)}, {"mahalanobis2_mean", Mean(d2)}};
   }
   return out;
 }

@@ -14,7 +14,9 @@
 // Health: walls observed / used / rejected (outside every gate or ambiguous)
 // per keyframe and in summary.json, and with ground truth the residual of
 // each associated wall at the true pose (mean, RMS, and its mean
-// Mahalanobis square under the wall's own covariance, ~2 when consistent).
+// Mahalanobis square under the wall's own covariance, ~2 when consistent),
+// also split into the walls whose offset came from the band's centre (plain
+// walls) and from its front (recessed: rack faces).
 #ifndef GROUNDLINE_TOOLS_LOCALIZE_WALLS_H_
 #define GROUNDLINE_TOOLS_LOCALIZE_WALLS_H_
 
@@ -59,6 +61,7 @@ class WallLineSource {
   long keyframes_ = 0, observed_ = 0, used_ = 0, rejected_ = 0, ambiguous_ = 0;
   // Of used walls, at the true pose: rho residuals [m], alpha residuals [rad], d2.
   std::vector<double> rho_residual_m_, alpha_residual_rad_, d2_;
+  std::vector<bool> recessed_;  // of each: the offset from the band's front
 };
 
 }  // namespace groundline::tools

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <string>
@@ -110,23 +111,114 @@ double PerpendicularSigma(const Eigen::Vector2d& n, const RangePoint& p, const W
   return std::sqrt(o.range_sigma_m * o.range_sigma_m * u * u + o.face_sigma_m * o.face_sigma_m);
 }
 
-// The face's points along the fitted direction (1-D); see the header, step 4.
-std::vector<int> FrontPoints(const OrientedLine& line, std::span<const RangePoint> points,
-                             const std::vector<int>& band, const WallLineOptions& o) {
-  std::vector<double> s, sigma, bound;
+// Symmetric gating about c, iterated (header, step 4a): c <- the weighted
+// mean of the s_j with |s_j - c| <= gate_sigma sigma_j.
+// Returns the gated points (indices into s) at the fixed point.
+std::vector<std::size_t> GateSymmetric(const std::vector<double>& s,
+                                       const std::vector<double>& sigma, const WallLineOptions& o,
+                                       double* c) {
+  std::vector<std::size_t> gated;
+  for (int it = 0; it < 20; ++it) {
+    gated.clear();
+    double sw = 0.0, sws = 0.0;
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      if (std::abs(s[j] - *c) > o.gate_sigma * sigma[j]) continue;
+      gated.push_back(j);
+      sw += 1.0 / (sigma[j] * sigma[j]);
+      sws += s[j] / (sigma[j] * sigma[j]);
+    }
+    if (gated.empty()) return gated;
+    const double next = sws / sw;
+    const bool converged = std::abs(next - *c) < 1e-5;
+    *c = next;
+    if (converged) break;
+  }
+  return gated;
+}
+
+// The weighted median of s (weights 1 / sigma^2).
+double WeightedMedian(const std::vector<double>& s, const std::vector<double>& sigma) {
+  std::vector<std::pair<double, double>> sw;
+  double total = 0.0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    sw.emplace_back(s[j], 1.0 / (sigma[j] * sigma[j]));
+    total += sw.back().second;
+  }
+  std::sort(sw.begin(), sw.end());
+  double sum = 0.0;
+  for (const auto& [value, weight] : sw) {
+    sum += weight;
+    if (sum >= 0.5 * total) return value;
+  }
+  return sw.back().first;
+}
+
+struct FaceOffset {
+  std::vector<int> points;  // the face's, indices into the scan
+  double offset_m = 0.0;    // along the oriented line's normal
+  double variance_m2 = 0.0;
+  bool recessed = false;
+};
+
+// The face's offset along the fitted direction (1-D); see the header, step 4.
+FaceOffset FaceAlong(const OrientedLine& line, std::span<const RangePoint> points,
+                     const std::vector<int>& band, const WallLineOptions& o) {
+  std::vector<double> s, sigma;
   for (int i : band) {
     s.push_back(line.Distance(points[i].point_m));
     sigma.push_back(PerpendicularSigma(line.n, points[i], o));
-    bound.push_back(s.back() + o.front_sigma * sigma.back());
   }
-  if (static_cast<int>(bound.size()) <= o.front_rank) return {};
-  std::nth_element(bound.begin(), bound.begin() + o.front_rank, bound.end());
-  const double c_front = bound[o.front_rank];
-  std::vector<int> front;
+  if (static_cast<int>(s.size()) <= o.front_rank) return {};
+  // 4a: the band's centre, symmetric gating from its weighted median.
+  double c = WeightedMedian(s, sigma);
+  std::vector<std::size_t> gated = GateSymmetric(s, sigma, o, &c);
+  // 4b: points clearly off it on either side: uprights in front of the
+  // loads it settled on, or loads behind the uprights.
+  int off_front = 0, off_behind = 0;
   for (std::size_t j = 0; j < s.size(); ++j) {
-    if (s[j] - o.front_sigma * sigma[j] <= c_front) front.push_back(band[j]);
+    off_front += c - s[j] > o.recess_sigma * sigma[j];
+    off_behind += s[j] - c > o.recess_sigma * sigma[j];
   }
-  return front;
+  FaceOffset face;
+  face.recessed = std::max(off_front, off_behind) >= o.recess_min_points ||
+                  static_cast<double>(gated.size()) < o.centre_min_fraction * s.size();
+  if (face.recessed) {
+    // 4c: the front of the band.
+    std::vector<double> bound;
+    for (std::size_t j = 0; j < s.size(); ++j) bound.push_back(s[j] + o.front_sigma * sigma[j]);
+    std::nth_element(bound.begin(), bound.begin() + o.front_rank, bound.end());
+    const double c_front = bound[o.front_rank];
+    gated.clear();
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      if (s[j] - o.front_sigma * sigma[j] <= c_front) gated.push_back(j);
+    }
+  }
+  if (gated.empty()) return face;
+  double sum_w = 0.0, sum_ws = 0.0;
+  for (std::size_t j : gated) {
+    face.points.push_back(band[j]);
+    sum_w += 1.0 / (sigma[j] * sigma[j]);
+    sum_ws += s[j] / (sigma[j] * sigma[j]);
+  }
+  face.offset_m = sum_ws / sum_w;
+  face.variance_m2 = 1.0 / sum_w;
+  return face;
+}
+
+// A recessed band's front points run along the band's direction (uprights
+// all along a rack face); a band over two faces at different offsets (a dock
+// wall and its doors behind) fits a direction between them, which its front
+// points, the nearer face's, do not follow (header, step 4c).
+bool FrontAlignedWithBand(std::span<const RangePoint> points, const std::vector<int>& front,
+                          const WallLineFit& band_fit, const WallLineOptions& o) {
+  const core::Result<WallLineFit> front_fit =
+      FitWallLine(Gather(points, front), o.range_sigma_m, o.face_sigma_m);
+  if (!front_fit.ok()) return false;
+  const double tilt_rad = std::abs(
+      std::remainder(front_fit->line.alpha_rad - band_fit.line.alpha_rad, std::numbers::pi));
+  const double sigma_rad =
+      std::sqrt(front_fit->covariance(1, 1) + band_fit.covariance(1, 1)) + o.face_alpha_sigma_rad;
+  return tilt_rad <= o.front_tilt_sigma * sigma_rad;
 }
 
 // RANSAC: the line through two points with the most band inliers.
@@ -161,8 +253,12 @@ core::Status WallLineOptions::Validate() const {
   for (const auto& [field, value] :
        {std::pair("range_sigma_m", range_sigma_m), std::pair("min_range_m", min_range_m),
         std::pair("max_range_m", max_range_m), std::pair("band_m", band_m),
-        std::pair("front_sigma", front_sigma), std::pair("min_length_m", min_length_m),
+        std::pair("front_sigma", front_sigma), std::pair("gate_sigma", gate_sigma),
+        std::pair("recess_sigma", recess_sigma),
+        std::pair("centre_min_fraction", centre_min_fraction),
+        std::pair("front_tilt_sigma", front_tilt_sigma), std::pair("min_length_m", min_length_m),
         std::pair("max_gap_m", max_gap_m), std::pair("face_rho_sigma_m", face_rho_sigma_m),
+        std::pair("recessed_rho_sigma_m", recessed_rho_sigma_m),
         std::pair("face_alpha_sigma_rad", face_alpha_sigma_rad)}) {
     if (core::Status s = Positive(field, value); !s.ok()) return s;
   }
@@ -173,6 +269,9 @@ core::Status WallLineOptions::Validate() const {
   }
   if (front_rank < 0) {
     return core::Status::Error("WallLineOptions.front_rank: expected >= 0");
+  }
+  if (recess_min_points < 1) {
+    return core::Status::Error("WallLineOptions.recess_min_points: expected >= 1");
   }
   if (min_inliers < 3 || min_face_inliers < 3 || ransac_iterations < 1 || max_lines < 0) {
     return core::Status::Error(
@@ -232,18 +331,16 @@ std::vector<WallLine> ExtractWallLines(std::span<const RangePoint> points,
       continue;
     }
     line = Orient(band_fit->line, points, band);
-    const std::vector<int> inliers = FrontPoints(line, points, band, o);
-    if (!FaceSupported(Along(line.n, points, inliers), o)) {
+    const FaceOffset face = FaceAlong(line, points, band, o);
+    if (!FaceSupported(Along(line.n, points, face.points), o)) {
       remove_band();
       continue;
     }
-    double sum_w = 0.0, sum_ws = 0.0;
-    for (int i : inliers) {
-      const double sigma = PerpendicularSigma(line.n, points[i], o);
-      sum_w += 1.0 / (sigma * sigma);
-      sum_ws += line.Distance(points[i].point_m) / (sigma * sigma);
+    if (face.recessed && !FrontAlignedWithBand(points, face.points, *band_fit, o)) {
+      remove_band();
+      continue;
     }
-    const double offset_m = sum_ws / sum_w;
+    const double offset_m = face.offset_m;
     WallLine wall;
     wall.fit = *band_fit;
     // Moving along the oriented normal n by offset: rho changes by offset
@@ -252,14 +349,16 @@ std::vector<WallLine> ExtractWallLines(std::span<const RangePoint> points,
     wall.fit.line =
         perception::NormalizeLine(band_fit->line.rho_m + sign * offset_m, band_fit->line.alpha_rad);
     wall.covariance = band_fit->covariance;
-    wall.covariance(0, 0) += 1.0 / sum_w + o.face_rho_sigma_m * o.face_rho_sigma_m;
+    const double floor_m = face.recessed ? o.recessed_rho_sigma_m : o.face_rho_sigma_m;
+    wall.covariance(0, 0) += face.variance_m2 + floor_m * floor_m;
     wall.covariance(1, 1) += o.face_alpha_sigma_rad * o.face_alpha_sigma_rad;
     const Eigen::Vector2d n = wall.fit.line.Normal();
     const Eigen::Vector2d d = wall.fit.line.Direction();
     const std::vector<double> along = Along(n, points, band);
     wall.endpoint_a_m = wall.fit.line.rho_m * n + along.front() * d;
     wall.endpoint_b_m = wall.fit.line.rho_m * n + along.back() * d;
-    wall.num_inliers = static_cast<int>(inliers.size());
+    wall.num_inliers = static_cast<int>(face.points.size());
+    wall.recessed = face.recessed;
     walls.push_back(wall);
     remove_band();
   }
