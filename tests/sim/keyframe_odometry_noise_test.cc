@@ -1,5 +1,5 @@
 // The odometry noise model of `groundline localize` (tools/localize_lines.h:
-// wheel variance 1.27e-5 m^2/m, lateral variance 1e-6 m^2/m, plus the
+// wheel variance 1.27e-5 m^2/m, plus the
 // smoother's per-keyframe floors) against a Monte Carlo of the simulator's
 // encoders (sim_run.h defaults: 0.1 % radius errors, 1e-5 m^2/m random wheel
 // travel, slips) over keyframe-length motions: the odometry factor between two
@@ -60,7 +60,9 @@ const std::vector<core::Trajectory>& KeyframeMotions() {
   return motions;
 }
 
-TEST(KeyframeOdometryNoise, LocalizeDefaultsAreConsistentWithTheSimulatedEncoders) {
+// With the consistent lateral variance (1e-6 m^2/m: the simulator has no
+// lateral error source).
+TEST(KeyframeOdometryNoise, TheWheelVarianceIsConsistentWithTheSimulatedEncoders) {
   const OdometryNoiseParams noise =
       localization::OdometryNoiseFromWheelVariance(1.27e-5, DiffDriveParams().track_m, 1e-6);
   for (const core::Trajectory& truth : KeyframeMotions()) {
@@ -78,11 +80,11 @@ TEST(KeyframeOdometryNoise, LocalizeDefaultsAreConsistentWithTheSimulatedEncoder
   }
 }
 
-TEST(KeyframeOdometryNoise, AMetrePerMetreLateralAllowanceIsFarTooCautious) {
-  // The former default lateral variance, 1e-3 m^2/m (3 cm per sqrt(m)): the
-  // simulator has no lateral error source, and between keyframes the
-  // lateral error is the heading error carried along (~2 mm), so the
-  // lateral variance came out ~100x too wide.
+TEST(KeyframeOdometryNoise, TheSlipAllowanceMakesTheLateralVarianceFarTooCautious) {
+  // The default lateral variance of `groundline localize`, 1e-3 m^2/m (3 cm
+  // per sqrt(m), kept as the gate's allowance for wheel slips): between
+  // keyframes the lateral error is the heading error carried along (~2 mm),
+  // so the lateral variance is ~100x too wide.
   const OdometryNoiseParams noise =
       localization::OdometryNoiseFromWheelVariance(1.27e-5, DiffDriveParams().track_m, 1e-3);
   const Consistency c = KeyframeConsistency(KeyframeMotions().front(), noise, 1000);
