@@ -37,16 +37,17 @@ struct LocalizeLinesFlags {
   // travelled [m^2/m] (OdometryNoiseParams::k_lat). The simulator (and a
   // differential drive without side slip) has no lateral error source: the
   // lateral error between keyframes is the heading error carried along,
-  // which the integrator propagates, so 1e-3 (3 cm per sqrt(m)) makes the
-  // odometry's lateral variance ~100x too wide
-  // (tests/sim/keyframe_odometry_noise_test.cc). It stays because it is what
-  // holds the association gate open after a wheel slip: the simulator's slip
-  // (zones A-D seed 11: 2.8 cm on one wheel at 122.3 s, a 2.1 deg heading
-  // jump) is far in the tail of any Gaussian, and with 1e-6 the lines after
-  // it were rejected for 3.5 s instead of 1.5 s (zone A lines: 16 cm error
-  // instead of 7 cm; 1e-4: 16 cm, 3e-4: 12 cm). A slip hypothesis in the
-  // gate would let this drop to ~1e-6 (the consistent value).
-  double lateral_variance_m2_per_m = 1.0e-3;
+  // which the integrator propagates; 1e-6 (1 mm per sqrt(m), the size of the
+  // smoother's per-keyframe floor) only keeps the increment invertible. The
+  // former 1e-3 made the lateral variance ~100x too wide
+  // (tests/sim/keyframe_odometry_noise_test.cc); it had held the gate open
+  // after a wheel slip (a heading jump), which the slip hypothesis of the
+  // gate (slip_sigma_m) now does.
+  double lateral_variance_m2_per_m = 1.0e-6;
+  // The slip hypothesis of the association gate
+  // (SmootherOptions::slip_sigma_m) [m]: the RMS spurious travel of the
+  // simulator's slips, 5 cm x U[0.5, 1.5] (sim_run.h): 5.2 cm. 0: off.
+  double slip_sigma_m = 0.052;
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
   // Find the start pose on the atlas (tools/localize_relocalize.h) instead of
