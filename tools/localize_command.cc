@@ -215,6 +215,12 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "per metre travelled [m^2/m] (> 0)")
       ->check(CLI::Range(1e-12, 1.0))
       ->capture_default_str();
+  cmd->add_option("--slip-sigma", lines->slip_sigma_m,
+                  "--mode lines: RMS spurious travel of a wheel slip [m]; when nothing a "
+                  "keyframe sees passes the gate, it is associated again allowing one slip "
+                  "(0: off)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--gate-chi2", lines->gate_chi2,
                   "--mode lines/mapping: association gate on the Mahalanobis distance of a line "
                   "(chi-square, 2 dof; 9.21 = 0.99 quantile)")

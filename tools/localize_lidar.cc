@@ -176,6 +176,15 @@ void LidarKeyframeSource::AddHealth(const lidar::ScanOdometryKeyframe& k,
   const core::Vector2 v_map = k.T_odom_base.Rotation() * core::Vector2(v.head<2>());
   (*line)["lidar_weakest_direction_map"] = {v_map.x(), v_map.y(), v(2)};
   (*line)["lidar_relative_rank"] = k.relative_rank;
+  if (k.relative) {
+    // The measurement and its (scaled) square-root information, row-major:
+    // enough to check its consistency against ground truth offline.
+    const core::SE2& Z = k.relative->T_prev_curr;
+    const core::Matrix3& S = k.relative->sqrt_information;
+    (*line)["lidar_relative"] = {Z.x(), Z.y(), Z.yaw()};
+    (*line)["lidar_relative_sqrt_information"] = {S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1),
+                                                  S(1, 2), S(2, 0), S(2, 1), S(2, 2)};
+  }
   ++m.keyframes;
   m.degenerate += k.degenerate;
   m.fisher_degenerate += info.degenerate;

@@ -119,6 +119,7 @@ nlohmann::ordered_json HealthLine(long keyframe, const localization::KeyframeHea
   line["lines_ambiguous"] = health.lines_ambiguous;
   line["lines_dropped"] = dropped;
   line["junctions_used"] = health.junctions_used;
+  if (health.slip_gate) line["slip_gate"] = true;
   line["landmarks_added"] = health.landmarks_added;
   line["window_size"] = health.window_size;
   line["iterations"] = health.iterations;
@@ -233,6 +234,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
                                         : localization::SmootherMode::kLocalization;
   smoother_options.window_s = flags.window_s;
   smoother_options.association.gate_chi2 = flags.gate_chi2;
+  smoother_options.slip_sigma_m = flags.slip_sigma_m;
+  smoother_options.track_m = drive.track_m;
   smoother_options.solver = flags.solver == "ceres" ? localization::SmootherSolver::kCeres
                                                     : localization::SmootherSolver::kChain;
   std::optional<LocalizeDiagnostics> diagnostics;

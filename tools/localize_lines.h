@@ -24,22 +24,30 @@ struct LocalizeLinesFlags {
   // > 0: the odometry noise model of independent wheel errors of this
   // variance per metre of wheel travel (OdometryNoiseFromWheelVariance);
   // 0: the OdometryNoiseParams defaults. The default is the simulator's
-  // encoder noise (1e-5 m^2/m, sim_run.h) with an allowance for its 0.1 %
-  // wheel radius errors (a heading bias of ~0.1 deg/m on a 0.76 m track):
-  // with the OdometryNoiseParams defaults (20x the heading variance) the
-  // covariance was 3-4x too wide, NEES in band on 44 % of the keyframes
-  // (zone D, 200 m); with this 93 %.
-  double wheel_variance_m2_per_m = 1.5e-5;
+  // wheel error (sim_run.h) as a white-noise rate: its random travel error
+  // (1e-5 m^2/m) plus the Gaussian equivalent of its slips (2e-3 per metre of
+  // path, one wheel each, |travel| = 5 cm x U[0.5, 1.5], E = 2.7e-3 m^2:
+  // 2.7e-6 m^2/m per wheel). Its 0.1 % wheel radius errors add 0.75 mm per
+  // 0.75 m keyframe, below the random 1.9 mm, and are left out. Against a
+  // Monte Carlo of the simulator over keyframe-length motions
+  // (tests/sim/keyframe_odometry_noise_test.cc) and the wheel encoders of the
+  // four 1.2 km zone runs (0.5-30 s spans): per-component NEES ~0.7-1.1.
+  double wheel_variance_m2_per_m = 1.27e-5;
   // With wheel_variance_m2_per_m > 0: the lateral variance per metre
-  // travelled [m^2/m] (OdometryNoiseParams::k_lat). The default stands in
-  // for what the Gaussian wheel model lacks: a wheel slip (simulator: one per
-  // 500 m, ~5 cm) turns the heading by ~4 deg at once, and in zone B's aisles
-  // and zone D's corridors nothing the camera sees measures the lateral
-  // offset that builds up until the next transverse line fixes the heading.
-  // On the 1.2 km zone B run 1e-3 (vs 1e-5) let the aisle tapes seen while
-  // turning into an aisle pass the gate: ATE RMSE 49 -> 22 cm, NEES in band
-  // 63 -> 82 %; on 200 m zone B / D runs (no slip) neutral.
-  double lateral_variance_m2_per_m = 1.0e-3;
+  // travelled [m^2/m] (OdometryNoiseParams::k_lat). The simulator (and a
+  // differential drive without side slip) has no lateral error source: the
+  // lateral error between keyframes is the heading error carried along,
+  // which the integrator propagates; 1e-6 (1 mm per sqrt(m), the size of the
+  // smoother's per-keyframe floor) only keeps the increment invertible. The
+  // former 1e-3 made the lateral variance ~100x too wide
+  // (tests/sim/keyframe_odometry_noise_test.cc); it had held the gate open
+  // after a wheel slip (a heading jump), which the slip hypothesis of the
+  // gate (slip_sigma_m) now does.
+  double lateral_variance_m2_per_m = 1.0e-6;
+  // The slip hypothesis of the association gate
+  // (SmootherOptions::slip_sigma_m) [m]: the RMS spurious travel of the
+  // simulator's slips, 5 cm x U[0.5, 1.5] (sim_run.h): 5.2 cm. 0: off.
+  double slip_sigma_m = 0.052;
   // The association gate (floor_association.h), chi-square 2 dof.
   double gate_chi2 = 9.21;
   // Find the start pose on the atlas (tools/localize_relocalize.h) instead of

@@ -25,6 +25,14 @@ void AddJunction(const Eigen::Vector2d& p, double merge_m, std::vector<Eigen::Ve
 
 }  // namespace
 
+Eigen::Matrix2d LineCovarianceAbout(const perception::HesseLine& line,
+                                    const Eigen::Vector2d& anchor_m, double sigma_m,
+                                    double sigma_rad) {
+  Eigen::Matrix2d J;
+  J << 1.0, line.Direction().dot(anchor_m), 0.0, 1.0;
+  return J * Eigen::Vector2d(sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal() * J.transpose();
+}
+
 core::Status AtlasFromFloorMapOptions::Validate() const {
   if (!(line_rho_sigma_m > 0.0)) return core::Status::Error("line_rho_sigma_m must be > 0");
   if (!(line_alpha_sigma_rad > 0.0)) return core::Status::Error("line_alpha_sigma_rad must be > 0");
@@ -93,10 +101,6 @@ std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
 Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options) {
   Atlas atlas;
   atlas.frame = map.frame;
-  const Eigen::Matrix2d line_covariance =
-      Eigen::Vector2d(options.line_rho_sigma_m * options.line_rho_sigma_m,
-                      options.line_alpha_sigma_rad * options.line_alpha_sigma_rad)
-          .asDiagonal();
   for (const MarkingSegment& segment : MarkingSegments(map)) {
     const core::Result<perception::HesseLine> line =
         perception::LineFromPoints(segment.a_m, segment.b_m);
@@ -104,7 +108,8 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     AtlasLine entry;
     entry.id = static_cast<std::int64_t>(atlas.lines.size());
     entry.line_map = *line;
-    entry.covariance = line_covariance;
+    entry.covariance = LineCovarianceAbout(*line, 0.5 * (segment.a_m + segment.b_m),
+                                           options.line_rho_sigma_m, options.line_alpha_sigma_rad);
     entry.kind = segment.kind;
     entry.endpoint_a_m = segment.a_m;
     entry.endpoint_b_m = segment.b_m;

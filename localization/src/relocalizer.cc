@@ -66,6 +66,9 @@ core::Status RelocalizerOptions::Validate() const {
         "relocalizer: junction_line_distance_m, birth sigmas and duplicate tolerances must be > 0, "
         "extent_margin_m >= 0");
   }
+  if (!(line_rho_floor_m >= 0.0)) {
+    return core::Status::Error("relocalizer: line_rho_floor_m must be >= 0");
+  }
   if (!(gate_chi2 > 0.0) || !(unmatched_log_likelihood < -0.5 * gate_chi2)) {
     return core::Status::Error(
         "relocalizer: gate_chi2 must be > 0 and unmatched_log_likelihood < -gate_chi2 / 2 (a "
@@ -345,8 +348,9 @@ double Relocalizer::LineLogLikelihood(const Hypothesis& h, const LineObservation
     Eigen::Matrix2d J_r;
     const Eigen::Vector2d r = perception::LineDifference(predicted, o.line_base, &J_r);
     const Eigen::Matrix<double, 2, 3> H = J_r * J_T;
-    const Eigen::Matrix2d R =
+    Eigen::Matrix2d R =
         o.covariance + J_r * J_line * line.covariance * J_line.transpose() * J_r.transpose();
+    R(0, 0) += options_.line_rho_floor_m * options_.line_rho_floor_m;
     const double d2 = Mahalanobis2(r, R + H * h.pose.covariance * H.transpose());
     if (d2 < best) {
       best = d2;

@@ -40,6 +40,10 @@ core::Status SmootherOptions::Validate() const {
   if (!(odometry_sigma_floor_m > 0.0) || !(odometry_sigma_floor_rad > 0.0)) {
     return core::Status::Error("smoother odometry_sigma_floor_m and _rad must be > 0");
   }
+  if (!(slip_sigma_m >= 0.0) || !(track_m > 0.0) || slip_min_matches < 1) {
+    return core::Status::Error(
+        "smoother slip_sigma_m must be >= 0, track_m > 0 and slip_min_matches >= 1");
+  }
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
   }
@@ -54,6 +58,13 @@ PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeM
   const core::Matrix3 A = motion.T_start_end.Inverse().Adjoint();
   out.covariance = A * keyframe.covariance * A.transpose() + motion.covariance;
   return out;
+}
+
+core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, double track_m) {
+  const double v = slip_sigma_m * slip_sigma_m;
+  const core::Matrix3 at_start = core::Vector3(0.25 * v, 0.0, v / (track_m * track_m)).asDiagonal();
+  const core::Matrix3 A = motion.T_start_end.Inverse().Adjoint();
+  return A * at_start * A.transpose();
 }
 
 SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atlas atlas)
@@ -117,6 +128,7 @@ Atlas SlidingWindowSmoother::CurrentAtlas() const {
 void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observations,
                                                const core::SE2& T_pred,
                                                const core::Matrix3& covariance_pred,
+                                               const core::Matrix3& slip_covariance,
                                                Keyframe* keyframe, KeyframeHealth* health) {
   const bool mapping = options_.mode == SmootherMode::kMapping;
   if (mapping) {
@@ -145,8 +157,40 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
         {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
     return true;
   };
-  for (const Match& match :
-       AssociateLines(observations.lines, atlas_, T_pred, covariance_pred, options_.association)) {
+  std::vector<Match> line_matches =
+      AssociateLines(observations.lines, atlas_, T_pred, covariance_pred, options_.association);
+  std::vector<Match> junction_matches = AssociateJunctions(observations.junctions, atlas_, T_pred,
+                                                           covariance_pred, options_.association);
+  const auto none_matched = [&] {
+    int seen = 0;
+    for (const std::vector<Match>* matches : {&line_matches, &junction_matches}) {
+      for (const Match& m : *matches) {
+        if (m.landmark >= 0 || m.ambiguous) return false;
+        ++seen;
+      }
+    }
+    return seen > 0;
+  };
+  if (!mapping && options_.slip_sigma_m > 0.0 && none_matched()) {
+    const core::Matrix3 widened = covariance_pred + slip_covariance;
+    std::vector<Match> lines =
+        AssociateLines(observations.lines, atlas_, T_pred, widened, options_.association);
+    std::vector<Match> junctions =
+        AssociateJunctions(observations.junctions, atlas_, T_pred, widened, options_.association);
+    int matched = 0;
+    for (const std::vector<Match>* matches : {&lines, &junctions}) {
+      for (const Match& m : *matches) matched += m.landmark >= 0;
+    }
+    // One observation that fits only under a slip is more likely an outlier
+    // (a misread marking) than a slip (~1.5e-3 per keyframe); two that fit
+    // one slip together are not.
+    if (matched >= options_.slip_min_matches) {
+      line_matches = std::move(lines);
+      junction_matches = std::move(junctions);
+      health->slip_gate = true;
+    }
+  }
+  for (const Match& match : line_matches) {
     const LineObservation& observation = observations.lines[match.observation];
     if (match.landmark >= 0 && add_line(observation, match.landmark)) {
       ++health->lines_used;
@@ -165,8 +209,7 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
       unmatched_lines.push_back(&observation);
     }
   }
-  for (const Match& match : AssociateJunctions(observations.junctions, atlas_, T_pred,
-                                               covariance_pred, options_.association)) {
+  for (const Match& match : junction_matches) {
     const JunctionObservation& observation = observations.junctions[match.observation];
     if (match.landmark >= 0 && add_junction(observation, match.landmark)) {
       ++health->junctions_used;
@@ -226,7 +269,9 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
     health.relative_measurement_used = true;
   }
   ++keyframe_count_;
-  AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance, &keyframe, &health);
+  AddLandmarkFactors(observations, predicted.T_map_base, predicted.covariance,
+                     SlipCovariance(motion, options_.slip_sigma_m, options_.track_m), &keyframe,
+                     &health);
   window_.push_back(std::move(keyframe));
   latest_ = predicted;
 

@@ -3,10 +3,14 @@
 // junctions).
 #include "groundline/localization/atlas.h"
 
+#include "groundline/localization/floor_association.h"
+
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 namespace groundline::localization {
 namespace {
@@ -40,6 +44,73 @@ TEST(Atlas, FromFloorMapHasOneLinePerSegmentAndCornerAndCrossingJunctions) {
     found_crossing |= (j.point_m - Eigen::Vector2d(1.0, 2.0)).norm() < 1e-9;
   }
   EXPECT_TRUE(found_crossing);
+}
+
+// The covariance of LineCovarianceAbout is that of turning the line by
+// N(0, sigma_rad^2) about the anchor and shifting it there by N(0, sigma_m^2):
+// a Monte Carlo of that perturbation, far from the map origin.
+TEST(Atlas, LineCovarianceAboutTheAnchorMatchesAMonteCarloOfTheSurveyError) {
+  const Eigen::Vector2d anchor(80.7, 60.5);
+  const perception::HesseLine line =
+      *perception::LineFromPoints(anchor, anchor + Eigen::Vector2d(-3, 0.1));
+  const Eigen::Matrix2d covariance = LineCovarianceAbout(line, anchor, 0.005, 0.002);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Matrix2d sample = Eigen::Matrix2d::Zero();
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const double turn_rad = 0.002 * normal(rng);
+    const Eigen::Vector2d shifted = anchor + 0.005 * normal(rng) * line.Normal();
+    const Eigen::Vector2d direction = Eigen::Rotation2Dd(turn_rad) * line.Direction();
+    const perception::HesseLine perturbed =
+        *perception::LineFromPoints(shifted, shifted + direction);
+    const Eigen::Vector2d d = perception::LineDifference(perturbed, line);
+    sample += d * d.transpose() / n;
+  }
+  EXPECT_NEAR(sample(0, 0), covariance(0, 0), 0.05 * covariance(0, 0));
+  EXPECT_NEAR(sample(1, 1), covariance(1, 1), 0.05 * covariance(1, 1));
+  EXPECT_NEAR(sample(0, 1), covariance(0, 1), 0.05 * std::abs(covariance(0, 1)));
+  // Seen from the anchor the survey error is the stated one, uncorrelated.
+  Eigen::Matrix2d J;
+  perception::InverseTransformLine(core::SE2(anchor.x(), anchor.y(), 0.3), line, nullptr, &J);
+  const Eigen::Matrix2d local = J * covariance * J.transpose();
+  EXPECT_NEAR(local(0, 0), 0.005 * 0.005, 1e-12);
+  EXPECT_NEAR(local(1, 1), 0.002 * 0.002, 1e-12);
+  EXPECT_NEAR(local(0, 1), 0.0, 1e-12);
+}
+
+// Zone A (1.2 km, seed 11) at t = 508.5 s: the floor camera, driving west
+// along the dashed tape at y = 61 m through a crosswalk 80 m from the map
+// origin, reported one edge of the 0.5 m stripe at y = 60.5 m (glare beside
+// it) as a plain tape 0.21 m from the stripe's centre line. With the survey
+// error taken about the map origin, the stripe's 2 mrad direction error made
+// 16 cm of rho at the vehicle, the 0.21 m innovation passed the gate
+// (d2 = 3.4) and pulled the estimate 21 cm sideways for 2 s.
+TEST(Atlas, AFarAwayStripeDoesNotOpenTheGateToItsEdge) {
+  core::FloorMap map;
+  core::FloorMarking stripe;
+  stripe.id = 93;
+  stripe.kind = core::MarkingKind::kCrosswalkStripe;
+  stripe.width_m = 0.5;
+  stripe.polyline_m = {{79.1667, 60.5}, {82.1667, 60.5}};
+  map.markings = {stripe};
+  const Atlas atlas = AtlasFromFloorMap(map, AtlasFromFloorMapOptions());
+  ASSERT_EQ(atlas.lines.size(), 1u);
+  const core::SE2 T_map_base(81.879, 61.013, 3.1313);  // the prediction, 1.3 cm off
+  core::Matrix3 covariance = core::Vector3(3.28e-5, 1.87e-3, 9.82e-5).asDiagonal();
+  LineObservation edge;
+  edge.line_base = {0.2864, 1.5701};
+  edge.covariance << 1.56e-6, -1.12e-6, -1.12e-6, 1.36e-6;
+  edge.endpoint_a_base_m = {0.835, 0.286};
+  edge.endpoint_b_base_m = {2.115, 0.285};
+  const double d2 = LineMahalanobis2(edge, atlas.lines[0], T_map_base, covariance);
+  EXPECT_GT(d2, 20.0);  // 0.21 m against a 4.3 cm lateral sigma
+  EXPECT_EQ(AssociateLines({edge}, atlas, T_map_base, covariance, AssociationOptions())[0].landmark,
+            -1);
+  LineObservation centre = edge;  // the stripe's centre line, as the camera sees it
+  centre.line_base.rho_m = 0.5042;
+  EXPECT_EQ(
+      AssociateLines({centre}, atlas, T_map_base, covariance, AssociationOptions())[0].landmark, 0);
 }
 
 TEST(Atlas, WriteThenReadIsExact) {

@@ -104,6 +104,18 @@ struct SmootherOptions {
   double odometry_sigma_floor_m = 1e-3;
   double odometry_sigma_floor_rad = 1e-4;
   AssociationOptions association;
+  // Localization mode: the standard deviation of a wheel slip's spurious
+  // travel on one wheel [m] (0: no slip hypothesis). A slip turns the
+  // heading by travel / track at once, far in the tail of the Gaussian
+  // odometry model, and the lines seen after it fail the gate. When no
+  // observation of a keyframe passes the gate (and some were seen), they
+  // are associated once more with the prediction covariance plus that of
+  // one slip at the previous keyframe (SlipCovariance), and the result is
+  // kept when at least slip_min_matches of them match; only the gate
+  // changes, the odometry factor keeps its covariance.
+  double slip_sigma_m = 0.0;
+  int slip_min_matches = 2;
+  double track_m = 0.76;           // the wheel track of the slip hypothesis [m]
   LandmarkTrackerOptions tracker;  // mapping mode
 
   core::Status Validate() const;
@@ -120,6 +132,12 @@ struct PoseEstimate {
 // odometry-rate output between keyframes.
 PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeMotion& motion,
                                    double stamp_s);
+
+// The covariance, in the tangent space at the end of `motion`, of one
+// wheel slip of spurious travel ~N(0, slip_sigma_m^2) on either wheel at
+// its start: (ds, dtheta) = (m / 2, +-m / track_m) there, carried along by
+// Ad(T_start_end^-1).
+core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, double track_m);
 
 // A measured pose of the new keyframe seen from the previous one, T_prev_curr,
 // from a sensor other than the wheels (a LiDAR scan match). S^T S is its
@@ -139,8 +157,9 @@ struct KeyframeHealth {
   int junctions_observed = 0;
   int junctions_used = 0;
   bool relative_measurement_used = false;  // a RelativePoseMeasurement entered the window
-  int landmarks_added = 0;                 // mapping mode
-  int window_size = 0;                     // keyframes in the window after this update
+  bool slip_gate = false;   // associated under the slip hypothesis (SmootherOptions::slip_sigma_m)
+  int landmarks_added = 0;  // mapping mode
+  int window_size = 0;      // keyframes in the window after this update
   int iterations = 0;
   // The solve met its step tolerance (chain) or Ceres' convergence test;
   // false when it stopped at max_iterations (the estimate is then the last
@@ -248,7 +267,8 @@ class SlidingWindowSmoother {
   std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
                                                 std::vector<LinearizationVariable>* variables);
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
-                          const core::Matrix3& covariance_pred, Keyframe* keyframe,
+                          const core::Matrix3& covariance_pred,
+                          const core::Matrix3& slip_covariance, Keyframe* keyframe,
                           KeyframeHealth* health);
 
   SmootherOptions options_;
