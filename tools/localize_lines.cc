@@ -168,7 +168,10 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
     core::Status added =
         walls.ok() ? localization::AppendWallLines(*walls, {}, &*atlas) : walls.status();
     if (added.ok()) {
-      std::printf("atlas: %zu wall lines from the simulated zone's faces\n", walls->size());
+      const auto rack_faces = std::count_if(walls->begin(), walls->end(),
+                                            [](const auto& w) { return w.rack_face; });
+      std::printf("atlas: %zu wall lines from the simulated zone's faces (%td rack faces)\n",
+                  walls->size(), rack_faces);
     } else {
       std::fprintf(stderr, "groundline localize: %s: no wall lines: %s\n",
                    flags.dataset_dir.c_str(), added.message().c_str());

@@ -70,7 +70,7 @@ core::Result<std::vector<localization::WallSegment>> SimulatedWallSegments(
   if (dataset.manifest.lidar) options.plane_height_m = dataset.manifest.lidar->mount_height_m;
   std::vector<localization::WallSegment> segments;
   for (const sim::WallFace& face : sim::WallFaces(*world, options)) {
-    segments.push_back({face.a_m, face.b_m});
+    segments.push_back({face.a_m, face.b_m, face.rack_face});
   }
   return segments;
 }
@@ -79,7 +79,7 @@ WallLineSource::WallLineSource(const core::Dataset& dataset, const localization:
                                const localization::AssociationOptions& association)
     : association_(association), ground_truth_(dataset.ground_truth) {
   for (const localization::AtlasLine& line : atlas.lines) {
-    if (line.kind == core::MarkingKind::kWall) walls_.lines.push_back(line);
+    if (core::IsFaceKind(line.kind)) walls_.lines.push_back(line);
   }
   if (dataset.manifest.lidar && dataset.manifest.lidar->rate_hz > 0.0) {
     time_increment_s_ = 1.0 / (dataset.manifest.lidar->rate_hz * 2.0 * std::numbers::pi);

@@ -23,7 +23,8 @@ constexpr std::pair<MarkingKind, std::string_view> kKindNames[] = {
     {MarkingKind::kCrosswalkStripe, "crosswalk_stripe"},
     {MarkingKind::kStagingBoxEdge, "staging_box_edge"},
     {MarkingKind::kJoint, "joint"},
-    {MarkingKind::kWall, "wall"}};
+    {MarkingKind::kWall, "wall"},
+    {MarkingKind::kRackFace, "rack_face"}};
 constexpr double kMinVertexSpacing_m = 1e-3;
 
 std::optional<FieldProblem> CheckMarking(const FloorMarking& m, const std::string& p) {
@@ -120,6 +121,10 @@ std::string_view MarkingKindName(MarkingKind kind) {
     if (k == kind) return name;
   }
   return "unknown";
+}
+
+bool IsFaceKind(MarkingKind kind) {
+  return kind == MarkingKind::kWall || kind == MarkingKind::kRackFace;
 }
 
 std::optional<MarkingKind> MarkingKindFromName(std::string_view name) {

@@ -33,7 +33,7 @@ core::Status AppendWallLines(const std::vector<WallSegment>& segments,
     wall.covariance = Eigen::Vector2d(options.rho_sigma_m * options.rho_sigma_m,
                                       options.alpha_sigma_rad * options.alpha_sigma_rad)
                           .asDiagonal();
-    wall.kind = core::MarkingKind::kWall;
+    wall.kind = segments[i].rack_face ? core::MarkingKind::kRackFace : core::MarkingKind::kWall;
     wall.endpoint_a_m = segments[i].a_m;
     wall.endpoint_b_m = segments[i].b_m;
     added.push_back(wall);
@@ -45,7 +45,7 @@ core::Status AppendWallLines(const std::vector<WallSegment>& segments,
 int CountWallLines(const Atlas& atlas) {
   return static_cast<int>(
       std::count_if(atlas.lines.begin(), atlas.lines.end(),
-                    [](const AtlasLine& l) { return l.kind == core::MarkingKind::kWall; }));
+                    [](const AtlasLine& l) { return core::IsFaceKind(l.kind); }));
 }
 
 }  // namespace groundline::localization

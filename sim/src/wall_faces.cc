@@ -61,7 +61,8 @@ core::Status WallFaceOptions::Validate() const {
        {std::pair("sample_step_m", sample_step_m),
         std::pair("clearance_offset_m", clearance_offset_m),
         std::pair("clearance_radius_m", clearance_radius_m),
-        std::pair("merge_offset_m", merge_offset_m), std::pair("min_length_m", min_length_m)}) {
+        std::pair("merge_offset_m", merge_offset_m), std::pair("min_length_m", min_length_m),
+        std::pair("min_recess_m", min_recess_m)}) {
     if (!(value > 0.0)) {
       return core::Status::Error(std::string("WallFaceOptions.") + field +
                                  ": expected a value > 0, got " + std::to_string(value));
@@ -116,12 +117,25 @@ std::vector<WallFace> WallFaces(const World& world, const WallFaceOptions& o) {
     }
     return samples == 0 || hits >= o.min_backed_fraction * samples;
   };
+  // A backed gap is recessed when the face line itself is open there on at
+  // least half of it (the loads stand at least min_recess_m behind it), not
+  // a solid face hidden from the open floor by something in front of it.
+  const auto recessed = [&](const Piece& group, double s0, double s1) {
+    const Vector2 n(std::cos(group.angle_rad), std::sin(group.angle_rad));
+    const Vector2 d(-n.y(), n.x());
+    int samples = 0, open = 0;
+    for (double u = s0 + 0.5 * o.sample_step_m; u < s1; u += o.sample_step_m) {
+      ++samples;
+      open += index.ClearanceM(group.offset_m * n + u * d, o.min_recess_m) >= o.min_recess_m;
+    }
+    return samples > 0 && 2 * open >= samples;
+  };
   std::vector<WallFace> faces;
-  const auto emit = [&](const Piece& group, double s0, double s1) {
+  const auto emit = [&](const Piece& group, double s0, double s1, bool rack_face) {
     if (s1 - s0 < o.min_length_m) return;
     const Vector2 n(std::cos(group.angle_rad), std::sin(group.angle_rad));
     const Vector2 d(-n.y(), n.x());
-    faces.push_back({group.offset_m * n + s0 * d, group.offset_m * n + s1 * d, n});
+    faces.push_back({group.offset_m * n + s0 * d, group.offset_m * n + s1 * d, n, rack_face});
   };
   for (std::size_t begin = 0; begin < pieces.size();) {
     std::size_t end = begin + 1;
@@ -134,14 +148,18 @@ std::vector<WallFace> WallFaces(const World& world, const WallFaceOptions& o) {
     std::sort(group.begin(), group.end(),
               [](const Piece& p, const Piece& q) { return p.s0_m < q.s0_m; });
     double s0 = group.front().s0_m, s1 = group.front().s1_m;
+    bool rack_face = false;
     for (const Piece& p : group) {
       if (p.s0_m - s1 > o.max_gap_m || (p.s0_m > s1 && !backed(group.front(), s1, p.s0_m))) {
-        emit(group.front(), s0, s1);
+        emit(group.front(), s0, s1, rack_face);
         s0 = p.s0_m;
+        rack_face = false;
+      } else if (p.s0_m > s1) {
+        rack_face = rack_face || recessed(group.front(), s1, p.s0_m);
       }
       s1 = std::max(s1, p.s1_m);
     }
-    emit(group.front(), s0, s1);
+    emit(group.front(), s0, s1, rack_face);
     begin = end;
   }
   return faces;

@@ -224,6 +224,41 @@ TEST(WallAtlas, WallObservationsAssociateOnlyWithWalls) {
   EXPECT_EQ(AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark, 1);
   z.kind = core::MarkingKind::kTapeSolid;
   EXPECT_EQ(AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark, 0);
+  // A recessed band (its offset from its front) is a rack face's: against a
+  // solid wall it is two faces at different depths, and it is left out.
+  z.kind = core::MarkingKind::kRackFace;
+  EXPECT_EQ(AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark, -1);
+}
+
+TEST(WallAtlas, RecessedBandsMatchOnlyRackFacesAndPlainBandsEitherFace) {
+  // A rack face at y = 1.125 and a solid wall at y = -1.125, both along x.
+  Atlas atlas;
+  WallSegment rack{{-10.0, 1.125}, {10.0, 1.125}};
+  rack.rack_face = true;
+  const WallSegment wall{{-10.0, -1.125}, {10.0, -1.125}};
+  ASSERT_TRUE(AppendWallLines({rack, wall}, {}, &atlas).ok());
+  ASSERT_EQ(atlas.lines.size(), 2u);
+  EXPECT_EQ(CountWallLines(atlas), 2);
+  EXPECT_EQ(atlas.lines[0].kind, core::MarkingKind::kRackFace);
+  EXPECT_EQ(atlas.lines[1].kind, core::MarkingKind::kWall);
+  EXPECT_EQ(core::MarkingKindFromName(core::MarkingKindName(core::MarkingKind::kRackFace)),
+            core::MarkingKind::kRackFace);
+
+  const core::Matrix3 pose_covariance = core::Vector3(1e-4, 1e-4, 1e-5).asDiagonal();
+  const auto associate = [&](double y, core::MarkingKind kind) {
+    LineObservation z;
+    z.line_base = perception::NormalizeLine(std::abs(y), y > 0 ? M_PI / 2 : -M_PI / 2);
+    z.covariance = Eigen::Vector2d(1e-4, 1e-4).asDiagonal();
+    z.endpoint_a_base_m = {1.0, y};
+    z.endpoint_b_base_m = {6.0, y};
+    z.kind = kind;
+    return AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark;
+  };
+  EXPECT_EQ(associate(1.12, core::MarkingKind::kRackFace), 0);
+  EXPECT_EQ(associate(1.12, core::MarkingKind::kWall), 0);
+  EXPECT_EQ(associate(-1.12, core::MarkingKind::kWall), 1);
+  EXPECT_EQ(associate(-1.12, core::MarkingKind::kRackFace), -1);
+  EXPECT_EQ(associate(-1.12, core::MarkingKind::kTapeSolid), -1);
 }
 
 TEST(RangePointsAt, DeskewsByTheOdometry) {

@@ -50,6 +50,8 @@ TEST(WallFaces, ZoneBRackFacesAlongEveryAisleAndTheEndWalls) {
       // an opening) may be cut off.
       EXPECT_NEAR(std::min(face->a_m.y(), face->b_m.y()), y0, 0.06);
       EXPECT_NEAR(std::max(face->a_m.y(), face->b_m.y()), y1, o.upright_pitch_m);
+      // Uprights with the loads set back behind them.
+      EXPECT_TRUE(face->rack_face) << "aisle " << i << " face x = " << x;
     }
   }
   // The backs of the rows (facing a 0.2 m flue or the side wall) are hidden.
@@ -59,15 +61,37 @@ TEST(WallFaces, ZoneBRackFacesAlongEveryAisleAndTheEndWalls) {
   // no face.
   EXPECT_EQ(FindFace(faces, Vector2(0.0, -1.0), Vector2(o.AisleCenterXM(0), y0)), nullptr);
   // The inner faces of the end walls along the cross aisles.
-  EXPECT_NE(FindFace(faces, Vector2(0.0, 1.0), Vector2(0.0, 0.0)), nullptr);
+  const WallFace* end_wall = FindFace(faces, Vector2(0.0, 1.0), Vector2(0.0, 0.0));
+  ASSERT_NE(end_wall, nullptr);
+  EXPECT_FALSE(end_wall->rack_face);
   for (const WallFace& f : faces) EXPECT_GE((f.b_m - f.a_m).norm(), 3.0);
+}
+
+TEST(WallFaces, TheDockWallIsSolidWithItsDoorsBehindIt) {
+  // Zone C's dock wall (face at y = depth) runs between the doors, whose
+  // closed leaves stand 10 cm behind it: deeper than a rack's loads, so the
+  // wall is not merged across them, and no face of the zone is a rack face.
+  ZoneCOptions o;
+  o.num_forklifts = 0;
+  o.num_pedestrians = 0;
+  const World world = *BuildZoneC(o);
+  const std::vector<WallFace> faces = WallFaces(world, WallFaceOptions());
+  int dock_wall = 0;
+  for (const WallFace& f : faces) {
+    EXPECT_FALSE(f.rack_face) << f.a_m.transpose() << " - " << f.b_m.transpose();
+    dock_wall += (f.outward_normal - Vector2(0.0, -1.0)).norm() < 1e-9 &&
+                 std::abs(f.a_m.y() - o.depth_m) < 1e-3;
+  }
+  EXPECT_GE(dock_wall, 1);
 }
 
 TEST(WallFaces, ScansOfTheSimulatedAisleGiveItsFaces) {
   const ZoneBOptions o = SmallZoneB();
   const World world = *BuildZoneB(o);
   std::vector<localization::WallSegment> segments;
-  for (const WallFace& f : WallFaces(world, WallFaceOptions())) segments.push_back({f.a_m, f.b_m});
+  for (const WallFace& f : WallFaces(world, WallFaceOptions())) {
+    segments.push_back({f.a_m, f.b_m, f.rack_face});
+  }
   localization::Atlas atlas;
   ASSERT_TRUE(localization::AppendWallLines(segments, {}, &atlas).ok());
   LidarOptions lidar_options;

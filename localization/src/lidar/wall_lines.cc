@@ -375,7 +375,7 @@ std::vector<LineObservation> WallLineObservations(const std::vector<WallLine>& w
     LineObservation o;
     o.line_base = w.fit.line;
     o.covariance = w.covariance;
-    o.kind = core::MarkingKind::kWall;
+    o.kind = w.recessed ? core::MarkingKind::kRackFace : core::MarkingKind::kWall;
     o.endpoint_a_base_m = w.endpoint_a_m;
     o.endpoint_b_base_m = w.endpoint_b_m;
     out.push_back(o);

@@ -35,11 +35,18 @@ enum class MarkingKind {
   // planar LiDAR. Atlas lines of this kind associate only with LiDAR wall
   // observations (floor_association.h); floor maps of the simulator hold none.
   kWall,
+  // A rack face: the line of the upright fronts, with the loads set back a
+  // few centimetres behind them, so that the LiDAR sees a recessed band and
+  // takes the face from its front (lidar/wall_lines.h). A kWall is a solid
+  // face (building wall, column, closed door) seen as one plain band.
+  kRackFace,
 };
 // The file spelling: "tape_solid", "tape_dashed", "stop_bar",
-// "crosswalk_stripe", "staging_box_edge", "joint", "wall".
+// "crosswalk_stripe", "staging_box_edge", "joint", "wall", "rack_face".
 std::string_view MarkingKindName(MarkingKind kind);
 std::optional<MarkingKind> MarkingKindFromName(std::string_view name);
+// kWall or kRackFace: a vertical face seen by the LiDAR, not a floor marking.
+bool IsFaceKind(MarkingKind kind);
 
 // Contrast against the floor: what a ridge detector looks for.
 enum class MarkingPolarity { kBright, kDark };  // "bright" / "dark"

@@ -61,9 +61,14 @@ double JunctionMahalanobis2(const JunctionObservation& observation, const AtlasJ
 bool ExtentsOverlap(const LineObservation& observation, const AtlasLine& landmark,
                     const core::SE2& T_map_base, double margin_m);
 
-// A LiDAR wall observation (kind kWall) may match only a wall landmark, a
-// floor-marking observation only a floor-marking landmark: a rack face and
-// the aisle tape beside it are parallel and a few centimetres apart.
+// A LiDAR face observation may match only a face landmark (kWall or
+// kRackFace), a floor-marking observation only a floor-marking landmark: a
+// rack face and the aisle tape beside it are parallel and a few centimetres
+// apart. A recessed band (kRackFace: its offset taken from its front) may
+// match only a rack face: on a solid face a recessed band is two faces at
+// different depths (zone C's dock wall and its doors 10 cm behind) whose
+// front came out 2-3 cm off at the true pose. A plain band (kWall) may match
+// either (a rack face seen on its uprights alone).
 bool KindsCompatible(core::MarkingKind observed, core::MarkingKind landmark);
 
 // One Match per observation, in order.

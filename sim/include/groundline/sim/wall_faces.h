@@ -18,8 +18,11 @@
 // when the gap is backed: on at least min_backed_fraction of it an obstacle
 // stands within max_setback_m behind the face line (the loads between rack
 // uprights), so that the LiDAR sees the face's band there and not an opening
-// (a row end, whose loads start 0.3 m in, is not a face). Merged faces
-// shorter than min_length_m are dropped.
+// (a row end, whose loads start 0.3 m in, is not a face). A face merged
+// across a gap where the face line itself is open (the loads at least
+// min_recess_m behind it) is a rack face; otherwise it is solid (a wall seen
+// in pieces past things in front of it). Merged faces shorter than
+// min_length_m are dropped.
 //
 // Frames and units: map frame, metres. Pure function; thread-safe.
 #ifndef GROUNDLINE_SIM_WALL_FACES_H_
@@ -36,6 +39,9 @@ struct WallFace {
   Vector2 a_m = Vector2::Zero();
   Vector2 b_m = Vector2::Zero();
   Vector2 outward_normal = Vector2::UnitX();  // unit, towards the open floor
+  // Merged across a recessed gap (the loads at least min_recess_m behind the
+  // face line): a rack face, which the LiDAR sees as a recessed band.
+  bool rack_face = false;
 };
 
 struct WallFaceOptions {
@@ -47,6 +53,7 @@ struct WallFaceOptions {
   double max_gap_m = 3.0;
   double max_setback_m = 0.08;
   double min_backed_fraction = 0.5;
+  double min_recess_m = 0.01;
   double min_length_m = 3.0;
 
   core::Status Validate() const;
