@@ -24,26 +24,30 @@ struct LocalizeLinesFlags {
   // > 0: the odometry noise model of independent wheel errors of this
   // variance per metre of wheel travel (OdometryNoiseFromWheelVariance);
   // 0: the OdometryNoiseParams defaults. The default is the simulator's
-  // wheel error (sim_run.h) as a white-noise rate: its random travel error
-  // (1e-5 m^2/m) plus the Gaussian equivalent of its slips (2e-3 per metre of
-  // path, one wheel each, |travel| = 5 cm x U[0.5, 1.5], E = 2.7e-3 m^2:
-  // 2.7e-6 m^2/m per wheel). Its 0.1 % wheel radius errors add 0.75 mm per
-  // 0.75 m keyframe, below the random 1.9 mm, and are left out. Against a
-  // Monte Carlo of the simulator over keyframe-length motions
-  // (tests/sim/keyframe_odometry_noise_test.cc) and the wheel encoders of the
-  // four 1.2 km zone runs (0.5-30 s spans): per-component NEES ~0.7-1.1.
-  double wheel_variance_m2_per_m = 1.27e-5;
+  // random wheel travel error (sim_run.h, 1e-5 m^2/m). Its slips (~5 cm on
+  // one wheel every 500 m) are not spread into it as a Gaussian equivalent
+  // (which was 1.27e-5): between slips, i.e. nearly always, that made every
+  // keyframe's covariance too wide, while a slip itself is far in any
+  // Gaussian's tail and is handled by the gate's slip hypothesis
+  // (slip_sigma_m). Its 0.1 % wheel radius errors add 0.75 mm per 0.75 m
+  // keyframe, below the random 1.9 mm, and are left out. Against a Monte
+  // Carlo of the simulator's encoders (slips included) over keyframe-length
+  // motions (tests/sim/keyframe_odometry_noise_test.cc), with the lateral
+  // variance below and the smoother's floors: per-component NEES 0.93-1.30,
+  // joint 3.2 straight and 2.7 turning (3 expected); with 1.27e-5, 1e-6 and
+  // the former 1 mm floor 0.64-1.00, joint 2.1 and 1.8.
+  double wheel_variance_m2_per_m = 1.0e-5;
   // With wheel_variance_m2_per_m > 0: the lateral variance per metre
   // travelled [m^2/m] (OdometryNoiseParams::k_lat). The simulator (and a
   // differential drive without side slip) has no lateral error source: the
   // lateral error between keyframes is the heading error carried along,
-  // which the integrator propagates; 1e-6 (1 mm per sqrt(m), the size of the
-  // smoother's per-keyframe floor) only keeps the increment invertible. The
-  // former 1e-3 made the lateral variance ~100x too wide
+  // which the integrator propagates; 1e-7 (0.3 mm per sqrt(m), the size of
+  // the smoother's per-keyframe floor) only keeps the increment invertible.
+  // The former 1e-3 made the lateral variance ~100x too wide
   // (tests/sim/keyframe_odometry_noise_test.cc); it had held the gate open
   // after a wheel slip (a heading jump), which the slip hypothesis of the
   // gate (slip_sigma_m) now does.
-  double lateral_variance_m2_per_m = 1.0e-6;
+  double lateral_variance_m2_per_m = 1.0e-7;
   // The slip hypothesis of the association gate
   // (SmootherOptions::slip_sigma_m) [m]: the RMS spurious travel of the
   // simulator's slips, 5 cm x U[0.5, 1.5] (sim_run.h): 5.2 cm. 0: off.

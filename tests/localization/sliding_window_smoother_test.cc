@@ -229,9 +229,18 @@ TEST(SlidingWindowSmoother, TheSlipHypothesisAssociatesTheLinesSeenAfterASlip) {
     o.endpoint_b_base_m = foot + 2.0 * o.line_base.Direction();
     seen.lines.push_back(o);
   }
+  // The odometry of 0.75 m straight, integrated in 1 cm steps with the noise
+  // model of `groundline localize` (1e-5 m^2/m per wheel, 1e-7 lateral): the
+  // heading noise carried along gives the lateral variance and its
+  // correlation with the heading.
+  OdometryIntegrator integrator(DiffDriveParams(),
+                                OdometryNoiseFromWheelVariance(1e-5, DiffDriveParams().track_m, 1e-7));
+  const double step_rad = 0.01 / DiffDriveParams().wheel_radius_m;
+  for (int k = 0; k < 75; ++k) integrator.Integrate(WheelAngleIncrement{step_rad, step_rad});
   RelativeMotion motion;
   motion.T_start_end = core::SE2(0.75, 0.0, 0.0);
-  motion.covariance = Eigen::Vector3d(4.8e-6, 1e-6, 3.3e-5).asDiagonal();  // 1.27e-5 m^2/m
+  motion.covariance = integrator.covariance();
+  ASSERT_NEAR(integrator.T_odom_base().x(), 0.75, 1e-9);
   for (const double slip_sigma_m : {0.0, 0.052}) {
     SmootherOptions options;
     options.slip_sigma_m = slip_sigma_m;

@@ -100,8 +100,12 @@ struct SmootherOptions {
   // Floors on the odometry increment's standard deviations (x, y and yaw
   // each), added in quadrature: the differential-drive model gives a turn
   // in place zero lateral variance, an unbounded information that the
-  // window's block elimination cannot take.
-  double odometry_sigma_floor_m = 1e-3;
+  // window's block elimination cannot take. 0.3 mm: 1 mm held the lateral
+  // variance of a 0.75 m keyframe at 1.4x the simulated encoders' (Monte
+  // Carlo, tests/sim/keyframe_odometry_noise_test.cc) and, with a LiDAR
+  // holding the lateral to ~1 mm, kept the newest pose's lateral covariance
+  // ~9x too wide (zone D lines + LiDAR, lateral NEES mean 0.12).
+  double odometry_sigma_floor_m = 3e-4;
   double odometry_sigma_floor_rad = 1e-4;
   AssociationOptions association;
   // Localization mode: the standard deviation of a wheel slip's spurious
