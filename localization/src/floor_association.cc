@@ -52,8 +52,8 @@ Match Select(int observation, int num_landmarks, const Distance& distance, const
 }  // namespace
 
 bool KindsCompatible(core::MarkingKind observed, core::MarkingKind landmark) {
-  if (observed == core::MarkingKind::kRackFace) return landmark == core::MarkingKind::kRackFace;
-  return core::IsFaceKind(observed) == core::IsFaceKind(landmark);
+  if (core::IsFaceKind(observed)) return observed == landmark;
+  return !core::IsFaceKind(landmark);
 }
 
 core::Status AssociationOptions::Validate() const {

@@ -230,7 +230,7 @@ TEST(WallAtlas, WallObservationsAssociateOnlyWithWalls) {
   EXPECT_EQ(AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark, -1);
 }
 
-TEST(WallAtlas, RecessedBandsMatchOnlyRackFacesAndPlainBandsEitherFace) {
+TEST(WallAtlas, FaceObservationsMatchOnlyFacesOfTheirKind) {
   // A rack face at y = 1.125 and a solid wall at y = -1.125, both along x.
   Atlas atlas;
   WallSegment rack{{-10.0, 1.125}, {10.0, 1.125}};
@@ -255,7 +255,7 @@ TEST(WallAtlas, RecessedBandsMatchOnlyRackFacesAndPlainBandsEitherFace) {
     return AssociateLines({z}, atlas, core::SE2(), pose_covariance, {})[0].landmark;
   };
   EXPECT_EQ(associate(1.12, core::MarkingKind::kRackFace), 0);
-  EXPECT_EQ(associate(1.12, core::MarkingKind::kWall), 0);
+  EXPECT_EQ(associate(1.12, core::MarkingKind::kWall), -1);
   EXPECT_EQ(associate(-1.12, core::MarkingKind::kWall), 1);
   EXPECT_EQ(associate(-1.12, core::MarkingKind::kRackFace), -1);
   EXPECT_EQ(associate(-1.12, core::MarkingKind::kTapeSolid), -1);

@@ -217,7 +217,7 @@ bool FrontAlignedWithBand(std::span<const RangePoint> points, const std::vector<
   const double tilt_rad = std::abs(
       std::remainder(front_fit->line.alpha_rad - band_fit.line.alpha_rad, std::numbers::pi));
   const double sigma_rad =
-      std::sqrt(front_fit->covariance(1, 1) + band_fit.covariance(1, 1)) + o.face_alpha_sigma_rad;
+      std::sqrt(front_fit->covariance(1, 1) + band_fit.covariance(1, 1)) + o.front_tilt_slack_rad;
   return tilt_rad <= o.front_tilt_sigma * sigma_rad;
 }
 
@@ -259,7 +259,8 @@ core::Status WallLineOptions::Validate() const {
         std::pair("front_tilt_sigma", front_tilt_sigma), std::pair("min_length_m", min_length_m),
         std::pair("max_gap_m", max_gap_m), std::pair("face_rho_sigma_m", face_rho_sigma_m),
         std::pair("recessed_rho_sigma_m", recessed_rho_sigma_m),
-        std::pair("face_alpha_sigma_rad", face_alpha_sigma_rad)}) {
+        std::pair("face_alpha_sigma_rad", face_alpha_sigma_rad),
+        std::pair("front_tilt_slack_rad", front_tilt_slack_rad)}) {
     if (core::Status s = Positive(field, value); !s.ok()) return s;
   }
   if (!(face_sigma_m >= 0.0))
