@@ -102,33 +102,30 @@ std::vector<WallFace> WallFaces(const World& world, const WallFaceOptions& o) {
     if (p.offset_m != q.offset_m) return p.offset_m < q.offset_m;
     return p.s0_m < q.s0_m;
   });
-  // A gap between pieces is part of the face when the surface behind it
-  // (loads between uprights) is at most max_setback_m back on at least
-  // min_backed_fraction of it: what the LiDAR sees there is then the face's
-  // recessed band, not an opening (row ends with their loads 0.3 m in).
-  const auto backed = [&](const Piece& group, double s0, double s1) {
+  // A gap between pieces is part of the face (backed) when the surface
+  // behind it (loads between uprights) is at most max_setback_m back on at
+  // least min_backed_fraction of it: what the LiDAR sees there is then the
+  // face's recessed band, not an opening (row ends with their loads 0.3 m
+  // in). It is recessed when the face line itself is open there on at least
+  // half of it (the loads stand at least min_recess_m behind it), not a
+  // solid face hidden from the open floor by something in front of it.
+  struct Gap {
+    bool backed = true;
+    bool recessed = false;
+  };
+  const auto gap = [&](const Piece& group, double s0, double s1) {
     const Vector2 n(std::cos(group.angle_rad), std::sin(group.angle_rad));
     const Vector2 d(-n.y(), n.x());
     const double r = 0.5 * o.max_setback_m;
-    int samples = 0, hits = 0;
+    int samples = 0, hits = 0, open = 0;
     for (double u = s0 + 0.5 * o.sample_step_m; u < s1; u += o.sample_step_m) {
+      const Vector2 on_face = group.offset_m * n + u * d;
       ++samples;
-      hits += index.ClearanceM(group.offset_m * n + u * d - r * n, r) < r;
+      hits += index.ClearanceM(on_face - r * n, r) < r;
+      open += index.ClearanceM(on_face, o.min_recess_m) >= o.min_recess_m;
     }
-    return samples == 0 || hits >= o.min_backed_fraction * samples;
-  };
-  // A backed gap is recessed when the face line itself is open there on at
-  // least half of it (the loads stand at least min_recess_m behind it), not
-  // a solid face hidden from the open floor by something in front of it.
-  const auto recessed = [&](const Piece& group, double s0, double s1) {
-    const Vector2 n(std::cos(group.angle_rad), std::sin(group.angle_rad));
-    const Vector2 d(-n.y(), n.x());
-    int samples = 0, open = 0;
-    for (double u = s0 + 0.5 * o.sample_step_m; u < s1; u += o.sample_step_m) {
-      ++samples;
-      open += index.ClearanceM(group.offset_m * n + u * d, o.min_recess_m) >= o.min_recess_m;
-    }
-    return samples > 0 && 2 * open >= samples;
+    if (samples == 0) return Gap{};
+    return Gap{hits >= o.min_backed_fraction * samples, 2 * open >= samples};
   };
   std::vector<WallFace> faces;
   const auto emit = [&](const Piece& group, double s0, double s1, bool rack_face) {
@@ -150,12 +147,14 @@ std::vector<WallFace> WallFaces(const World& world, const WallFaceOptions& o) {
     double s0 = group.front().s0_m, s1 = group.front().s1_m;
     bool rack_face = false;
     for (const Piece& p : group) {
-      if (p.s0_m - s1 > o.max_gap_m || (p.s0_m > s1 && !backed(group.front(), s1, p.s0_m))) {
+      const Gap g = p.s0_m > s1 && p.s0_m - s1 <= o.max_gap_m ? gap(group.front(), s1, p.s0_m)
+                                                              : Gap{};
+      if (p.s0_m - s1 > o.max_gap_m || !g.backed) {
         emit(group.front(), s0, s1, rack_face);
         s0 = p.s0_m;
         rack_face = false;
-      } else if (p.s0_m > s1) {
-        rack_face = rack_face || recessed(group.front(), s1, p.s0_m);
+      } else {
+        rack_face = rack_face || g.recessed;
       }
       s1 = std::max(s1, p.s1_m);
     }
