@@ -206,6 +206,8 @@ int RunExtract(const ExtractFlags& flags) {
   const perception::LineExtractor extractor(remap, options);
   const perception::BevGrid& grid = remap.grid();
   const cv::Mat& mask = extractor.search_mask();
+  cv::Mat unseen;
+  cv::compare(remap.valid_mask(), 0, unseen, cv::CMP_EQ);
   const perception::FootprintPredicate footprint = [&](const Eigen::Vector2d& p) {
     const Eigen::Vector2d c = grid.CellOfFloorPoint(p);
     const int col = static_cast<int>(std::lround(c.x())),
@@ -289,11 +291,15 @@ int RunExtract(const ExtractFlags& flags) {
     jsonl << frame.dump() << "\n";
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
       char name[64];
+      // Shown as the camera sees the floor: the cells it does not see (which
+      // the extractor's BEV fills from their nearest seen cell) are black.
+      cv::Mat shown = bev.clone();
+      shown.setTo(cv::Scalar::all(0), unseen);
       std::snprintf(name, sizeof(name), "bev_%06zu.png", i);
-      cv::imwrite((fs::path(flags.out) / name).string(), bev);
+      cv::imwrite((fs::path(flags.out) / name).string(), shown);
       std::snprintf(name, sizeof(name), "overlay_%06zu.png", i);
       cv::imwrite((fs::path(flags.out) / name).string(),
-                  DrawOverlay(bev, grid, extraction, truths));
+                  DrawOverlay(shown, grid, extraction, truths));
     }
   }
   progress.Update("images", 1.0);

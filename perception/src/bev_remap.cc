@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <vector>
 
 namespace groundline::perception {
 namespace {
@@ -110,6 +111,7 @@ void BevRemap::Rebuild(const calibration::CameraMount& mount) {
     }
   }
   cv::compare(valid_mask_, 0, invalid_mask_, cv::CMP_EQ);
+  if (options_.fill_unseen) FillUnseenFromNearestSeen();
   if (options_.fixed_point) {
     cv::convertMaps(remap_map_, cv::noArray(), fixed_map_xy_, fixed_map_frac_, CV_16SC2);
   }
@@ -119,6 +121,34 @@ void BevRemap::Rebuild(const calibration::CameraMount& mount) {
     cv::resize(remap_map_, fine, cv::Size(), options_.supersampling, options_.supersampling,
                cv::INTER_LINEAR);
     cv::convertMaps(fine, cv::noArray(), fine_map_xy_, fine_map_frac_, CV_16SC2);
+  }
+}
+
+void BevRemap::FillUnseenFromNearestSeen() {
+  if (valid_cells_ == 0 || valid_cells_ == grid_.rows() * grid_.cols()) return;
+  // DIST_LABEL_PIXEL: every seen (zero) cell of invalid_mask_ gets its own
+  // label, and every unseen cell the label of the seen cell nearest to it.
+  cv::Mat distance, labels;
+  cv::distanceTransform(invalid_mask_, distance, labels, cv::DIST_L2, cv::DIST_MASK_5,
+                        cv::DIST_LABEL_PIXEL);
+  double max_label = 0.0;
+  cv::minMaxLoc(labels, nullptr, &max_label);
+  std::vector<cv::Vec2f> pixel_of_label(static_cast<size_t>(max_label) + 1);
+  for (int row = 0; row < grid_.rows(); ++row) {
+    const auto* mask_row = valid_mask_.ptr<std::uint8_t>(row);
+    const auto* label_row = labels.ptr<int>(row);
+    const auto* map_row = remap_map_.ptr<cv::Vec2f>(row);
+    for (int col = 0; col < grid_.cols(); ++col) {
+      if (mask_row[col] != 0) pixel_of_label[label_row[col]] = map_row[col];
+    }
+  }
+  for (int row = 0; row < grid_.rows(); ++row) {
+    const auto* mask_row = valid_mask_.ptr<std::uint8_t>(row);
+    const auto* label_row = labels.ptr<int>(row);
+    auto* map_row = remap_map_.ptr<cv::Vec2f>(row);
+    for (int col = 0; col < grid_.cols(); ++col) {
+      if (mask_row[col] == 0) map_row[col] = pixel_of_label[label_row[col]];
+    }
   }
 }
 
@@ -139,7 +169,7 @@ void BevRemap::Apply(const cv::Mat& image, cv::Mat* bev) const {
     cv::remap(image, *bev, remap_map_, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
               cv::Scalar::all(0));
   }
-  bev->setTo(cv::Scalar::all(0), invalid_mask_);
+  if (!options_.fill_unseen) bev->setTo(cv::Scalar::all(0), invalid_mask_);
 }
 
 Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::CameraMount& mount,

@@ -22,7 +22,8 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
   for (size_t i = 0; i < candidate->centres_m.size(); i += 2) {
     const Eigen::Vector2d& p = candidate->centres_m[i];
     const float c = sample(p), a = sample(p + offset_m * n), b = sample(p - offset_m * n);
-    if (c == 0.0f || a == 0.0f || b == 0.0f) continue;  // outside the seen floor
+    // 0: a cell the camera does not see (a BEV made without BevRemap's fill_unseen).
+    if (c == 0.0f || a == 0.0f || b == 0.0f) continue;
     centre += c;
     plus += a;
     minus += b;

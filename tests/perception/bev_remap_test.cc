@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
@@ -186,7 +187,6 @@ TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
   cv::GaussianBlur(noise, image, cv::Size(0, 0), 4.0);
   cv::normalize(image, image, 0.0, 255.0, cv::NORM_MINMAX);
   image.convertTo(image, CV_8U);
-  image.at<std::uint8_t>(0, 0) = 200;  // invalid cells must not pick this up
   cv::Mat by_remap, by_warp, diff;
   remap.Apply(image, &by_remap);
   WarpToBevPinhole(image, remap.grid(), mount, camera.K(), &by_warp);
@@ -196,13 +196,55 @@ TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
   EXPECT_LE(max_diff, 2.0);
   EXPECT_LT(cv::mean(diff, remap.valid_mask())[0], 0.3);
   EXPECT_GT(remap.valid_cells(), 10000);
-  // Cells the camera does not see are 0, on both the float and fixed-point paths.
-  const cv::Mat invalid = remap.valid_mask() == 0;
-  EXPECT_EQ(cv::countNonZero(by_remap & invalid), 0);
-  cv::Mat by_fixed;
-  BevRemap(camera, mount, BevRemap::Options{}).Apply(image, &by_fixed);
-  EXPECT_EQ(cv::countNonZero(by_fixed & invalid), 0);
-  EXPECT_GT(cv::countNonZero(invalid), 1000);
+}
+
+// Cells the camera does not see: without fill_unseen they are 0, on both the
+// float and the fixed-point path; with it (the default) each holds the grey
+// of a seen cell nearest to it (DIST_MASK_5 is within a cell of exact).
+TEST(BevRemapTest, UnseenCellsAreBlackOrTheNearestSeenCell) {
+  const CameraModel camera = ReferenceCamera();
+  const CameraMount mount;
+  cv::Mat noise(1024, 1280, CV_32F), image;
+  cv::RNG rng(11);
+  rng.fill(noise, cv::RNG::UNIFORM, 0.0, 255.0);
+  cv::GaussianBlur(noise, image, cv::Size(0, 0), 3.0);
+  cv::normalize(image, image, 1.0, 255.0, cv::NORM_MINMAX);  // no 0 among seen cells
+  image.convertTo(image, CV_8U);
+  BevRemap::Options black;
+  black.fill_unseen = false;
+  for (const bool fixed_point : {false, true}) {
+    black.fixed_point = fixed_point;
+    const BevRemap remap(camera, mount, black);
+    cv::Mat bev;
+    remap.Apply(image, &bev);
+    const cv::Mat unseen = remap.valid_mask() == 0;
+    EXPECT_GT(cv::countNonZero(unseen), 1000);
+    EXPECT_EQ(cv::countNonZero(bev & unseen), 0) << "fixed_point " << fixed_point;
+    EXPECT_EQ(cv::countNonZero(bev), remap.valid_cells());
+  }
+  const BevRemap remap(camera, mount, BevRemap::Options{});
+  cv::Mat bev;
+  remap.Apply(image, &bev);
+  std::vector<cv::Point> seen;
+  cv::findNonZero(remap.valid_mask(), seen);
+  ASSERT_FALSE(seen.empty());
+  int checked = 0;
+  for (int row = 0; row < bev.rows; row += 5) {
+    for (int col = 0; col < bev.cols; col += 5) {
+      if (remap.valid_mask().at<std::uint8_t>(row, col) != 0) continue;
+      double nearest = 1e9;
+      for (const cv::Point& p : seen) nearest = std::min(nearest, std::hypot(p.x - col, p.y - row));
+      bool matches = false;
+      for (const cv::Point& p : seen) {
+        matches = matches || (std::hypot(p.x - col, p.y - row) <= nearest + 1.0 &&
+                              bev.at<std::uint8_t>(p) == bev.at<std::uint8_t>(row, col));
+      }
+      EXPECT_TRUE(matches) << "unseen cell (" << col << ", " << row << ") holds "
+                           << int(bev.at<std::uint8_t>(row, col));
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
 }
 
 TEST(BevRemapTest, RebuildAfterPitchAndHeightChangeMovesPointsAsPredicted) {

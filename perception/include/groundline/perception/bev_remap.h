@@ -19,7 +19,7 @@
 // 42.4 deg down, 0.42 m ahead of the axle; fx = 1132 px on 1280 x 1024) sees
 // the floor only from about 0.67 m to 2.2 m ahead (the image's bottom and top
 // rows), and about +-0.35 m across at the near edge to +-1.0 m at the far
-// edge. Cells the camera does not see are flagged invalid and stay black; a
+// edge. Cells the camera does not see are flagged invalid (valid_mask); a
 // larger extent only costs time. Every extent is an Option.
 //
 // The remap table (BevRemap), seed paper eqs. (29)-(33) but through the lens
@@ -28,9 +28,10 @@
 // (CameraModel::ProjectBatch, mrcal). A cell is valid when p_cam is in front
 // of the camera and (u, v) lies in [0, width-1] x [0, height-1], where
 // bilinear interpolation needs no pixel outside the image. Invalid cells hold
-// the map value (-1, -1) and come out as 0 in the BEV (the remap itself reads
-// pixel (0, 0) there and zeroes them after: 5x faster than letting cv::remap
-// handle out-of-image map entries). Apply() is cv::remap,
+// the map value (-1, -1) in pixel_map(); in the BEV they take the grey of the
+// nearest valid cell (Options::fill_unseen: the remap reads that cell's pixel
+// there), or are 0 (the remap reads pixel (0, 0) and zeroes them after: 5x
+// faster than letting cv::remap handle out-of-image map entries). Apply() is cv::remap,
 // bilinear, on the fixed-point maps (cv::convertMaps: 1/32 px interpolation
 // steps) or on the float maps (Options::fixed_point = false).
 //
@@ -104,6 +105,12 @@ class BevRemap {
     // pixel positions are bilinear interpolations of the cell-centre table
     // (the projection is smooth on the scale of a cell).
     int supersampling = 1;
+    // Cells the camera does not see take the grey of the nearest seen cell
+    // (their map entry is that cell's, found once per Rebuild by a distance
+    // transform), so the ridge filter near the footprint's border sees floor
+    // on both sides instead of a black step: a joint 1 cm inside the far
+    // border was found 8 mm off and then dropped. false: they are 0.
+    bool fill_unseen = true;
     core::Status Validate() const;
   };
 
@@ -150,6 +157,8 @@ class BevRemap {
   cv::Mat fine_map_xy_;     // supersampled fixed-point maps (supersampling > 1)
   cv::Mat fine_map_frac_;
   int valid_cells_ = 0;
+
+  void FillUnseenFromNearestSeen();
 };
 
 // M_img_cell = H_img_floor(T_base_cam, K) * A_floor_cell: maps BEV cell

@@ -3,8 +3,9 @@
 //
 //  1. Steerable ridge filter (steerable_ridge.h): Hessian, bright and dark
 //     ridge energy, normal angle, eigen_ratio. Cells within
-//     border_erosion_sigmas * sigma of the unseen area are ignored (the black
-//     outside of the footprint makes a step edge).
+//     border_erosion_sigmas * sigma of the unseen area are ignored (the
+//     filter there reaches into cells the camera does not see, which
+//     BevRemap fills from the nearest seen cell, or which are black).
 //  2. Per polarity: Otsu threshold of the energy, ridge centres by
 //     non-maximum suppression, cv::HoughLinesP, collinear merging
 //     (ridge_segments.h).
