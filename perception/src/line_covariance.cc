@@ -85,6 +85,10 @@ core::Status LineNoiseModel::Validate() const {
   if (!(correlation_samples >= 1.0) || !std::isfinite(correlation_samples)) {
     return bad("correlation_samples", "a number >= 1");
   }
+  if (!(scatter_correlation_samples == 0.0 || scatter_correlation_samples >= 1.0) ||
+      !std::isfinite(scatter_correlation_samples)) {
+    return bad("scatter_correlation_samples", "0 or a number >= 1");
+  }
   if (!(rho_floor_m >= 0.0) || !std::isfinite(rho_floor_m)) {
     return bad("rho_floor_m", "a number >= 0");
   }
@@ -111,7 +115,10 @@ core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> 
     sum += d * d / (J_floor_pixel[i].transpose() * n).squaredNorm();
   }
   const double count = static_cast<double>(points_m.size());
-  const double independent = std::max(3.0, count / model.correlation_samples);
+  const double scatter_correlation = model.scatter_correlation_samples > 0.0
+                                         ? model.scatter_correlation_samples
+                                         : model.correlation_samples;
+  const double independent = std::max(3.0, count / scatter_correlation);
   const double lambda2 = sum / count * independent / (independent - 2.0);
   const double sigma2 = std::max(lambda2, model.min_sigma_px * model.min_sigma_px);
   fit->covariance *= model.correlation_samples * sigma2;

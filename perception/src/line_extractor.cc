@@ -60,6 +60,9 @@ core::Status LineExtractorOptions::Validate() const {
     return bad("orientation_tolerance_deg", "a number in (0, 45)");
   }
   if (!std::isfinite(correlation_samples)) return bad("correlation_samples", "a finite number");
+  if (!std::isfinite(scatter_correlation_samples)) {
+    return bad("scatter_correlation_samples", "a finite number");
+  }
   LineNoiseModel noise;
   noise.min_sigma_px = min_sigma_px;
   noise.rho_floor_m = rho_floor_m;
@@ -111,6 +114,10 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   noise_.correlation_samples =
       std::max(1.0, options.correlation_samples > 0.0
                         ? options.correlation_samples
+                        : std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
+  noise_.scatter_correlation_samples =
+      std::max(1.0, options.scatter_correlation_samples > 0.0
+                        ? options.scatter_correlation_samples
                         : 4.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
   noise_.min_sigma_px = options.min_sigma_px;
   noise_.rho_floor_m = options.rho_floor_m;
@@ -161,9 +168,10 @@ bool FitFloorPoints(const std::vector<Eigen::Vector2d>& points_m, const BevGrid&
 
 // One merged segment -> a fitted line, or nothing when it fails a test.
 std::optional<internal::CandidateLine> FitSegment(
-    const RidgeImagesView& view, const RidgeSegment& segment, double threshold,
-    const cv::Mat& search_mask, const cv::Mat& floor_from_pixel, const BevGrid& grid,
-    const LineExtractorOptions& options, const LineNoiseModel& noise) {
+    const RidgeImagesView& view, const cv::Mat& bev_float, LinePolarity polarity,
+    const RidgeSegment& segment, double threshold, const cv::Mat& search_mask,
+    const cv::Mat& floor_from_pixel, const BevGrid& grid, const LineExtractorOptions& options,
+    const LineNoiseModel& noise) {
   int positions = 0;
   std::vector<RidgeSample> samples = RefineRidgeCentres(
       view, segment, options.sample_energy_fraction * threshold, options.refinement, &positions);
@@ -190,6 +198,21 @@ std::optional<internal::CandidateLine> FitSegment(
     return std::abs(s.width_cells - median_width) > options.width_outlier_fraction * median_width;
   });
   if (samples.size() < 3) return std::nullopt;
+  // Lopsided floor beside a joint (LineExtractorOptions::max_side_asymmetry).
+  if (polarity == LinePolarity::kDark && options.max_side_asymmetry > 0.0) {
+    const Eigen::Vector2d n = first->line.Normal();  // cells
+    std::erase_if(samples, [&](const RidgeSample& s) {
+      const Eigen::Vector2d& c = s.centre_cell;
+      const Eigen::Vector2d a = c + options.side_offset_cells * n;
+      const Eigen::Vector2d b = c - options.side_offset_cells * n;
+      const double centre = SampleBilinear(bev_float, c.x(), c.y());
+      const double side_a = SampleBilinear(bev_float, a.x(), a.y());
+      const double side_b = SampleBilinear(bev_float, b.x(), b.y());
+      const double depth = 0.5 * (side_a + side_b) - centre;  // dark: the sides are brighter
+      return depth > 0.0 && std::abs(side_a - side_b) > options.max_side_asymmetry * depth;
+    });
+    if (samples.size() < 3) return std::nullopt;
+  }
   const double span_cells = samples.back().along_cell - samples.front().along_cell;
   if (span_cells * grid.cell_m() < options.min_line_length_m) return std::nullopt;
   if (static_cast<double>(samples.size()) < options.min_support * (span_cells + 1.0)) {
@@ -292,9 +315,13 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
     return std::nullopt;
   }
   // Each edge point comes from its own profile, unsmoothed along the line:
-  // the points are independent.
+  // the points are independent, and none is pulled by a ridge beside it (no
+  // rho floor: with 0.5 mm, 41 of 61 zone A stripe edges fell below the
+  // NEES band).
   LineNoiseModel independent = noise;
   independent.correlation_samples = 1.0;
+  independent.scatter_correlation_samples = 1.0;
+  independent.rho_floor_m = 0.0;
   ExtractedLine line = candidate.line;
   if (!FitFloorPoints(points, grid, floor_from_pixel, independent, &line)) {
     return std::nullopt;
@@ -321,7 +348,11 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     const bool bright = polarity == LinePolarity::kBright;
     if (bright ? !options_.bright : !options_.dark) continue;
     const cv::Mat& energy = bright ? ridges.bright : ridges.dark;
-    const double threshold = RidgeEnergyThreshold(energy, search_mask_, options_.segments);
+    RidgeSegmentOptions segment_options = options_.segments;
+    if (!bright && options_.dark_max_energy > 0.0) {
+      segment_options.max_energy = std::max(segment_options.min_energy, options_.dark_max_energy);
+    }
+    const double threshold = RidgeEnergyThreshold(energy, search_mask_, segment_options);
     (bright ? result.bright_threshold : result.dark_threshold) = threshold;
     cv::Mat centres;
     RidgeCentreMask(energy, ridges.eigen_ratio, ridges.normal_rad, search_mask_, threshold,
@@ -331,8 +362,9 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     const RidgeImagesView view{&energy, &ridges.eigen_ratio, &ridges.normal_rad};
     std::vector<internal::CandidateLine> candidates;
     for (const RidgeSegment& segment : segments) {
-      std::optional<internal::CandidateLine> candidate = FitSegment(
-          view, segment, threshold, search_mask_, floor_from_pixel_, grid_, options_, noise_);
+      std::optional<internal::CandidateLine> candidate =
+          FitSegment(view, bev_float, polarity, segment, threshold, search_mask_,
+                     floor_from_pixel_, grid_, options_, noise_);
       if (!candidate) continue;
       candidate->line.kind.polarity = polarity;
       internal::MeasureSideContrast(bev_float, grid_, side_offset_m,

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <numbers>
+#include <string>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -110,6 +111,7 @@ TEST(DuckietownBev, ParallelRoadLinesStayParallel) {
                                               a.line.Normal().y() * b.line.Normal().x())) *
                            180.0 / std::numbers::pi;
   EXPECT_LT(angle_deg, 1.0);
+  RecordProperty("angle_between_lines_deg", std::to_string(angle_deg));
   EXPECT_EQ(a.kind.orientation, LineOrientation::kLongitudinal);
   EXPECT_EQ(b.kind.orientation, LineOrientation::kLongitudinal);
   // On opposite sides of the camera, a lane (0.2-0.35 m at 31 mm squares) apart.

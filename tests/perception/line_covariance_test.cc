@@ -7,6 +7,7 @@
 
 #include <Eigen/LU>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "groundline/calibration/camera_model.h"
@@ -67,6 +68,39 @@ TEST(LineCovariance, IntersectionJacobiansMatchNumeric) {
 
 // Ridge centres along a floor line, seen through the lens with pixel noise:
 // the empirical covariance of the fitted (rho, alpha) matches the model.
+// The measured-noise model (LineNoiseModel): sigma_px^2 from the scatter with
+// N / scatter_correlation_samples degrees of freedom, the covariance counting
+// correlation_samples centres per independent one.
+TEST(LineCovariance, MeasuredNoiseSeparatesScatterAndMeanCorrelation) {
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 60; ++i) {
+    points.emplace_back(1.0 + 0.01 * i, 0.3 + (i % 2 == 0 ? 0.001 : -0.001));  // +-1 mm
+  }
+  const std::vector<Eigen::Matrix2d> J(points.size(), 0.002 * Eigen::Matrix2d::Identity());
+  LineNoiseModel shared;  // one correlation length for both
+  shared.min_sigma_px = 0.01;
+  shared.correlation_samples = 4.0;
+  LineNoiseModel separate = shared;
+  separate.scatter_correlation_samples = 10.0;
+  double sigma_shared = 0.0, sigma_separate = 0.0;
+  const core::Result<LineFit> a = FitLineWithMeasuredNoise(points, J, shared, &sigma_shared);
+  const core::Result<LineFit> b = FitLineWithMeasuredNoise(points, J, separate, &sigma_separate);
+  ASSERT_TRUE(a.ok() && b.ok());
+  // Residuals of 0.5 px: lambda^2 = 0.25 N_eff / (N_eff - 2), N_eff = 60 / 4
+  // or 60 / 10.
+  EXPECT_NEAR(sigma_shared * sigma_shared, 0.25 * 15.0 / 13.0, 1e-3);
+  EXPECT_NEAR(sigma_separate * sigma_separate, 0.25 * 6.0 / 4.0, 1e-3);
+  const core::Result<LineFit> expected = FitLineWithPixelNoise(points, J, sigma_separate, 4.0);
+  ASSERT_TRUE(expected.ok());
+  EXPECT_TRUE(b->covariance.isApprox(expected->covariance, 1e-6));
+  EXPECT_NEAR(b->covariance(1, 1) / a->covariance(1, 1), (6.0 / 4.0) / (15.0 / 13.0), 1e-3);
+  LineNoiseModel bad = shared;
+  bad.scatter_correlation_samples = 0.5;
+  const core::Status status = bad.Validate();
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("scatter_correlation_samples"), std::string::npos);
+}
+
 TEST(LineCovariance, FitWithPixelNoiseMatchesMonteCarlo) {
   const calibration::FloorProjection projection(TestCamera(), calibration::CameraMount{});
   const HesseLine truth{0.31, 1.52};  // a longitudinal line, 31 cm to the left

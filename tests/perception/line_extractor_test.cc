@@ -139,6 +139,7 @@ TEST(LineExtractor, CovarianceIsConsistentOverMonteCarlo) {
   options.alpha_floor_rad = 0.0;
   options.min_sigma_px = 0.01;
   options.correlation_samples = 2.0 * std::sqrt(kPi) * options.ridge.sigma_cells;
+  options.scatter_correlation_samples = options.correlation_samples;  // white noise: one length
   const LineExtractor extractor = MakeExtractor(grid, options);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> rho(0.1, 0.6), angle(-0.06, 0.06), grey(110.0, 200.0),

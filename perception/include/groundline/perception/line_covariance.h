@@ -78,7 +78,8 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
 // line's own centres about its fit, expressed in pixels:
 //
 //   lambda^2 = (1/N) sum_i d_i^2 / (n^T J_i J_i^T n) * N_eff / (N_eff - 2),
-//   N_eff = N / correlation_samples  (independent samples; clamped >= 3),
+//   N_eff = N / scatter_correlation_samples  (independent samples for the
+//           scatter; clamped >= 3; 0: correlation_samples),
 //
 // (d_i: residuals of the weighted fit, the factor undoes the fit's absorption
 // of two degrees of freedom). sigma_px^2 = max(lambda^2, min_sigma_px^2), and
@@ -87,10 +88,14 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
 //
 // where the floor holds what the scatter cannot show: errors constant along
 // a line (the sub-cell phase of a line running along the BEV grid, edge
-// asymmetry of wide bars).
+// asymmetry of wide bars). The two correlation numbers differ when the
+// centres' errors are band-pass (positive correlation over a few cells, a
+// negative lobe beyond): the scatter then has fewer degrees of freedom than
+// the mean of the errors has independent terms.
 struct LineNoiseModel {
   double min_sigma_px = 0.3;
-  double correlation_samples = 1.0;  // >= 1
+  double correlation_samples = 1.0;          // >= 1
+  double scatter_correlation_samples = 0.0;  // >= 1, or 0: correlation_samples
   double rho_floor_m = 0.0;
   double alpha_floor_rad = 0.0;
 
