@@ -47,9 +47,6 @@ core::Status LineExtractorOptions::Validate() const {
     return bad("bar_min_width_m / bar_max_width_m", "0 <= min < max");
   }
   if (!(min_bright_excess >= 0.0)) return bad("min_bright_excess", "a number >= 0");
-  if (!(min_bright_side_ratio >= 0.0 && min_bright_side_ratio <= 1.0)) {
-    return bad("min_bright_side_ratio", "a number in [0, 1]");
-  }
   if (!(side_lobe_distance_cells >= 0.0)) return bad("side_lobe_distance_cells", "a number >= 0");
   if (!(side_lobe_angle_deg >= 0.0)) return bad("side_lobe_angle_deg", "a number >= 0");
   if (!(single_edge_min_contrast > 0.0)) return bad("single_edge_min_contrast", "a number > 0");

@@ -139,9 +139,7 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
          candidates[i].sagitta_m > options.max_dark_sagitta_m)) {
       continue;
     }
-    const bool lopsided = polarity == LinePolarity::kBright &&
-                          std::min(plus, minus) < options.min_bright_side_ratio * std::max(plus, minus);
-    if (std::min(plus, minus) >= min_contrast && !lopsided) {
+    if (std::min(plus, minus) >= min_contrast) {
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {
       edges.push_back(static_cast<int>(i));

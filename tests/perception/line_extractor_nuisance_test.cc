@@ -81,24 +81,6 @@ TEST(LineExtractorNuisance, OilStainBesideAJointGivesOnlyTheJoint) {
   EXPECT_GT(out.lines[0].LengthM(), 1.2);
 }
 
-// Glare on the floor beside a dark object (a pallet's foot, an oil stain):
-// the lit strip along the object's edge is brighter than both of its sides,
-// but by 100 grey levels on the object's side and a few on the other. It is
-// no tape (min_bright_side_ratio).
-TEST(LineExtractorNuisance, GlareAlongADarkObjectsEdgeIsNoTape) {
-  const BevGrid grid(BevGridOptions{});
-  const Floor floor = [](const Eigen::Vector2d& p) {
-    if (p.y() > 0.35) return 12.0;  // the object, over the whole left of the view
-    const double r2 = (p - Eigen::Vector2d(1.55, 0.33)).squaredNorm();
-    return 80.0 + 110.0 * std::exp(-0.5 * r2 / (0.12 * 0.12));  // the glare blob
-  };
-  const cv::Mat bev = RenderBev(grid, floor);
-  ExpectNoLines(MakeExtractor(grid).Extract(bev), "glare beside a dark object");
-  LineExtractorOptions options;
-  options.min_bright_side_ratio = 0.0;
-  EXPECT_GE(CountLines(MakeExtractor(grid, options).Extract(bev), LinePolarity::kBright), 1);
-}
-
 TEST(LineExtractorNuisance, TapeOverAJointIsOneTape) {
   const BevGrid grid(BevGridOptions{});
   // A 10 cm tape laid over a joint: the joint's groove splits it in two

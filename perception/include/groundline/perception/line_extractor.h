@@ -95,12 +95,6 @@ struct LineExtractorOptions {
   double side_offset_cells = 7.0;
   double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
   double min_bright_excess = 10.0;       // bright line centre over the frame's median grey
-  // A bright line rises above both sides by comparable amounts (tape beside
-  // an oil stain: 135 and 160 grey levels). One whose smaller side contrast
-  // is below this fraction of the larger is the lit floor along a dark
-  // object's edge (glare against an occluder or a stain), not tape: on the
-  // 12 simulator datasets 0.2 removed 3 of 7 false positives and no true line.
-  double min_bright_side_ratio = 0.2;
   double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
   // A joint is a thin groove (8 mm + blur): at a centre, the grey level
   // dark_narrow_offset_cells to either side has recovered at least half of
