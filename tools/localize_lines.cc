@@ -71,8 +71,7 @@ double Percentile(std::vector<double> values, double q) {
 // NEES in band fell from 91.1 to 89.9 %.
 perception::LineExtractorOptions FusionExtractorOptions() {
   perception::LineExtractorOptions options;
-  options.correlation_samples = 4.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells;
-  options.scatter_correlation_samples = options.correlation_samples;
+  options.correlation_samples = options.ScatterCorrelationSamples();
   options.rho_floor_m = 0.0;
   return options;
 }

@@ -71,6 +71,18 @@ core::Status LineExtractorOptions::Validate() const {
   return core::Status::Ok();
 }
 
+double LineExtractorOptions::CorrelationSamples() const {
+  return std::max(1.0, correlation_samples > 0.0
+                           ? correlation_samples
+                           : std::sqrt(std::numbers::pi) * ridge.sigma_cells);
+}
+
+double LineExtractorOptions::ScatterCorrelationSamples() const {
+  return std::max(1.0, scatter_correlation_samples > 0.0
+                           ? scatter_correlation_samples
+                           : 4.0 * std::sqrt(std::numbers::pi) * ridge.sigma_cells);
+}
+
 cv::Mat FloorFromPixelJacobians(const BevGrid& grid, const cv::Mat& valid_mask,
                                 const calibration::FloorProjection& projection) {
   cv::Mat table(grid.rows(), grid.cols(), CV_64FC4, cv::Scalar::all(0));
@@ -111,14 +123,8 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   cv::rectangle(valid, cv::Rect(0, 0, valid.cols, valid.rows), cv::Scalar(0), 1);
   cv::erode(valid, search_mask_,
             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
-  noise_.correlation_samples =
-      std::max(1.0, options.correlation_samples > 0.0
-                        ? options.correlation_samples
-                        : std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
-  noise_.scatter_correlation_samples =
-      std::max(1.0, options.scatter_correlation_samples > 0.0
-                        ? options.scatter_correlation_samples
-                        : 4.0 * std::sqrt(std::numbers::pi) * options.ridge.sigma_cells);
+  noise_.correlation_samples = options.CorrelationSamples();
+  noise_.scatter_correlation_samples = options.ScatterCorrelationSamples();
   noise_.min_sigma_px = options.min_sigma_px;
   noise_.rho_floor_m = options.rho_floor_m;
   noise_.alpha_floor_rad = options.alpha_floor_rad;

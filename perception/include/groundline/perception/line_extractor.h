@@ -167,6 +167,10 @@ struct LineExtractorOptions {
   double alpha_floor_rad = 0.0007;  // 0.04 deg
 
   core::Status Validate() const;
+  // correlation_samples and scatter_correlation_samples with their defaults
+  // (<= 0) resolved, each at least 1.
+  double CorrelationSamples() const;
+  double ScatterCorrelationSamples() const;
 };
 
 struct ExtractedLine {
