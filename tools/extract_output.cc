@@ -58,7 +58,7 @@ nlohmann::ordered_json FrameToJson(const std::string& image, double ms,
 
 nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
                                    const perception::TrueLine& truth) {
-  const Eigen::Vector2d r = perception::LineDifference(line.line, truth.line);
+  const Eigen::Vector2d r = perception::LineError(line.line, truth.line);
   nlohmann::ordered_json out;
   out["marking_id"] = truth.marking_id;
   out["kind"] = std::string(core::MarkingKindName(truth.kind));

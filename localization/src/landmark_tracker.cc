@@ -72,8 +72,12 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
     double best_d2 = options_.gate_chi2;
     for (size_t t = 0; t < lines_.size(); ++t) {
       const AtlasLine& track = lines_[t].estimate;
+      // nu is in the track's description; so must the seen line's covariance be.
       const Eigen::Vector2d nu = perception::LineDifference(seen.line_map, track.line_map);
-      const double d2 = Mahalanobis2(nu, seen.covariance + track.covariance);
+      const double d2 = Mahalanobis2(
+          nu, perception::CovarianceInDescriptionOf(seen.line_map, track.line_map,
+                                                    seen.covariance) +
+                  track.covariance);
       if (d2 <= best_d2 && lines_[t].last_keyframe < keyframe_index) {
         best_d2 = d2;
         best = static_cast<int>(t);
@@ -85,9 +89,11 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
     }
     LineTrack& track = lines_[best];
     Eigen::Vector2d x(track.estimate.line_map.rho_m, track.estimate.line_map.alpha_rad);
-    Fuse(perception::LineDifference(seen.line_map, track.estimate.line_map), seen.covariance, &x,
-         &track.estimate.covariance);
-    track.estimate.line_map = perception::NormalizeLine(x(0), x(1));
+    Fuse(perception::LineDifference(seen.line_map, track.estimate.line_map),
+         perception::CovarianceInDescriptionOf(seen.line_map, track.estimate.line_map,
+                                               seen.covariance),
+         &x, &track.estimate.covariance);
+    track.estimate.line_map = perception::NormalizeLine(x(0), x(1), &track.estimate.covariance);
     ExtendLineExtent(seen.endpoint_a_m, &track.estimate);
     ExtendLineExtent(seen.endpoint_b_m, &track.estimate);
     track.last_keyframe = keyframe_index;

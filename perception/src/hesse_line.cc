@@ -53,6 +53,16 @@ HesseLine NormalizeLine(double rho_m, double alpha_rad) {
   return NormalizeWithSign(rho_m, alpha_rad, &sign);
 }
 
+HesseLine NormalizeLine(double rho_m, double alpha_rad, Eigen::Matrix2d* covariance) {
+  double sign = 1.0;
+  const HesseLine line = NormalizeWithSign(rho_m, alpha_rad, &sign);
+  if (covariance != nullptr && sign < 0.0) {
+    (*covariance)(0, 1) = -(*covariance)(0, 1);
+    (*covariance)(1, 0) = -(*covariance)(1, 0);
+  }
+  return line;
+}
+
 bool IsNormalized(const HesseLine& line) {
   if (!(line.rho_m >= 0.0 && line.alpha_rad > -kPi && line.alpha_rad <= kPi)) return false;
   return line.rho_m != 0.0 || (line.alpha_rad > -kPi / 2 && line.alpha_rad <= kPi / 2);
@@ -141,6 +151,19 @@ Eigen::Vector2d LineDifference(const HesseLine& a, const HesseLine& b, Eigen::Ma
   if (J_r_a != nullptr) *J_r_a << rho_sign, 0.0, 0.0, 1.0;
   if (J_r_b != nullptr) *J_r_b = -Eigen::Matrix2d::Identity();
   return {rho_a - b.rho_m, delta_alpha};
+}
+
+Eigen::Matrix2d CovarianceInDescriptionOf(const HesseLine& a, const HesseLine& b,
+                                          const Eigen::Matrix2d& covariance_a) {
+  Eigen::Matrix2d J;
+  LineDifference(a, b, &J);
+  return J * covariance_a * J.transpose();
+}
+
+Eigen::Vector2d LineError(const HesseLine& estimate, const HesseLine& truth) {
+  Eigen::Matrix2d J;
+  const Eigen::Vector2d r = LineDifference(estimate, truth, &J);
+  return J * r;  // J = diag(+-1, 1) is its own inverse
 }
 
 }  // namespace groundline::perception

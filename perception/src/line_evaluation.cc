@@ -47,7 +47,7 @@ void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
     }
     if (!detected) continue;
     const ExtractedLine& line = extracted[matches.extracted_of_truth[j]];
-    const Eigen::Vector2d r = LineDifference(line.line, truths[j].line);
+    const Eigen::Vector2d r = LineError(line.line, truths[j].line);
     const double nees = r.dot(line.covariance.inverse() * r);
     for (LineErrorSummary* s : {&overall_, &kind}) {
       s->abs_rho_error_m.push_back(std::abs(r(0)));

@@ -82,11 +82,11 @@ void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
     for (const ExtractedLine* member : groups[k]) {
       const double w = member->samples / total;
       mean_difference += w * LineDifference(member->line, first.line);
-      covariance += w * member->covariance;
+      covariance += w * CovarianceInDescriptionOf(member->line, first.line, member->covariance);
       SpanEndpoints(merged, *member, &merged);
     }
     merged.line = NormalizeLine(first.line.rho_m + mean_difference(0),
-                                first.line.alpha_rad + mean_difference(1));
+                                first.line.alpha_rad + mean_difference(1), &covariance);
     merged.covariance = covariance;
     merged.samples = static_cast<int>(total);
     SpanEndpoints(merged, merged, &merged);

@@ -177,9 +177,13 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     const ExtractedLine& la = a.line;
     const ExtractedLine& lb = candidates[best].line;
     ExtractedLine merged = la;
+    // The mean of the two edges in la's description, then normalized; lb's
+    // covariance is carried into la's description first.
     const Eigen::Vector2d half = 0.5 * LineDifference(lb.line, la.line);
-    merged.line = NormalizeLine(la.line.rho_m + half(0), la.line.alpha_rad + half(1));
-    merged.covariance = 0.25 * (la.covariance + lb.covariance);
+    merged.covariance =
+        0.25 * (la.covariance + CovarianceInDescriptionOf(lb.line, la.line, lb.covariance));
+    merged.line = NormalizeLine(la.line.rho_m + half(0), la.line.alpha_rad + half(1),
+                                &merged.covariance);
     merged.from_bar_edges = true;
     merged.energy = 0.5 * (la.energy + lb.energy);
     merged.rms_residual_m = std::max(la.rms_residual_m, lb.rms_residual_m);

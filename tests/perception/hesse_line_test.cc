@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -212,6 +214,65 @@ TEST(HesseLine, DifferenceIsContinuousThroughTheOrigin) {
     EXPECT_NEAR(current - previous, 1e-5, 1e-12) << rho;
     previous = current;
   }
+}
+
+// Estimates of a line 0.5 mm from the origin, drawn from a strongly correlated
+// covariance (a 1 m line 2 m ahead): about half come out normalized the other
+// way round from the truth. Their errors, taken in their own descriptions
+// (LineError), weighed by their own covariances (NormalizeLine carries the
+// covariance through the flip), must be chi-square with 2 degrees of freedom.
+TEST(HesseLine, LineErrorIsWeighedByTheEstimatesOwnCovarianceThroughTheFlip) {
+  const HesseLine truth = NormalizeLine(5e-4, kPi / 2);
+  // sd rho 2 mm, sd alpha 1 mrad, correlation 0.95.
+  Eigen::Matrix2d C;
+  C << 4e-6, 0.95 * 2e-3 * 1e-3, 0.95 * 2e-3 * 1e-3, 1e-6;
+  const Eigen::Matrix2d L = C.llt().matrixL();
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  constexpr int kTrials = 4000;
+  int flipped = 0, inside = 0, inside_truth_description = 0;
+  double mean_nees = 0.0;
+  for (int t = 0; t < kTrials; ++t) {
+    const Eigen::Vector2d d = L * Eigen::Vector2d(n01(rng), n01(rng));
+    Eigen::Matrix2d covariance = C;
+    const HesseLine estimate =
+        NormalizeLine(truth.rho_m + d(0), truth.alpha_rad + d(1), &covariance);
+    flipped += std::abs(core::WrapAngle(estimate.alpha_rad - truth.alpha_rad)) > kPi / 2;
+    const Eigen::Vector2d e = LineError(estimate, truth);
+    const double nees = e.dot(covariance.inverse() * e);
+    mean_nees += nees / kTrials;
+    inside += nees >= 0.0506 && nees <= 7.378;
+    // The difference in the truth's description has the same magnitudes ..
+    const Eigen::Vector2d r = LineDifference(estimate, truth);
+    EXPECT_NEAR(std::abs(r(0)), std::abs(e(0)), 1e-15);
+    EXPECT_NEAR(r(1), e(1), 1e-15);
+    // .. and is what a covariance carried into that description weighs.
+    const Eigen::Matrix2d in_truth = CovarianceInDescriptionOf(estimate, truth, covariance);
+    const double nees_truth = r.dot(in_truth.inverse() * r);
+    EXPECT_NEAR(nees_truth, nees, 1e-9 * (1.0 + nees));
+    inside_truth_description += nees_truth >= 0.0506 && nees_truth <= 7.378;
+  }
+  EXPECT_GT(flipped, kTrials / 4);
+  EXPECT_NEAR(mean_nees, 2.0, 0.15);
+  EXPECT_NEAR(static_cast<double>(inside) / kTrials, 0.95, 0.015);
+  EXPECT_EQ(inside_truth_description, inside);
+}
+
+TEST(HesseLine, NormalizeLineCarriesTheCovarianceThroughTheFlip) {
+  Eigen::Matrix2d C;
+  C << 4.0, 1.5, 1.5, 2.0;
+  Eigen::Matrix2d kept = C;
+  EXPECT_NEAR(NormalizeLine(0.3, 0.2, &kept).rho_m, 0.3, 1e-15);
+  EXPECT_EQ(kept, C);
+  Eigen::Matrix2d flipped = C;
+  const HesseLine line = NormalizeLine(-0.3, 0.2, &flipped);
+  EXPECT_NEAR(line.rho_m, 0.3, 1e-15);
+  EXPECT_NEAR(line.alpha_rad, 0.2 + kPi - 2 * kPi, 1e-12);
+  EXPECT_EQ(flipped(0, 0), 4.0);
+  EXPECT_EQ(flipped(1, 1), 2.0);
+  EXPECT_EQ(flipped(0, 1), -1.5);
+  EXPECT_EQ(flipped(1, 0), -1.5);
+  EXPECT_NEAR(NormalizeLine(-0.3, 0.2, nullptr).rho_m, 0.3, 1e-15);
 }
 
 TEST(HesseLine, DifferenceJacobiansMatchNumeric) {

@@ -47,6 +47,12 @@ using Matrix23 = Eigen::Matrix<double, 2, 3>;
 // The normalized description of the line (rho_m, alpha_rad) (see above).
 HesseLine NormalizeLine(double rho_m, double alpha_rad);
 
+// NormalizeLine for an estimate with a covariance of (rho_m, alpha_rad): where
+// the description flips to (-rho, alpha + pi) the covariance's rho-alpha
+// correlation changes sign with it (J = diag(-1, 1)); covariance is updated in
+// place and may be null.
+HesseLine NormalizeLine(double rho_m, double alpha_rad, Eigen::Matrix2d* covariance);
+
 // True if rho >= 0, alpha in (-pi, pi], and alpha in (-pi/2, pi/2] when rho == 0.
 bool IsNormalized(const HesseLine& line);
 
@@ -88,6 +94,22 @@ HesseLine InverseTransformLine(const core::SE2& T_a_b, const HesseLine& line_a,
 // ground-line factor uses LineDifference(predicted, measured). J_r_a, J_r_b: 2x2.
 Eigen::Vector2d LineDifference(const HesseLine& a, const HesseLine& b,
                                Eigen::Matrix2d* J_r_a = nullptr, Eigen::Matrix2d* J_r_b = nullptr);
+
+// A covariance of a's (rho, alpha) expressed in the description
+// LineDifference(a, b) compares a in: J C J^T with J = J_r_a (diag(+-1, 1)),
+// i.e. the rho-alpha correlation changes sign where a was flipped. Use it to
+// add a's covariance to b's, or to weigh the difference.
+Eigen::Matrix2d CovarianceInDescriptionOf(const HesseLine& a, const HesseLine& b,
+                                          const Eigen::Matrix2d& covariance_a);
+
+// The error of an estimate against the truth, estimate - truth, expressed in
+// the estimate's description (the truth is flipped to (-rho, alpha + pi) when
+// the normals differ by more than 90 deg), so that the estimate's own
+// covariance weighs it: NEES = e^T C_estimate^-1 e. LineDifference(estimate,
+// truth) is expressed in the truth's description instead, and differs in the
+// sign of rho where the two descriptions differ: for lines near the origin,
+// whose rho-alpha correlation is strong, that makes NEES meaningless.
+Eigen::Vector2d LineError(const HesseLine& estimate, const HesseLine& truth);
 
 // A line fitted by weighted total least squares, with its covariance.
 struct LineFit {
