@@ -67,6 +67,10 @@ core::Status RouteOptions::Validate() const {
       CheckRange(kOwner, "vehicle_half_width_m", vehicle_half_width_m, 0.0, 5.0),
       CheckRange(kOwner, "min_clearance_m", min_clearance_m, 0.0, 5.0),
       CheckRange(kOwner, "sample_rate_hz", sample_rate_hz, 0.1, 10000.0),
+      CheckRange(kOwner, "tracking_deviation_m", tracking_deviation_m, 0.0, 0.1),
+      CheckRange(kOwner, "tracking_wavelength_min_m", tracking_wavelength_min_m, 1.0, 1000.0),
+      CheckRange(kOwner, "tracking_wavelength_max_m", tracking_wavelength_max_m,
+                 tracking_wavelength_min_m, 10000.0),
   });
 }
 
@@ -86,6 +90,7 @@ core::Result<Route> GenerateRoute(const World& world, const RouteOptions& o) {
   for (int node : *nodes) route.waypoints_m.push_back(world.roads.nodes_m[std::size_t(node)]);
   core::Result<std::vector<PathSample>> smoothed = internal::SmoothLoop(route.waypoints_m, o, &rng);
   if (!smoothed.ok()) return smoothed.status().WithContext(world.name);
+  internal::AddTrackingDeviation(o, &*smoothed);
   // An open route starts anywhere along the loop (seeded).
   const double start_m = std::uniform_real_distribution<double>(0.0, smoothed->back().s_m)(rng);
   const std::vector<PathSample> path = o.closed_loop

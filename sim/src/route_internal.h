@@ -50,6 +50,16 @@ inline constexpr double kPathStepM = 0.01;
 core::Result<std::vector<PathSample>> SmoothLoop(const std::vector<Vector2>& closed_polyline_m,
                                                  const RouteOptions& options, std::mt19937_64* rng);
 
+// Path-following deviation (RouteOptions::tracking_deviation_m): the loop
+// offset sideways by d(s) = sum_k a_k sin(2 pi k s / L + phi_k), L the loop
+// length, k over the wavelengths L / k in [tracking_wavelength_min_m,
+// tracking_wavelength_max_m], a_k Gaussian with E[d^2] = tracking_deviation_m^2
+// (seeded by options.seed, its own stream). The heading turns with the offset
+// curve (the vehicle still drives where it points), the curvature and the arc
+// length are those of the offset curve. Periodic in s, so the loop still closes.
+// No-op for tracking_deviation_m == 0.
+void AddTrackingDeviation(const RouteOptions& options, std::vector<PathSample>* loop);
+
 // An open path of exactly length_m: the loop driven from its first sample at
 // or beyond arc length start_m (in [0, loop length)), lap after lap (arc
 // length and yaw continued), cut at length_m (the last sample interpolated).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numbers>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -188,6 +190,54 @@ std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double sta
       }
       out.push_back(p);
     }
+  }
+}
+
+void AddTrackingDeviation(const RouteOptions& options, std::vector<PathSample>* loop) {
+  if (options.tracking_deviation_m <= 0.0 || loop->size() < 2) return;
+  const double length_m = loop->back().s_m;
+  const auto k_min = static_cast<int>(
+      std::max(1.0, std::ceil(length_m / options.tracking_wavelength_max_m)));
+  const auto k_max = std::max(k_min, static_cast<int>(length_m / options.tracking_wavelength_min_m));
+  // Its own stream: the planner's draws (and so the route) stay those of the seed.
+  std::mt19937_64 rng(options.seed ^ 0x7261636b696e67ULL);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * std::numbers::pi);
+  const double amplitude_scale =
+      options.tracking_deviation_m * std::sqrt(2.0 / static_cast<double>(k_max - k_min + 1));
+  struct Wave {
+    double amplitude_m, wavenumber_1pm, phase_rad;
+  };
+  std::vector<Wave> waves;
+  for (int k = k_min; k <= k_max; ++k) {
+    waves.push_back({amplitude_scale * gauss(rng), 2.0 * std::numbers::pi * k / length_m, phase(rng)});
+  }
+  double previous_s_m = 0.0, previous_stretch = 1.0, new_s_m = 0.0;
+  for (std::size_t i = 0; i < loop->size(); ++i) {
+    PathSample& p = (*loop)[i];
+    double d = 0.0, d1 = 0.0, d2 = 0.0;  // d(s) and its first two derivatives
+    for (const Wave& w : waves) {
+      const double arg = w.wavenumber_1pm * p.s_m + w.phase_rad;
+      const double sn = std::sin(arg), cs = std::cos(arg);
+      d += w.amplitude_m * sn;
+      d1 += w.amplitude_m * w.wavenumber_1pm * cs;
+      d2 -= w.amplitude_m * w.wavenumber_1pm * w.wavenumber_1pm * sn;
+    }
+    // Offset curve q = p + d n: q' = (1 - kappa d) t + d' n. Its heading turns
+    // by atan2(d', 1 - kappa d); the curvature (per its own arc length) follows
+    // from the derivative of that angle (the ramp of kappa along clothoids is
+    // left out: kappa' d is below 1e-3 of d'').
+    const double a = 1.0 - p.curvature_1pm * d, b = d1;
+    const double a1 = -p.curvature_1pm * d1, b1 = d2;
+    const double stretch = std::hypot(a, b);
+    p.x_m -= d * std::sin(p.yaw_rad);
+    p.y_m += d * std::cos(p.yaw_rad);
+    p.yaw_rad += std::atan2(b, a);
+    p.curvature_1pm = (p.curvature_1pm + (a * b1 - b * a1) / (stretch * stretch)) / stretch;
+    if (i > 0) new_s_m += 0.5 * (previous_stretch + stretch) * (p.s_m - previous_s_m);
+    previous_s_m = p.s_m;
+    previous_stretch = stretch;
+    p.s_m = new_s_m;
   }
 }
 

@@ -248,7 +248,10 @@ core::Result<Scenario> LoadScenario(const std::filesystem::path& path) {
               {"transition_length_m", &r.transition_length_m},
               {"max_turn_angle_deg", &r.max_turn_angle_rad, kDegToRad},
               {"min_clearance_m", &r.min_clearance_m},
-              {"sample_rate_hz", &r.sample_rate_hz}});
+              {"sample_rate_hz", &r.sample_rate_hz},
+              {"tracking_deviation_m", &r.tracking_deviation_m},
+              {"tracking_wavelength_min_m", &r.tracking_wavelength_min_m},
+              {"tracking_wavelength_max_m", &r.tracking_wavelength_max_m}});
   WheelEncoderOptions& e = o.encoders;
   ReadFields(y, root["encoders"], "encoders",
              {{"ticks_per_revolution", &e.ticks_per_revolution},

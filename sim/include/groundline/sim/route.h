@@ -20,6 +20,8 @@
 //    below min_speed_mps); transitions respect max_accel_mps2. The loop is
 //    periodic: the speed and pose at the end equal those at the start, which
 //    is on a straight (the middle of the first graph edge).
+// 3b. The vehicle follows the path with a small, smooth sideways deviation
+//    (tracking_deviation_m), the same on every lap.
 // 4. The path is checked against the static obstacles (all heights): the
 //    vehicle, a disc of vehicle_half_width_m around base_link, must keep
 //    min_clearance_m. A violation is an error, not a silently bad route.
@@ -73,6 +75,17 @@ struct RouteOptions {
 
   double sample_rate_hz = 100.0;
   double start_stamp_s = 0.0;
+
+  // Path following: a real vehicle does not drive the planned path exactly.
+  // The driven path is offset sideways by a smooth random d(s) (standard
+  // deviation tracking_deviation_m, wavelengths in [min, max]); the heading
+  // follows the offset path (0.015 m over 8-40 m: heading deviations of
+  // 0.4 deg rms, curvature 0.005 1/m rms). 0: the planned path exactly, which lines the vehicle up with the
+  // floor markings to the micrometre, so that every lane line sits at the same
+  // sub-cell phase of the camera's bird's-eye grid in every frame.
+  double tracking_deviation_m = 0.015;
+  double tracking_wavelength_min_m = 8.0;
+  double tracking_wavelength_max_m = 40.0;
 
   core::Status Validate() const;
 };
