@@ -40,6 +40,7 @@ struct ExtractFlags {
   double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
   bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
   int supersampling = 2;
+  int supersampling_across = 4;
   bool tape_occludes_joints = perception::VisibleLineOptions{}.tape_occludes_joints;
   double min_visible_run_m = perception::VisibleLineOptions{}.min_evaluated_run_m;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
@@ -67,7 +68,8 @@ Writes into --out:
                  junctions [point_m, cov, lines, shape L/T/X]; with ground
                  truth also each line's truth
                  (marking_id, kind, edge, evaluated, error [d rho m, d alpha
-                 rad], nees; null when unmatched), missed_marking_ids and
+                 rad] = line - truth in the line's (rho, alpha) description,
+                 nees; null when unmatched), missed_marking_ids and
                  missed (visible markings 1.0-2.5 m ahead that no line
                  matched; missed: each true line in base_link). Visible: in
                  the search footprint, on a dash, and for a joint not under a
@@ -202,6 +204,7 @@ int RunExtract(const ExtractFlags& flags) {
   options.min_dark_side_contrast = flags.min_dark_contrast;
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = flags.supersampling;
+  remap_options.supersampling_across = flags.supersampling_across;
   const perception::BevRemap remap(*input->camera, input->mount, remap_options);
   const perception::LineExtractor extractor(remap, options);
   const perception::BevGrid& grid = remap.grid();
@@ -370,8 +373,14 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--max-frames", flags->max_frames, "Process at most this many images (0: all)")
       ->capture_default_str();
   cmd->add_option("--bev-supersampling", flags->supersampling,
-                  "BEV anti-aliasing: samples per cell side, averaged (1..4; 1: none)")
+                  "BEV anti-aliasing: samples per cell along the floor (base_link x), averaged "
+                  "(1..4; 1: none)")
       ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  cmd->add_option("--bev-supersampling-across", flags->supersampling_across,
+                  "BEV anti-aliasing: samples per cell across (base_link y; 0: as along). The "
+                  "camera's pixels are finer across the floor than along it")
+      ->check(CLI::Range(0, 4))
       ->capture_default_str();
   cmd->add_option("--min-dark-contrast", flags->min_dark_contrast,
                   "A dark line (joint) is darker than both sides by this many grey levels")

@@ -195,6 +195,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
 
   perception::BevRemap::Options remap_options;
   remap_options.supersampling = 2;
+  remap_options.supersampling_across = 4;
   remap_options.grid = BevGridCoveringCamera(*camera, *mount);
   const perception::BevRemap remap(*camera, *mount, remap_options);
   std::printf("BEV: x %.2f..%.2f m, y %.2f..%.2f m (%d x %d cells)\n", remap_options.grid.x_min_m,

@@ -4,7 +4,8 @@
 // The frame: the reference camera (OPENCV5, 1280 x 1024 grey, the simulator's
 // lens) on the reference mount looking at concrete (value noise) with a
 // longitudinal tape, a transverse 20 cm stop bar and a dark joint.
-//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract; arg: BEV supersampling
+//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract; args: BEV samples
+//                            per cell along x across (extract and localize: 2 x 4)
 //   BM_ExtractOnly           LineExtractor::Extract on the BEV
 //   BM_WarpPerspectiveToBev  cv::warpPerspective (pinhole, no undistortion)
 #include <benchmark/benchmark.h>
@@ -56,6 +57,7 @@ void BM_FrameToLines(benchmark::State& state) {
   cv::setNumThreads(1);
   BevRemap::Options options;
   options.supersampling = static_cast<int>(state.range(0));
+  options.supersampling_across = static_cast<int>(state.range(1));
   const BevRemap remap(ReferenceCamera(), calibration::CameraMount{}, options);
   const LineExtractor extractor(remap, LineExtractorOptions{});
   const cv::Mat& frame = FloorFrame();
@@ -69,7 +71,13 @@ void BM_FrameToLines(benchmark::State& state) {
   }
   state.counters["lines"] = static_cast<double>(lines);
 }
-BENCHMARK(BM_FrameToLines)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+// Args: BEV samples per cell along x across (groundline extract's default: 2 x 4).
+BENCHMARK(BM_FrameToLines)
+    ->Args({1, 1})
+    ->Args({2, 2})
+    ->Args({2, 4})
+    ->Args({4, 4})
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_ExtractOnly(benchmark::State& state) {
   cv::setNumThreads(1);

@@ -36,6 +36,11 @@ core::Status BevRemap::Options::Validate() const {
     return core::Status::Error("BevRemap::Options.supersampling must be in 1..4, got " +
                                std::to_string(supersampling));
   }
+  if (supersampling_across < 0 || supersampling_across > 4) {
+    return core::Status::Error(
+        "BevRemap::Options.supersampling_across must be in 0..4 (0: supersampling), got " +
+        std::to_string(supersampling_across));
+  }
   return grid.Validate();
 }
 
@@ -115,10 +120,10 @@ void BevRemap::Rebuild(const calibration::CameraMount& mount) {
   if (options_.fixed_point) {
     cv::convertMaps(remap_map_, cv::noArray(), fixed_map_xy_, fixed_map_frac_, CV_16SC2);
   }
-  if (options_.supersampling > 1) {
+  if (Supersampled()) {
     // INTER_LINEAR resize samples the source at (dst + 0.5) / s - 0.5: the sub-cell centres.
     cv::Mat fine;
-    cv::resize(remap_map_, fine, cv::Size(), options_.supersampling, options_.supersampling,
+    cv::resize(remap_map_, fine, cv::Size(), options_.SamplesAcross(), options_.supersampling,
                cv::INTER_LINEAR);
     cv::convertMaps(fine, cv::noArray(), fine_map_xy_, fine_map_frac_, CV_16SC2);
   }
@@ -157,7 +162,7 @@ void BevRemap::Apply(const cv::Mat& image, cv::Mat* bev) const {
   assert(image.cols == camera_.width_px() && image.rows == camera_.height_px());
   // Invalid cells read pixel (0, 0) and are zeroed afterwards: cv::remap takes
   // a per-pixel slow path for map entries outside the image (5x slower here).
-  if (options_.supersampling > 1) {
+  if (Supersampled()) {
     cv::Mat fine;
     cv::remap(image, fine, fine_map_xy_, fine_map_frac_, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
               cv::Scalar::all(0));

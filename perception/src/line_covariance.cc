@@ -122,8 +122,18 @@ core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> 
   const double lambda2 = sum / count * independent / (independent - 2.0);
   const double sigma2 = std::max(lambda2, model.min_sigma_px * model.min_sigma_px);
   fit->covariance *= model.correlation_samples * sigma2;
-  fit->covariance(0, 0) += model.rho_floor_m * model.rho_floor_m;
-  fit->covariance(1, 1) += model.alpha_floor_rad * model.alpha_floor_rad;
+  // The floors: an offset and a turn about the points' centroid c. A turn by
+  // e there moves (rho, alpha) by (s0 e, e), s0 = Direction() . c.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : points_m) centroid += p;
+  centroid /= count;
+  const double s0 = fit->line.Direction().dot(centroid);
+  const double offset2 = model.rho_floor_m * model.rho_floor_m;
+  const double turn2 = model.alpha_floor_rad * model.alpha_floor_rad;
+  fit->covariance(0, 0) += offset2 + s0 * s0 * turn2;
+  fit->covariance(0, 1) += s0 * turn2;
+  fit->covariance(1, 0) += s0 * turn2;
+  fit->covariance(1, 1) += turn2;
   if (sigma_px != nullptr) *sigma_px = std::sqrt(sigma2);
   return fit;
 }

@@ -84,11 +84,17 @@ core::Result<LineFit> FitLineWithPixelNoise(std::span<const Eigen::Vector2d> poi
 // (d_i: residuals of the weighted fit, the factor undoes the fit's absorption
 // of two degrees of freedom). sigma_px^2 = max(lambda^2, min_sigma_px^2), and
 //
-//   C = correlation_samples * C_tls(sigma_px) + diag(rho_floor_m^2, alpha_floor_rad^2)
+//   C = correlation_samples * C_tls(sigma_px) + C_floor,
+//   C_floor = rho_floor_m^2 [1 0; 0 0] + alpha_floor_rad^2 [s0^2 s0; s0 1],
 //
 // where the floor holds what the scatter cannot show: errors constant along
 // a line (the sub-cell phase of a line running along the BEV grid, edge
-// asymmetry of wide bars). The two correlation numbers differ when the
+// asymmetry of wide bars, a stain or scuff pulling a stretch of it). It is an
+// offset of the line (rho_floor_m) and a turn about the centroid c of its
+// points (alpha_floor_rad), s0 = Direction() . c, which is how such errors
+// move a line; a floor diag(rho^2, alpha^2) would turn it about the foot of
+// the origin instead, which for a line 1-2.5 m ahead adds 1.7 alpha_floor of
+// sideways play at its middle. The two correlation numbers differ when the
 // centres' errors are band-pass (positive correlation over a few cells, a
 // negative lobe beyond): the scatter then has fewer degrees of freedom than
 // the mean of the errors has independent terms.

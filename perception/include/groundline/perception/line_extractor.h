@@ -149,22 +149,24 @@ struct LineExtractorOptions {
   // scatter with N / scatter_correlation_samples degrees of freedom (<= 0:
   // 4 sqrt(pi) sigma_cells, twice the ridge filter's own correlation
   // length: the BEV is smoothed before it); the covariance counts
-  // correlation_samples centres per independent one (<= 0: sqrt(pi)
+  // correlation_samples centres per independent one (<= 0: 2.5
   // sigma_cells: the centres' errors are band-pass, positive to 9 cm and
   // negative from 10 to 35 cm (the floor's texture), so they average out
   // along a line faster than their scatter's correlation suggests;
   // single-edge points are independent); the floors hold errors constant
   // along a line that the scatter cannot show (a scuff or stain pulling a
-  // stretch of it, the sub-cell phase of a line along the grid). Calibrated
-  // on the simulator datasets of seed 1, validated on seeds 2 and 3
-  // (docs/perception.md). min_sigma_px: tapes the vehicle drives along
+  // stretch of it, the sub-cell phase of a line along the grid): an offset
+  // of the line and a turn about its centroid (line_covariance.h).
+  // Calibrated on the simulator datasets of seed 1 (with the vehicle's
+  // path-following deviation), validated on seeds 2 and 3
+  // (docs/perception.md, "Fourth round"). min_sigma_px: tapes the vehicle drives along
   // scatter by 0.1-0.3 px; a floor of 0.3 px put 10-16 % of the zone A tapes
   // below the NEES band.
   double min_sigma_px = 0.1;
   double correlation_samples = 0.0;
   double scatter_correlation_samples = 0.0;
-  double rho_floor_m = 0.0005;
-  double alpha_floor_rad = 0.0007;  // 0.04 deg
+  double rho_floor_m = 0.0004;
+  double alpha_floor_rad = 0.00052;  // 0.03 deg
 
   core::Status Validate() const;
   // correlation_samples and scatter_correlation_samples with their defaults
