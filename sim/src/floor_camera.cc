@@ -57,6 +57,11 @@ struct FloorRenderer::Impl {
   internal::FloorFields fields;
   std::vector<float> marking_reflectance;
   std::vector<double> marking_wear;
+  // Paint order: where markings overlap the one of the highest layer shows.
+  // Joints lie below every painted marking (tape and paint are laid over
+  // the saw cuts, as the layout PNG draws them and as the ground truth of
+  // perception::VisibleMarkingLines assumes); otherwise later markings show.
+  std::vector<int> layer;
 };
 
 core::Result<FloorRenderer> FloorRenderer::Create(const World& world,
@@ -82,6 +87,10 @@ core::Result<FloorRenderer> FloorRenderer::Create(const World& world,
     }
     impl->marking_reflectance.push_back(static_cast<float>(y * options.tape_reflectance_scale));
     impl->marking_wear.push_back(m.wear_fraction);
+    const int index = static_cast<int>(impl->layer.size());
+    impl->layer.push_back(m.kind == MarkingKind::kJoint
+                              ? index
+                              : index + static_cast<int>(world.markings.size()));
   }
   return FloorRenderer(std::move(impl));
 }
@@ -264,12 +273,16 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
           const float concrete = im.fields.Concrete(p, cf);
           // Marking coverage: one sample unless the pixel straddles an edge.
           const double foot = t.foot_m[i];
-          int top = -1;  // last marking fully covering the pixel
+          int top = -1;  // the top marking (highest layer) fully covering the pixel
           bool edge = false;
+          const auto above = [&](int m, int than) {
+            return than < 0 || im.layer[static_cast<std::size_t>(m)] >
+                                   im.layer[static_cast<std::size_t>(than)];
+          };
           for (const int k : cand) {
             const double sd = internal::StrokeSignedDistance(strokes[k], p);
             if (sd < -foot) {
-              top = std::max(top, strokes[k].marking);
+              if (above(strokes[k].marking, top)) top = strokes[k].marking;
             } else if (sd <= foot) {
               edge = true;
             }
@@ -289,8 +302,9 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
                 const Vector2 q = p + ((sx + 0.5) / S - 0.5) * du + ((sy + 0.5) / S - 0.5) * dv;
                 int m = -1;
                 for (const int k : cand) {
-                  if (internal::StrokeSignedDistance(strokes[k], q) <= 0.0) {
-                    m = std::max(m, strokes[k].marking);
+                  if (internal::StrokeSignedDistance(strokes[k], q) <= 0.0 &&
+                      above(strokes[k].marking, m)) {
+                    m = strokes[k].marking;
                   }
                 }
                 sum += m >= 0 ? marking_refl(m) : concrete;

@@ -150,6 +150,41 @@ TEST(FloorCamera, StraightTapeFollowsTheDistortedProjectionWithItsWidth) {
   EXPECT_GT(tape, 100.0);
 }
 
+// A saw-cut joint running under a tape (listed after it, so an index order
+// would paint it on top): the tape covers it, as the layout PNG and the
+// perception ground truth have it; beyond the tape the joint shows.
+TEST(FloorCamera, TapeCoversAJointRunningUnderIt) {
+  const Fixture f;
+  FloorRenderOptions options = FloorRenderOptions::Ideal();
+  World world = FlatWorld();
+  const double y = 0.25;
+  FloorMarking tape = WhiteBand({1.0, y}, {2.0, y}, 0.1);
+  tape.kind = MarkingKind::kTapeSolid;
+  world.markings.push_back(tape);
+  FloorMarking joint = WhiteBand({0.0, y}, {4.0, y}, 0.008);
+  joint.kind = MarkingKind::kJoint;
+  joint.polarity = MarkingPolarity::kDark;
+  joint.colour = MarkingColour::kGroove;
+  world.markings.push_back(joint);
+  const FloorRenderer renderer = *FloorRenderer::Create(world, f.camera, {}, options);
+  const GreyImage image = renderer.Render(core::SE2());
+  const core::SE2 identity;
+  auto grey = [&](double x, double y_m) {
+    const Eigen::Vector2d px = PredictedPixel(f.camera, {}, identity, {x, y_m});
+    return static_cast<double>(image.at(static_cast<int>(std::lround(px.x())),
+                                        static_cast<int>(std::lround(px.y()))));
+  };
+  const double tape_grey = grey(1.5, y + 0.03);
+  for (const double x : {1.2, 1.5, 1.8}) {
+    EXPECT_NEAR(grey(x, y), tape_grey, 3.0) << x;  // on the joint, under the tape
+  }
+  for (const double x : {0.9, 2.1}) {  // the joint beyond the tape, darker than concrete
+    const double concrete = grey(x, y + 0.05);
+    EXPECT_GT(tape_grey, concrete + 50.0) << x;
+    EXPECT_LT(grey(x, y), concrete - 20.0) << x;
+  }
+}
+
 // Zone B from a vehicle looking along a solid boundary tape: pixels whose floor
 // point (unprojected independently, pixel by pixel) lies well inside a solid
 // marking are that marking's tone, pixels well away from every marking are
