@@ -182,8 +182,8 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
     core::Status added =
         walls.ok() ? localization::AppendWallLines(*walls, {}, &*atlas) : walls.status();
     if (added.ok()) {
-      const auto rack_faces = std::count_if(walls->begin(), walls->end(),
-                                            [](const auto& w) { return w.rack_face; });
+      const auto rack_faces =
+          std::count_if(walls->begin(), walls->end(), [](const auto& w) { return w.rack_face; });
       std::printf("atlas: %zu wall lines from the simulated zone's faces (%td rack faces)\n",
                   walls->size(), rack_faces);
     } else {

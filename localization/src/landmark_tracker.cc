@@ -74,10 +74,9 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
       const AtlasLine& track = lines_[t].estimate;
       // nu is in the track's description; so must the seen line's covariance be.
       const Eigen::Vector2d nu = perception::LineDifference(seen.line_map, track.line_map);
-      const double d2 = Mahalanobis2(
-          nu, perception::CovarianceInDescriptionOf(seen.line_map, track.line_map,
-                                                    seen.covariance) +
-                  track.covariance);
+      const double d2 = Mahalanobis2(nu, perception::CovarianceInDescriptionOf(
+                                             seen.line_map, track.line_map, seen.covariance) +
+                                             track.covariance);
       if (d2 <= best_d2 && lines_[t].last_keyframe < keyframe_index) {
         best_d2 = d2;
         best = static_cast<int>(t);

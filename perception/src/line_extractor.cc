@@ -72,9 +72,7 @@ core::Status LineExtractorOptions::Validate() const {
 }
 
 double LineExtractorOptions::CorrelationSamples() const {
-  return std::max(1.0, correlation_samples > 0.0
-                           ? correlation_samples
-                           : 2.5 * ridge.sigma_cells);
+  return std::max(1.0, correlation_samples > 0.0 ? correlation_samples : 2.5 * ridge.sigma_cells);
 }
 
 double LineExtractorOptions::ScatterCorrelationSamples() const {
@@ -369,8 +367,8 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     std::vector<internal::CandidateLine> candidates;
     for (const RidgeSegment& segment : segments) {
       std::optional<internal::CandidateLine> candidate =
-          FitSegment(view, bev_float, polarity, segment, threshold, search_mask_,
-                     floor_from_pixel_, grid_, options_, noise_);
+          FitSegment(view, bev_float, polarity, segment, threshold, search_mask_, floor_from_pixel_,
+                     grid_, options_, noise_);
       if (!candidate) continue;
       candidate->line.kind.polarity = polarity;
       internal::MeasureSideContrast(bev_float, grid_, side_offset_m,

@@ -182,8 +182,8 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     const Eigen::Vector2d half = 0.5 * LineDifference(lb.line, la.line);
     merged.covariance =
         0.25 * (la.covariance + CovarianceInDescriptionOf(lb.line, la.line, lb.covariance));
-    merged.line = NormalizeLine(la.line.rho_m + half(0), la.line.alpha_rad + half(1),
-                                &merged.covariance);
+    merged.line =
+        NormalizeLine(la.line.rho_m + half(0), la.line.alpha_rad + half(1), &merged.covariance);
     merged.from_bar_edges = true;
     merged.energy = 0.5 * (la.energy + lb.energy);
     merged.rms_residual_m = std::max(la.rms_residual_m, lb.rms_residual_m);

@@ -88,9 +88,8 @@ core::Result<FloorRenderer> FloorRenderer::Create(const World& world,
     impl->marking_reflectance.push_back(static_cast<float>(y * options.tape_reflectance_scale));
     impl->marking_wear.push_back(m.wear_fraction);
     const int index = static_cast<int>(impl->layer.size());
-    impl->layer.push_back(m.kind == MarkingKind::kJoint
-                              ? index
-                              : index + static_cast<int>(world.markings.size()));
+    impl->layer.push_back(
+        m.kind == MarkingKind::kJoint ? index : index + static_cast<int>(world.markings.size()));
   }
   return FloorRenderer(std::move(impl));
 }
@@ -276,8 +275,8 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
           int top = -1;  // the top marking (highest layer) fully covering the pixel
           bool edge = false;
           const auto above = [&](int m, int than) {
-            return than < 0 || im.layer[static_cast<std::size_t>(m)] >
-                                   im.layer[static_cast<std::size_t>(than)];
+            return than < 0 ||
+                   im.layer[static_cast<std::size_t>(m)] > im.layer[static_cast<std::size_t>(than)];
           };
           for (const int k : cand) {
             const double sd = internal::StrokeSignedDistance(strokes[k], p);

@@ -196,9 +196,10 @@ std::vector<PathSample> OpenPath(const std::vector<PathSample>& loop, double sta
 void AddTrackingDeviation(const RouteOptions& options, std::vector<PathSample>* loop) {
   if (options.tracking_deviation_m <= 0.0 || loop->size() < 2) return;
   const double length_m = loop->back().s_m;
-  const auto k_min = static_cast<int>(
-      std::max(1.0, std::ceil(length_m / options.tracking_wavelength_max_m)));
-  const auto k_max = std::max(k_min, static_cast<int>(length_m / options.tracking_wavelength_min_m));
+  const auto k_min =
+      static_cast<int>(std::max(1.0, std::ceil(length_m / options.tracking_wavelength_max_m)));
+  const auto k_max =
+      std::max(k_min, static_cast<int>(length_m / options.tracking_wavelength_min_m));
   // Its own stream: the planner's draws (and so the route) stay those of the seed.
   std::mt19937_64 rng(options.seed ^ 0x7261636b696e67ULL);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -210,7 +211,8 @@ void AddTrackingDeviation(const RouteOptions& options, std::vector<PathSample>* 
   };
   std::vector<Wave> waves;
   for (int k = k_min; k <= k_max; ++k) {
-    waves.push_back({amplitude_scale * gauss(rng), 2.0 * std::numbers::pi * k / length_m, phase(rng)});
+    waves.push_back(
+        {amplitude_scale * gauss(rng), 2.0 * std::numbers::pi * k / length_m, phase(rng)});
   }
   double previous_s_m = 0.0, previous_stretch = 1.0, new_s_m = 0.0;
   for (std::size_t i = 0; i < loop->size(); ++i) {
@@ -225,8 +227,8 @@ void AddTrackingDeviation(const RouteOptions& options, std::vector<PathSample>* 
     }
     // Offset curve q = p + d n: q' = (1 - kappa d) t + d' n. Its heading turns
     // by atan2(d', 1 - kappa d); the curvature (per its own arc length) follows
-    // from the derivative of that angle (the ramp of kappa along clothoids is
-    // left out: kappa' d is below 1e-3 of d'').
+    // from the derivative of that angle. The ramp of kappa along clothoids is
+    // left out of it: the term d' kappa' d is below 1e-4 1/m.
     const double a = 1.0 - p.curvature_1pm * d, b = d1;
     const double a1 = -p.curvature_1pm * d1, b1 = d2;
     const double stretch = std::hypot(a, b);

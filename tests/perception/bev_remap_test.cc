@@ -205,8 +205,8 @@ TEST(BevRemapTest, PinholeWarpPerspectiveAgreesWithRemap) {
 // camera pixel the exact share of its footprint across the edge, moved through
 // ten sub-cell phases. Its position on the BEV (from the bright share of the
 // cells across it, averaged over the rows 1.5-2 m ahead) follows y0 up to an
-// error that depends on the phase: with 2 samples per 1 cm cell across, the samples 5 mm apart resolve
-// the camera's 2-3 mm pixels only in steps; 4 across halve that.
+// error that depends on the phase: with 2 samples per 1 cm cell across, the samples 5 mm apart
+// resolve the camera's 2-3 mm pixels only in steps; 4 across halve that.
 std::vector<double> EdgeErrorsOverPhases(int samples_across) {
   const CameraModel camera = ReferenceCamera();
   const CameraMount mount;

@@ -171,8 +171,8 @@ TEST(FloorCamera, TapeCoversAJointRunningUnderIt) {
   const core::SE2 identity;
   auto grey = [&](double x, double y_m) {
     const Eigen::Vector2d px = PredictedPixel(f.camera, {}, identity, {x, y_m});
-    return static_cast<double>(image.at(static_cast<int>(std::lround(px.x())),
-                                        static_cast<int>(std::lround(px.y()))));
+    return static_cast<double>(
+        image.at(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y()))));
   };
   const double tape_grey = grey(1.5, y + 0.03);
   for (const double x : {1.2, 1.5, 1.8}) {

@@ -209,7 +209,8 @@ TEST(Route, TrackingDeviationIsASmoothSidewaysOffsetTheVehicleDrivesAlong) {
         std::max(max_heading_error, std::abs(core::WrapAngle(std::atan2(dy, dx) - mid_yaw)));
     const double numeric_curvature = (loop[i].yaw_rad - loop[i - 1].yaw_rad) / step_m;
     const double mean_curvature = 0.5 * (loop[i].curvature_1pm + loop[i - 1].curvature_1pm);
-    max_curvature_error = std::max(max_curvature_error, std::abs(numeric_curvature - mean_curvature));
+    max_curvature_error =
+        std::max(max_curvature_error, std::abs(numeric_curvature - mean_curvature));
   }
   const double rms = std::sqrt(sum2 / static_cast<double>(loop.size()));
   EXPECT_NEAR(rms, options.tracking_deviation_m, 0.4 * options.tracking_deviation_m);

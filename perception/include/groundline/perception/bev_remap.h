@@ -114,7 +114,9 @@ class BevRemap {
     // sub-cell phase, the same along the whole line). 4 across x 2 along
     // costs half of what 4 x 4 does.
     int supersampling_across = 0;
-    int SamplesAcross() const { return supersampling_across > 0 ? supersampling_across : supersampling; }
+    int SamplesAcross() const {
+      return supersampling_across > 0 ? supersampling_across : supersampling;
+    }
     // Cells the camera does not see take the grey of the nearest seen cell
     // (their map entry is that cell's, found once per Rebuild by a distance
     // transform), so the ridge filter near the footprint's border sees floor

@@ -8,10 +8,10 @@
 // matched pairs with an evaluated truth give the errors
 // r = LineError(extracted, truth) = (d rho [m], d alpha [rad]) in the extracted
 // line's description and the normalized estimation error squared
-// NEES = r^T C^-1 r (C: the extracted line's covariance), which for a consistent covariance follows chi-square
-// with 2 degrees of freedom: 95 % of values inside [0.0506, 7.378].
-// Breakdowns: by the true marking's kind (rates, errors, NEES) and by the
-// extracted line's kind (false positives). Not thread-safe (accumulates).
+// NEES = r^T C^-1 r (C: the extracted line's covariance), which for a consistent covariance follows
+// chi-square with 2 degrees of freedom: 95 % of values inside [0.0506, 7.378]. Breakdowns: by the
+// true marking's kind (rates, errors, NEES) and by the extracted line's kind (false positives). Not
+// thread-safe (accumulates).
 #ifndef GROUNDLINE_PERCEPTION_LINE_EVALUATION_H_
 #define GROUNDLINE_PERCEPTION_LINE_EVALUATION_H_
 

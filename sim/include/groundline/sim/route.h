@@ -80,9 +80,9 @@ struct RouteOptions {
   // The driven path is offset sideways by a smooth random d(s) (standard
   // deviation tracking_deviation_m, wavelengths in [min, max]); the heading
   // follows the offset path (0.015 m over 8-40 m: heading deviations of
-  // 0.4 deg rms, curvature 0.005 1/m rms). 0: the planned path exactly, which lines the vehicle up with the
-  // floor markings to the micrometre, so that every lane line sits at the same
-  // sub-cell phase of the camera's bird's-eye grid in every frame.
+  // 0.4 deg rms, curvature 0.005 1/m rms). 0: the planned path exactly, which lines the vehicle up
+  // with the floor markings to the micrometre, so that every lane line sits at the same sub-cell
+  // phase of the camera's bird's-eye grid in every frame.
   double tracking_deviation_m = 0.015;
   double tracking_wavelength_min_m = 8.0;
   double tracking_wavelength_max_m = 40.0;
