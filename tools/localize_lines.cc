@@ -68,11 +68,17 @@ double Percentile(std::vector<double> values, double q) {
 // that sees it. So the covariance here keeps one correlation length for the
 // scatter and the mean (4 sqrt(pi) sigma, 3-4x the per-frame alpha variance)
 // and no rho floor: with the per-frame model (docs/perception.md), zone A's
-// NEES in band fell from 91.1 to 89.9 %.
+// NEES in band fell from 91.1 to 89.9 %. Its alpha floor is 0.04 deg about the
+// foot of the origin (diag floor), as tuned then; the per-frame model's
+// centroid floors (0.4 mm, 0.03 deg) took zone A's pose NEES in band from
+// 91.4 to 81.6 %: a few millimetres of sideways play at the line, which the
+// smoother needs for the biases that persist over frames.
 perception::LineExtractorOptions FusionExtractorOptions() {
   perception::LineExtractorOptions options;
   options.correlation_samples = options.ScatterCorrelationSamples();
   options.rho_floor_m = 0.0;
+  options.alpha_floor_rad = 0.0007;  // 0.04 deg
+  options.floor_about_centroid = false;
   return options;
 }
 

@@ -127,7 +127,7 @@ core::Result<LineFit> FitLineWithMeasuredNoise(std::span<const Eigen::Vector2d> 
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& p : points_m) centroid += p;
   centroid /= count;
-  const double s0 = fit->line.Direction().dot(centroid);
+  const double s0 = model.floor_about_centroid ? fit->line.Direction().dot(centroid) : 0.0;
   const double offset2 = model.rho_floor_m * model.rho_floor_m;
   const double turn2 = model.alpha_floor_rad * model.alpha_floor_rad;
   fit->covariance(0, 0) += offset2 + s0 * s0 * turn2;

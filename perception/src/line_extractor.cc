@@ -126,6 +126,7 @@ LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
   noise_.min_sigma_px = options.min_sigma_px;
   noise_.rho_floor_m = options.rho_floor_m;
   noise_.alpha_floor_rad = options.alpha_floor_rad;
+  noise_.floor_about_centroid = options.floor_about_centroid;
 }
 
 namespace {

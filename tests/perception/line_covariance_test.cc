@@ -101,6 +101,54 @@ TEST(LineCovariance, MeasuredNoiseSeparatesScatterAndMeanCorrelation) {
   EXPECT_NE(status.message().find("scatter_correlation_samples"), std::string::npos);
 }
 
+// The floors: an offset of the line and a turn about the centroid of its
+// points. Checked against moving the line: a turn by e about the centroid c
+// changes (rho, alpha) by (Direction() . c e, e); false: diag(rho^2, alpha^2).
+TEST(LineCovariance, FloorsAreAnOffsetAndATurnAboutTheCentroid) {
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < 60; ++i) {
+    points.emplace_back(1.2 + 0.01 * i,
+                        0.3 + 0.02 * (1.2 + 0.01 * i) + (i % 2 == 0 ? 0.001 : -0.001));
+  }
+  const std::vector<Eigen::Matrix2d> J(points.size(), 0.002 * Eigen::Matrix2d::Identity());
+  LineNoiseModel none;
+  none.min_sigma_px = 0.01;
+  LineNoiseModel floors = none;
+  floors.rho_floor_m = 0.0004;
+  floors.alpha_floor_rad = 0.0005;
+  LineNoiseModel diagonal = floors;
+  diagonal.floor_about_centroid = false;
+  const core::Result<LineFit> a = FitLineWithMeasuredNoise(points, J, none);
+  const core::Result<LineFit> b = FitLineWithMeasuredNoise(points, J, floors);
+  const core::Result<LineFit> c = FitLineWithMeasuredNoise(points, J, diagonal);
+  ASSERT_TRUE(a.ok() && b.ok() && c.ok());
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : points) centroid += p / 60.0;
+  // The Jacobian of (rho, alpha) to a turn e about the centroid, numerically:
+  // the line through the centroid's foot, turned.
+  const HesseLine& line = a->line;
+  const Eigen::Vector2d foot = centroid - SignedDistance(line, centroid) * line.Normal();
+  constexpr double kE = 1e-6;
+  const Eigen::Vector2d n_turned(std::cos(line.alpha_rad + kE), std::sin(line.alpha_rad + kE));
+  const Eigen::Vector2d d_turn(
+      (NormalizeLine(n_turned.dot(foot), line.alpha_rad + kE).rho_m - line.rho_m) / kE, 1.0);
+  const Eigen::Matrix2d expected_floor =
+      floors.rho_floor_m * floors.rho_floor_m * Eigen::Vector2d(1, 0) * Eigen::RowVector2d(1, 0) +
+      floors.alpha_floor_rad * floors.alpha_floor_rad * d_turn * d_turn.transpose();
+  EXPECT_TRUE((b->covariance - a->covariance).isApprox(expected_floor, 1e-4))
+      << (b->covariance - a->covariance) << "\n"
+      << expected_floor;
+  const Eigen::Matrix2d diag_floor =
+      Eigen::Vector2d(floors.rho_floor_m * floors.rho_floor_m,
+                      floors.alpha_floor_rad * floors.alpha_floor_rad)
+          .asDiagonal();
+  EXPECT_TRUE((c->covariance - a->covariance).isApprox(diag_floor, 1e-9));
+  // Sideways play at the centroid: the offset floor alone (the turn pivots there).
+  const Eigen::RowVector2d at_centroid(1.0, -line.Direction().dot(centroid));
+  const double play_b = at_centroid * (b->covariance - a->covariance) * at_centroid.transpose();
+  EXPECT_NEAR(play_b, floors.rho_floor_m * floors.rho_floor_m, 1e-12);
+}
+
 TEST(LineCovariance, FitWithPixelNoiseMatchesMonteCarlo) {
   const calibration::FloorProjection projection(TestCamera(), calibration::CameraMount{});
   const HesseLine truth{0.31, 1.52};  // a longitudinal line, 31 cm to the left

@@ -104,6 +104,10 @@ struct LineNoiseModel {
   double scatter_correlation_samples = 0.0;  // >= 1, or 0: correlation_samples
   double rho_floor_m = 0.0;
   double alpha_floor_rad = 0.0;
+  // false: the floor is diag(rho_floor_m^2, alpha_floor_rad^2), a turn about
+  // the foot of the origin (the model before the fourth round, which the
+  // localization smoother's line covariance was tuned with).
+  bool floor_about_centroid = true;
 
   core::Status Validate() const;
 };

@@ -167,6 +167,7 @@ struct LineExtractorOptions {
   double scatter_correlation_samples = 0.0;
   double rho_floor_m = 0.0004;
   double alpha_floor_rad = 0.00052;  // 0.03 deg
+  bool floor_about_centroid = true;  // LineNoiseModel::floor_about_centroid
 
   core::Status Validate() const;
   // correlation_samples and scatter_correlation_samples with their defaults
