@@ -91,7 +91,8 @@ TEST(DuckietownBev, ParallelRoadLinesStayParallel) {
 
   BevRemap::Options options;
   options.grid = {0.15, 0.75, -0.3, 0.3, 0.0025};
-  options.supersampling = 2;
+  options.supersampling = 2;  // as groundline extract: 2 along x 4 across
+  options.supersampling_across = 4;
   const BevRemap remap(camera, *mount, options);
   const cv::Mat road = cv::imread((dir / "frame1_distorted.jpg").string(), cv::IMREAD_GRAYSCALE);
   ASSERT_FALSE(road.empty());
