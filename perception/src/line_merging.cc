@@ -46,6 +46,18 @@ void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
   for (const ExtractedLine& line : *lines) {
     int group = -1;
     bool pieces = false;
+    // A line at most half as long as a kept one, lying inside its band (both
+    // ends within max_distance_m, overlapping it) at up to 3x max_angle_rad is
+    // a piece of that marking pulled askew (where a bar's corner meets a tape,
+    // the tape's ridge bends toward the corner for a few decimetres): dropped,
+    // not averaged in, which would tilt the marking's line.
+    const bool inside_a_longer = std::any_of(kept.begin(), kept.end(), [&](const ExtractedLine& k) {
+      if (!same_construction(k, line) || line.LengthM() > 0.5 * k.LengthM()) return false;
+      return std::abs(LineDifference(line.line, k.line)(1)) <= 3.0 * max_angle_rad &&
+             std::abs(SignedDistance(k.line, line.start_m)) <= max_distance_m &&
+             std::abs(SignedDistance(k.line, line.end_m)) <= max_distance_m &&
+             Overlap(k, line) >= 0.8 * line.LengthM();
+    });
     for (size_t k = 0; k < kept.size() && group < 0; ++k) {
       if (!same_construction(kept[k], line)) continue;
       const Eigen::Vector2d r = LineDifference(line.line, kept[k].line);
@@ -58,6 +70,7 @@ void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
                          Overlap(longer, shorter) >= 0.5 * shorter.LengthM();
       if (pieces || close) group = static_cast<int>(k);
     }
+    if (group < 0 && inside_a_longer) continue;
     if (group < 0) {
       kept.push_back(line);
       groups.push_back({&line});
