@@ -39,8 +39,9 @@ struct ExtractFlags {
   double rho_floor_mm = 1e3 * perception::LineExtractorOptions{}.rho_floor_m;
   double alpha_floor_deg = perception::LineExtractorOptions{}.alpha_floor_rad * 180.0 / M_PI;
   bool single_bar_edges = perception::LineExtractorOptions{}.single_bar_edges;
-  int supersampling = 2;
-  int supersampling_across = 4;
+  int supersampling = perception::BevRemap::Options::ForLineExtraction().supersampling;
+  int supersampling_across =
+      perception::BevRemap::Options::ForLineExtraction().supersampling_across;
   bool tape_occludes_joints = perception::VisibleLineOptions{}.tape_occludes_joints;
   double min_visible_run_m = perception::VisibleLineOptions{}.min_evaluated_run_m;
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
@@ -202,7 +203,7 @@ int RunExtract(const ExtractFlags& flags) {
     return 2;
   }
   options.min_dark_side_contrast = flags.min_dark_contrast;
-  perception::BevRemap::Options remap_options;
+  perception::BevRemap::Options remap_options = perception::BevRemap::Options::ForLineExtraction();
   remap_options.supersampling = flags.supersampling;
   remap_options.supersampling_across = flags.supersampling_across;
   const perception::BevRemap remap(*input->camera, input->mount, remap_options);

@@ -199,9 +199,7 @@ int RunLocalizeLines(const LocalizeLinesFlags& flags) {
     }
   }
 
-  perception::BevRemap::Options remap_options;
-  remap_options.supersampling = 2;
-  remap_options.supersampling_across = 4;
+  perception::BevRemap::Options remap_options = perception::BevRemap::Options::ForLineExtraction();
   remap_options.grid = BevGridCoveringCamera(*camera, *mount);
   const perception::BevRemap remap(*camera, *mount, remap_options);
   std::printf("BEV: x %.2f..%.2f m, y %.2f..%.2f m (%d x %d cells)\n", remap_options.grid.x_min_m,

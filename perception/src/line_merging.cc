@@ -41,36 +41,39 @@ void MergeSameMarkingLines(double max_distance_m, double max_angle_rad,
     return a.kind.polarity == b.kind.polarity && a.from_bar_edges == b.from_bar_edges &&
            a.single_bar_edge == b.single_bar_edge;
   };
+  // shorter lies inside longer's band: both its ends within max_distance_m of
+  // longer's line, at most max_angle askew, overlapping it over min_overlap of
+  // its length.
+  auto in_band = [max_distance_m](const ExtractedLine& longer, const ExtractedLine& shorter,
+                                  double max_angle, double min_overlap) {
+    return std::abs(LineDifference(shorter.line, longer.line)(1)) <= max_angle &&
+           std::abs(SignedDistance(longer.line, shorter.start_m)) <= max_distance_m &&
+           std::abs(SignedDistance(longer.line, shorter.end_m)) <= max_distance_m &&
+           Overlap(longer, shorter) >= min_overlap * shorter.LengthM();
+  };
   std::vector<ExtractedLine> kept;
   std::vector<std::vector<const ExtractedLine*>> groups;
   for (const ExtractedLine& line : *lines) {
     int group = -1;
     bool pieces = false;
-    // A line at most half as long as a kept one, lying inside its band (both
-    // ends within max_distance_m, overlapping it) at up to 3x max_angle_rad is
-    // a piece of that marking pulled askew (where a bar's corner meets a tape,
-    // the tape's ridge bends toward the corner for a few decimetres): dropped,
-    // not averaged in, which would tilt the marking's line.
-    const bool inside_a_longer = std::any_of(kept.begin(), kept.end(), [&](const ExtractedLine& k) {
-      if (!same_construction(k, line) || line.LengthM() > 0.5 * k.LengthM()) return false;
-      return std::abs(LineDifference(line.line, k.line)(1)) <= 3.0 * max_angle_rad &&
-             std::abs(SignedDistance(k.line, line.start_m)) <= max_distance_m &&
-             std::abs(SignedDistance(k.line, line.end_m)) <= max_distance_m &&
-             Overlap(k, line) >= 0.8 * line.LengthM();
-    });
     for (size_t k = 0; k < kept.size() && group < 0; ++k) {
       if (!same_construction(kept[k], line)) continue;
       const Eigen::Vector2d r = LineDifference(line.line, kept[k].line);
       pieces = std::abs(r(0)) <= kDuplicateRhoM && std::abs(r(1)) <= kDuplicateAlphaRad;
       const ExtractedLine& longer = kept[k].LengthM() >= line.LengthM() ? kept[k] : line;
       const ExtractedLine& shorter = &longer == &line ? kept[k] : line;
-      const bool close = std::abs(r(1)) <= max_angle_rad &&
-                         std::abs(SignedDistance(longer.line, shorter.start_m)) <= max_distance_m &&
-                         std::abs(SignedDistance(longer.line, shorter.end_m)) <= max_distance_m &&
-                         Overlap(longer, shorter) >= 0.5 * shorter.LengthM();
-      if (pieces || close) group = static_cast<int>(k);
+      if (pieces || in_band(longer, shorter, max_angle_rad, 0.5)) group = static_cast<int>(k);
     }
-    if (group < 0 && inside_a_longer) continue;
+    // A line at most half as long as a kept one, inside its band at up to 3x
+    // max_angle_rad, is a piece of that marking pulled askew (where a bar's
+    // corner meets a tape, the tape's ridge bends toward the corner for a few
+    // decimetres): dropped, not averaged in, which would tilt the marking's line.
+    if (group < 0 && std::any_of(kept.begin(), kept.end(), [&](const ExtractedLine& k) {
+          return same_construction(k, line) && line.LengthM() <= 0.5 * k.LengthM() &&
+                 in_band(k, line, 3.0 * max_angle_rad, 0.8);
+        })) {
+      continue;
+    }
     if (group < 0) {
       kept.push_back(line);
       groups.push_back({&line});

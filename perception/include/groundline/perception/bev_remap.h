@@ -114,6 +114,14 @@ class BevRemap {
     // sub-cell phase, the same along the whole line). 4 across x 2 along
     // costs half of what 4 x 4 does.
     int supersampling_across = 0;
+    // The sampling of groundline extract and localize: 2 samples along x, 4
+    // across (the rest default).
+    static Options ForLineExtraction() {
+      Options options;
+      options.supersampling = 2;
+      options.supersampling_across = 4;
+      return options;
+    }
     int SamplesAcross() const {
       return supersampling_across > 0 ? supersampling_across : supersampling;
     }
