@@ -11,7 +11,7 @@ PACKAGES=(
   libopencv-dev libmrcal-dev libapriltag-dev
   libv4l-dev libcamera-dev
   cyclonedds-dev cyclonedds-tools
-  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libspdlog-dev
+  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev libspdlog-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   zlib1g-dev libbz2-dev
 )

@@ -21,6 +21,8 @@ CLI::App* AddConvertCommand(CLI::App& parent, CommandRunner* run);
 
 // `groundline localize`: replays a dataset and writes trajectory, health and summary.
 CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run);
+// `groundline serve`: the localizer as a long-running service (serve_command.cc).
+CLI::App* AddServeCommand(CLI::App& parent, CommandRunner* run);
 
 // `groundline sim`: a simulated warehouse run written as a dataset.
 CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run);

@@ -307,7 +307,7 @@ int RunEval(EvalFlags flags) {
   } else {
     PrintZoneTable(flags.zone, flags.dataset_dir.empty() ? flags.ref_path : flags.dataset_dir,
                    runs);
-    PrintDetectorShares(runs);
+    PrintDetectorShares(runs, reference.value_or(core::Trajectory()), flags.zone);
   }
   if (!flags.json_path.empty()) {
     nlohmann::ordered_json out = nlohmann::ordered_json::array();

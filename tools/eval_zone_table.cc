@@ -6,7 +6,14 @@
 #include <fstream>
 #include <optional>
 
+#include <map>
+#include <string>
+
 #include <nlohmann/json.hpp>
+
+#include "groundline/core/trajectory_association.h"
+#include "groundline/sim/zone_regions.h"
+#include "groundline/sim/zones.h"
 
 namespace groundline::tools {
 namespace {
@@ -83,32 +90,45 @@ void PrintZoneTable(const std::string& zone, const std::string& dataset,
   }
 }
 
-void PrintDetectorShares(const std::vector<EvalRun>& runs) {
+void PrintDetectorShares(const std::vector<EvalRun>& runs, const core::Trajectory& reference,
+                         const std::string& zone) {
+  constexpr double kRegionEndMarginM = 5.0;
+  const core::Result<sim::Zone> parsed = sim::ParseZone(zone);
+  if (!parsed.ok() || reference.empty()) return;
   bool title = false;
   for (const EvalRun& run : runs) {
-    const std::filesystem::path summary_path =
-        std::filesystem::path(run.est_path).parent_path() / "summary.json";
-    std::ifstream in(summary_path);
+    std::ifstream in(std::filesystem::path(run.est_path).parent_path() / "health.jsonl");
     if (!in) continue;
-    const nlohmann::json summary = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    if (summary.is_discarded() || !summary.contains("lidar") ||
-        !summary["lidar"].contains("detector")) {
-      continue;
+    // Per region: keyframes, flagged degenerate.
+    std::map<std::string, std::pair<int, int>> regions;
+    std::string text;
+    while (std::getline(in, text)) {
+      const nlohmann::json line = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+      if (line.is_discarded() || !line.contains("lidar_degenerate") || !line.contains("stamp_s")) {
+        continue;
+      }
+      const core::SE2 truth = core::InterpolatePose(reference, line["stamp_s"].get<double>());
+      const std::string region = sim::ZoneRegionName(
+          sim::PresetRegionAt(*parsed, truth.translation(), kRegionEndMarginM));
+      std::pair<int, int>& counts = regions[region];
+      counts.first += 1;
+      counts.second += line["lidar_degenerate"].get<bool>() ? 1 : 0;
     }
+    if (regions.empty()) continue;
     if (!title) {
       std::printf(
           "LiDAR degeneracy detector, keyframes flagged per region "
-          "(issue 7: aisle >= 95 %%, open < 5 %%)\n");
+          "(targets: aisle >= 95 %%, open < 5 %%)\n");
       title = true;
     }
     std::printf("  %s:", run.label.c_str());
-    for (const auto& [region, counts] : summary["lidar"]["detector"].items()) {
-      const double share = counts.value("fraction_flagged", 0.0);
+    for (const auto& [region, counts] : regions) {
+      const double share = static_cast<double>(counts.second) / counts.first;
       std::string verdict;
       if (region == "aisle") verdict = share >= 0.95 ? " met" : " missed";
       if (region == "open") verdict = share < 0.05 ? " met" : " missed";
-      std::printf(" %s %d/%d = %.1f %%%s", region.c_str(), counts.value("flagged_degenerate", 0),
-                  counts.value("keyframes", 0), 100.0 * share, verdict.c_str());
+      std::printf(" %s %d/%d = %.1f %%%s", region.c_str(), counts.second, counts.first,
+                  100.0 * share, verdict.c_str());
     }
     std::printf("\n");
   }

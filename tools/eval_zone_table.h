@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "groundline/core/trajectory.h"
+
 #include "groundline/core/metric_fields.h"
 
 namespace groundline::tools {
@@ -32,12 +34,15 @@ std::vector<std::string> FailedZoneTargets(const EvalRun& run, const std::string
 void PrintZoneTable(const std::string& zone, const std::string& dataset,
                     const std::vector<EvalRun>& runs);
 
-// For the runs given as --run LABEL=DIR whose DIR/summary.json has the LiDAR
-// degeneracy detector's counts (`localize --lidar` or `--mode lidar`): one
-// line per run with the share of keyframes flagged in each region, checked
-// against issue 7 (aisle >= 95 %, open < 5 %; other regions unscored).
-// Prints nothing when no run has them.
-void PrintDetectorShares(const std::vector<EvalRun>& runs);
+// For the runs given as --run LABEL=DIR whose DIR/health.jsonl has the LiDAR
+// degeneracy detector's flag per keyframe (`localize --lidar` or `--mode
+// lidar`): one line per run with the share of keyframes flagged in each
+// region of the simulated zone (sim/zone_regions.h, at the keyframe's
+// reference pose; deeper than 5 m into an aisle or corridor), checked against
+// the targets (aisle >= 95 %, open < 5 %; other regions unscored). Prints
+// nothing when no run has them or the zone is not A-D.
+void PrintDetectorShares(const std::vector<EvalRun>& runs, const core::Trajectory& reference,
+                         const std::string& zone);
 
 }  // namespace groundline::tools
 

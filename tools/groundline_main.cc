@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
 
   groundline::tools::CommandRunner run;
   groundline::tools::AddLocalizeCommand(app, &run);
+  groundline::tools::AddServeCommand(app, &run);
   groundline::tools::AddSimCommand(app, &run);
   groundline::tools::AddConvertCommand(app, &run);
   groundline::tools::AddEvalCommand(app, &run);

@@ -1,8 +1,7 @@
-// `groundline localize`: replays a dataset through the localization pipeline
-// and writes the run outputs of EVAL.md (trajectory.tum, health.jsonl,
-// summary.json); prints the accuracy when the dataset has ground truth.
-
-#include <cmath>
+// `groundline localize`: a thin driver of the causal localizer
+// (localization/localizer.h): a dataset's streams replayed in time order
+// (service/replay.h), or a CARMEN log through the LiDAR SLAM; writes the run
+// outputs of EVAL.md (trajectory.tum, health.jsonl, summary.json).
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -15,161 +14,339 @@
 #include "commands.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
+#include "groundline/core/dataset_streams.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
-#include "groundline/localization/dead_reckoning.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_walls.h"
+#include "groundline/localization/localizer_json.h"
+#include "groundline/service/dataset_localizer.h"
+#include "groundline/service/replay.h"
 #include "localize_carmen.h"
-#include "localize_lidar.h"
-#include "localize_lines.h"
+#include "localize_diagnostics.h"
+#include "progress.h"
 #include "run_summary.h"
 
 namespace groundline::tools {
 namespace {
 
+namespace fs = std::filesystem;
+namespace loc = localization;
+
 struct LocalizeFlags {
   std::string dataset_dir;
   std::string out_dir;
   std::string mode = "odometry";
-  std::vector<double> initial_pose;  // x_m, y_m, yaw_deg
+  std::vector<double> initial_pose;  // x_m y_m yaw_deg
+  std::string atlas_path;
+  std::string atlas_out_path;
+  bool diagnose = false;
+  bool lidar = false;
+  bool wall_lines = true;
+  bool relocalize = false;
+  std::vector<double> near;  // x_m y_m [radius_m]
+  std::string solver = "chain";
+  double max_duration_s = 0.0;
+  // Optional overrides of the preset (negative: keep the preset's value).
+  double window_s = -1.0;
+  double gate_chi2 = -1.0;
+  double slip_sigma_m = -1.0;
+  double wheel_variance_m2_per_m = -1.0;
+  double lateral_variance_m2_per_m = -1.0;
 };
 
 constexpr char kHelp[] =
-    R"(Replays a groundline dataset (docs/dataset.md) and estimates T_map_base.
+    R"(Replays a groundline dataset (docs/dataset.md) through the causal localizer
+(the same code `groundline serve` runs) and estimates T_map_base.
 
 Modes:
   odometry  dead reckoning of the wheel encoders (differential drive, covariance
             growing with distance and rotation; keyframes every 0.20 m or 5 deg):
             the odometry-only baseline row of every accuracy table.
   lines     floor lines (camera -> BEV -> lines) + odometry in the sliding-window
-            smoother on the atlas (--atlas, default the dataset's floor map);
-            with --lidar also a LiDAR scan-match factor between keyframes that
-            keeps only the directions the scan constrains (not along an aisle).
+            smoother on the atlas (--atlas, default the dataset's floor map, whose
+            wall and rack faces become face lines); with --lidar also the LiDAR
+            scan-match factor between keyframes, which keeps only the directions
+            the scan constrains (not along an aisle), and the scans' straight
+            faces as line observations against the atlas' faces.
   mapping   the same, building the atlas (--atlas-out).
-  lidar     LiDAR + odometry only: scan-to-submap matching (local SLAM, no loop
-            closures) with the odometry as the initial guess, keyframes every
-            0.20 m or 5 deg. Health per keyframe: lidar_degenerate, the scaled
-            information eigenvalues [1/m^2] and the weakest direction (x, y, theta;
-            also in the map frame); on simulated datasets the keyframe's
-            ground-truth region (aisle, open, ...) and, in summary.json, the
-            share of keyframes flagged degenerate per region.
+  lidar     LiDAR + odometry only: scan-to-submap matching with the odometry as
+            the initial guess, keyframes every 0.20 m or 5 deg; health per
+            keyframe: lidar_degenerate, the scaled information eigenvalues
+            [1/m^2], the weakest direction (x, y, theta; also in the map frame).
   --carmen LOG  2D LiDAR + odometry SLAM (submaps, scan-to-submap matching,
             pose graph with loop closures) on a CARMEN log; writes trajectory.tum
-            (one pose per front-laser scan, at its ipc_timestamp), health.jsonl
-            (per scan: match score, information eigenvalues, degenerate flag) and
+            (one pose per front-laser scan, at its ipc_timestamp), health.jsonl and
             summary.json; with --relations FILE also the relation errors.
-            Example: groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces
 
-Start pose: --initial-pose x_m y_m yaw_deg, else the dataset's first ground-truth
-pose, else the origin of the map. --mode lines --relocalize instead recognizes
-it on the atlas: every junction the camera sees, with a line through it, is
-matched against every atlas junction; the candidate poses follow the odometry
-and are scored on the lines of later frames until one leads every other by a
-margin (docs/atlas.md). A floor that repeats (zone B's aisle mouths) stays
-ambiguous: --near x_m y_m [radius_m] says roughly where the drive started.
+Start pose: --initial-pose x_m y_m yaw_deg, else the manifest's start_pose (the
+dock the vehicle starts from), else the map origin (with a warning).
+--mode lines --relocalize instead recognizes it on the atlas: every junction the
+camera sees, with a line through it, is matched against every atlas junction;
+the candidates follow the odometry and are scored on later frames until one
+leads every other by a margin (docs/atlas.md). A floor that repeats (identical
+aisle mouths) stays ambiguous: --near x_m y_m [radius_m] says roughly where.
+
+The tuned values are the localizer's presets (docs/localization.md); the
+--window, --gate-chi2, --slip-sigma, --wheel-variance and --lateral-variance
+flags override them for experiments.
 
 Writes into --out (created if missing; files replaced atomically):
   trajectory.tum               keyframe poses, TUM 't x y z qx qy qz qw'
   trajectory_odometry_rate.tum one pose per encoder reading
-  health.jsonl                 one JSON object per keyframe (pose, covariance, path)
-  summary.json                 counts, timings (wall and CPU seconds, peak RSS)
-and prints ATE / along-track / heading errors and NEES consistency when the dataset
-has ground truth (the full table: groundline eval --est OUT/trajectory.tum --ref ...).
+  trajectory_covariance.txt    the keyframes' 3x3 covariances
+  health.jsonl                 one JSON object per keyframe (docs/localization.md)
+  summary.json                 counts of everything dropped or skipped, timings
+                               (wall and CPU seconds, update median / p99, peak RSS)
+With ground truth in the dataset it also prints the accuracy (evaluation only;
+the full table: groundline eval --est OUT/trajectory.tum --ref ...).
 
 Examples:
   groundline localize --dataset sample_zone_b --out run_odom
-  groundline localize --dataset sample_zone_b --mode lines --out run_lines
+  groundline localize --dataset sample_zone_b --mode lines --lidar --out run_full
   groundline localize --dataset sample_zone_b --mode lines --relocalize --near 2 40 --out run_reloc
   groundline localize --dataset sample_zone_b --mode lidar --out run_lidar
-  groundline localize --dataset sample_zone_b --mode lines --lidar --out run_lines_lidar
   groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
-
-core::Status WriteHealth(const std::filesystem::path& path, const core::Trajectory& keyframes) {
-  return core::WriteFileAtomically(path, [&keyframes](std::ostream& out) {
-    for (std::size_t k = 0; k < keyframes.size(); ++k) {
-      const core::StampedPose& p = keyframes[k];
-      nlohmann::ordered_json line;
-      line["keyframe"] = k;
-      line["stamp_s"] = p.stamp_s;
-      line["x_m"] = p.pose.x();
-      line["y_m"] = p.pose.y();
-      line["yaw_deg"] = p.pose.yaw() * 180.0 / std::numbers::pi;
-      line["mode"] = "odometry";
-      if (p.covariance) {
-        const core::Matrix3& c = *p.covariance;
-        line["cov"] = {c(0, 0), c(0, 1), c(0, 2), c(1, 0), c(1, 1),
-                       c(1, 2), c(2, 0), c(2, 1), c(2, 2)};
-      }
-      out << line.dump() << "\n";
-    }
-    return core::Status::Ok();
-  });
-}
 
 int Fail(const std::string& message) {
   std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
   return 1;
 }
 
+double Percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
+  return values[std::min(k, values.size() - 1)];
+}
+
+loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
+  loc::LocalizerOptions options;  // odometry and LiDAR: the defaults
+  if (flags.mode == "lines" || flags.mode == "mapping") {
+    options = loc::LocalizerOptions::ForFusion();
+    options.use_lidar = flags.lidar;
+    options.mode = flags.mode == "mapping" ? loc::LocalizerMode::kMapping : loc::LocalizerMode::kLines;
+  } else {
+    options.mode = flags.mode == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
+  }
+  options.use_wall_lines = flags.wall_lines;
+  options.smoother.solver =
+      flags.solver == "ceres" ? loc::SmootherSolver::kCeres : loc::SmootherSolver::kChain;
+  if (flags.window_s > 0.0) options.smoother.window_s = flags.window_s;
+  if (flags.gate_chi2 > 0.0) options.smoother.association.gate_chi2 = flags.gate_chi2;
+  if (flags.slip_sigma_m >= 0.0) options.smoother.slip_sigma_m = flags.slip_sigma_m;
+  if (flags.wheel_variance_m2_per_m >= 0.0) {
+    options.wheel_variance_m2_per_m = flags.wheel_variance_m2_per_m;
+  }
+  if (flags.lateral_variance_m2_per_m > 0.0) {
+    options.lateral_variance_m2_per_m = flags.lateral_variance_m2_per_m;
+  }
+  if (flags.near.size() >= 2) options.relocalizer.near_m = Eigen::Vector2d(flags.near[0], flags.near[1]);
+  if (flags.near.size() == 3) options.relocalizer.near_radius_m = flags.near[2];
+  return options;
+}
+
 int RunLocalize(const LocalizeFlags& flags) {
   const RunClock clock;
-  core::DatasetReadOptions read_options;
-  read_options.load_images = false;
+  core::DatasetReadOptions read_options;  // the image index, not the pixels; scans streamed
   read_options.check_image_files = false;
   read_options.load_scans = false;
   core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
   if (!dataset.ok()) return Fail(dataset.message());
-  const core::DatasetManifest& manifest = dataset->manifest;
-  if (!manifest.wheel_encoders || dataset->wheel_encoders.empty()) {
-    return Fail(flags.dataset_dir +
-                ": the odometry mode needs wheel encoder readings; the "
-                "manifest lists none");
+  const fs::path dir(flags.dataset_dir);
+
+  service::DatasetLocalizerOptions setup_options;
+  setup_options.localizer = OptionsFromFlags(flags);
+  setup_options.atlas_path = flags.atlas_path;
+  const loc::LocalizerOptions& options = setup_options.localizer;
+  if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
+    return Fail("--relocalize needs an atlas to recognize: use it with --mode lines");
+  }
+  if (core::Status s = options.relocalizer.Validate(); !s.ok()) return Fail("--near: " + s.message());
+  core::Result<service::DatasetSetup> setup = service::SetupFromDataset(dir, *dataset, setup_options);
+  if (!setup.ok()) return Fail(setup.message());
+  if (setup->setup.camera) {
+    const perception::BevGrid& g = setup->setup.camera->remap().grid();
+    std::printf("BEV: x %.2f..%.2f m, y %.2f..%.2f m (%d x %d cells)\n",
+                g.FloorPointOfCell({0, g.rows() - 1}).x() - 0.5 * g.cell_m(),
+                g.FloorPointOfCell({0, 0}).x() + 0.5 * g.cell_m(),
+                g.FloorPointOfCell({g.cols() - 1, 0}).y() - 0.5 * g.cell_m(),
+                g.FloorPointOfCell({0, 0}).y() + 0.5 * g.cell_m(), g.cols(), g.rows());
+  }
+  if (options.mode == loc::LocalizerMode::kLines) {
+    std::printf("atlas: %zu lines (%d wall and rack faces), %zu junctions from %s\n",
+                setup->setup.atlas.lines.size(), loc::CountWallLines(setup->setup.atlas),
+                setup->setup.atlas.junctions.size(), setup->atlas_source.c_str());
+  }
+  const loc::Atlas atlas_copy = setup->setup.atlas;
+  core::Result<std::unique_ptr<loc::Localizer>> created =
+      loc::Localizer::Create(options, std::move(setup->setup));
+  if (!created.ok()) return Fail(flags.dataset_dir + ": " + created.message());
+  loc::Localizer& localizer = **created;
+
+  std::string start_from;
+  if (flags.relocalize) {
+    if (core::Status s = localizer.RequestRelocalization(); !s.ok()) return Fail(s.message());
+    start_from = "relocalization on the atlas";
+  } else {
+    core::SE2 pose;
+    double stamp_s = setup->first_reading_s;
+    core::Matrix3 covariance = service::StartCovariance(core::StartPose{});
+    if (flags.initial_pose.size() == 3) {
+      pose = core::SE2(flags.initial_pose[0], flags.initial_pose[1],
+                       flags.initial_pose[2] * std::numbers::pi / 180.0);
+      start_from = "--initial-pose";
+    } else if (setup->start_pose) {
+      pose = setup->start_pose->T_map_base;
+      stamp_s = std::min(stamp_s, setup->start_pose->stamp_s);
+      covariance = service::StartCovariance(*setup->start_pose);
+      start_from = "the manifest's start_pose";
+    } else {
+      start_from = "the map origin (no --initial-pose, no start_pose in the manifest)";
+      std::fprintf(stderr, "groundline localize: warning: starting at the map origin\n");
+    }
+    if (core::Status s = localizer.SetInitialPose(stamp_s, pose, covariance); !s.ok()) {
+      return Fail("--initial-pose: " + s.message());
+    }
   }
 
-  localization::DeadReckoningOptions options;
-  options.drive.wheel_radius_m = manifest.wheel_encoders->wheel_radius_m;
-  options.drive.track_m = manifest.wheel_encoders->track_m;
-  core::StampedPose initial{dataset->wheel_encoders.front().stamp_s, core::SE2(), std::nullopt};
-  std::string start_from = "the map origin";
-  if (flags.initial_pose.size() == 3) {
-    initial.pose = core::SE2(flags.initial_pose[0], flags.initial_pose[1],
-                             flags.initial_pose[2] * std::numbers::pi / 180.0);
-    start_from = "--initial-pose";
-  } else if (!dataset->ground_truth.empty()) {
-    initial = dataset->ground_truth.front();
-    initial.covariance.reset();
-    start_from = "the first ground-truth pose";
+  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(dir, *dataset);
+  if (!streams.ok()) return Fail(streams.message());
+  std::optional<LocalizeDiagnostics> diagnostics;
+  if (flags.diagnose && !dataset->ground_truth.empty()) {
+    diagnostics.emplace(dataset->ground_truth, atlas_copy, options.smoother.association);
   }
-  core::Result<localization::DeadReckoningResult> result =
-      localization::DeadReckon(dataset->wheel_encoders, initial, options);
-  if (!result.ok()) return Fail(flags.dataset_dir + ": " + result.message());
+  core::Trajectory keyframes, odometry_rate;
+  std::ostringstream health_lines;
+  std::vector<double> update_ms, update_cpu_ms;
+  ProgressLine progress("[localize]");
+  const double t0 = setup->first_reading_s;
+  const double t1 = dataset->wheel_encoders.back().stamp_s;
+  const auto stored_covariance = [&](const loc::PoseEstimate& p) -> std::optional<core::Matrix3> {
+    if (options.mode == loc::LocalizerMode::kLidar) return std::nullopt;
+    return p.covariance;
+  };
+  // Row 0 of both trajectories is the start pose as the localizer took it
+  // (after a relocalization: the committed pose).
+  bool start_written = false;
+  const auto write_start = [&] {
+    if (start_written || !localizer.started()) return;
+    start_written = true;
+    const loc::PoseEstimate start = localizer.relocalized().value_or(localizer.Current());
+    keyframes.push_back({start.stamp_s, start.T_map_base, stored_covariance(start)});
+    odometry_rate.push_back(keyframes.back());
+  };
+  write_start();
+  service::ReplayCallbacks callbacks;
+  callbacks.on_keyframe = [&](const loc::KeyframeOutput& k) {
+    write_start();
+    nlohmann::ordered_json line = loc::KeyframeJson(k, options.mode);
+    if (diagnostics) {
+      line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
+      line.update(diagnostics->AfterUpdate(k.pose));
+    }
+    health_lines << line.dump() << "\n";
+    if (k.smoother) update_ms.push_back(1e3 * k.smoother->update_time_s);
+    update_cpu_ms.push_back(1e3 * k.update_cpu_s);
+    if (!k.error.empty()) {
+      std::fprintf(stderr, "\ngroundline localize: keyframe at %.3f s: %s\n", k.stamp_s,
+                   k.error.c_str());
+    }
+    keyframes.push_back({k.pose.stamp_s, k.pose.T_map_base,
+                         k.has_covariance ? std::optional(k.pose.covariance) : std::nullopt});
+  };
+  callbacks.on_pose = [&](const loc::PoseEstimate& p) {
+    write_start();
+    if (p.stamp_s > odometry_rate.back().stamp_s) {
+      odometry_rate.push_back({p.stamp_s, p.T_map_base, stored_covariance(p)});
+    }
+  };
+  callbacks.on_progress = [&](double stamp_s) {
+    progress.Update("replay", t1 > t0 ? (stamp_s - t0) / (t1 - t0) : 1.0);
+  };
+  service::ReplayOptions replay_options;
+  replay_options.max_duration_s = flags.max_duration_s;
+  core::Result<service::ReplayStats> replayed =
+      service::Replay(*streams, localizer, replay_options, callbacks);
+  progress.Update("replay", 1.0);
+  if (!replayed.ok()) return Fail(replayed.message());
+  if (flags.relocalize && !localizer.started()) {
+    const loc::RelocalizerStatus* s = localizer.relocalizer_status();
+    return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
+                std::to_string(localizer.counters().frames_used) + " frames: " +
+                std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
+                std::to_string(s ? s->seeds : 0) +
+                " junction sightings; a repeating floor needs --near X_M Y_M [RADIUS_M] (where "
+                "the drive starts), or give --initial-pose");
+  }
 
-  const std::filesystem::path out(flags.out_dir);
+  const fs::path out(flags.out_dir);
   for (const core::Status& s :
-       {core::WriteTumTrajectory(out / "trajectory.tum", result->keyframes),
-        core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", result->odometry_rate),
-        core::WriteTrajectoryCovariances(out / "trajectory_covariance.txt", result->keyframes),
-        WriteHealth(out / "health.jsonl", result->keyframes)}) {
+       {core::WriteTumTrajectory(out / "trajectory.tum", keyframes),
+        core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
+        core::WriteTrajectoryCovariances(out / "trajectory_covariance.txt", keyframes),
+        core::WriteFileAtomically(out / "health.jsonl", health_lines.str())}) {
     if (!s.ok()) return Fail(s.message());
   }
-  std::printf("%s: %zu encoder readings, %.1f m driven, %zu keyframes; started at %s\n",
-              flags.dataset_dir.c_str(), dataset->wheel_encoders.size(), result->path_length_m,
-              result->keyframes.size(), start_from.c_str());
-
+  const loc::LocalizerCounters& c = localizer.counters();
   nlohmann::ordered_json summary;
   summary["dataset"] = flags.dataset_dir;
-  summary["mode"] = flags.mode;
-  summary["n_keyframes"] = result->keyframes.size();
-  summary["n_odometry_poses"] = result->odometry_rate.size();
-  summary["path_length_m"] = result->path_length_m;
-  const core::Status written =
-      FinishRunSummary(result->keyframes, dataset->ground_truth, clock, out, &summary);
-  if (!written.ok()) return Fail(written.message());
+  summary["mode"] = loc::ModeName(options);
+  summary["started_from"] = start_from;
+  summary["n_keyframes"] = keyframes.size();
+  summary["n_odometry_poses"] = odometry_rate.size();
+  summary["path_length_m"] = localizer.path_length_m();
+  summary["frames_used"] = c.frames_used;
+  summary["frames_skipped"] = c.frames_skipped;
+  summary["images_unreadable"] = c.frames_unreadable;
+  summary["solve_failures"] = c.solve_failures;
+  summary["solves_unconverged"] = c.solves_unconverged;
+  summary["lines_used"] = c.lines_used;
+  summary["lines_rejected"] = c.lines_rejected;
+  summary["lines_dropped"] = c.lines_dropped;
+  summary["update_ms_median"] = Percentile(update_ms, 0.5);
+  summary["update_ms_p99"] = Percentile(update_ms, 0.99);
+  summary["update_cpu_ms_median"] = Percentile(update_cpu_ms, 0.5);
+  summary["update_cpu_ms_p99"] = Percentile(update_cpu_ms, 0.99);
+  summary["counters"] = loc::CountersJson(c);
+  if (c.lidar_keyframes > 0 || options.mode == loc::LocalizerMode::kLidar) {
+    summary["lidar"] = {{"n_scans", c.scans},
+                        {"n_scans_matched", c.scans_matched},
+                        {"n_keyframes", c.lidar_keyframes},
+                        {"n_keyframes_degenerate", c.lidar_degenerate},
+                        {"n_keyframes_fisher_degenerate", c.lidar_fisher_degenerate},
+                        {"n_keyframes_aliased", c.lidar_aliased},
+                        {"n_keyframes_with_relative", c.lidar_with_relative}};
+  }
+  if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
+    const loc::RelocalizerStatus* s = localizer.relocalizer_status();
+    summary["relocalized"] = {{"stamp_s", r->stamp_s},
+                              {"x_m", r->T_map_base.x()},
+                              {"y_m", r->T_map_base.y()},
+                              {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
+                              {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
+                              {"junction_sightings", s ? s->seeds : 0}};
+    std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
+  }
   std::printf(
-      "wrote %s/{trajectory.tum, trajectory_odometry_rate.tum, trajectory_covariance.txt, "
-      "health.jsonl, "
-      "summary.json}\n",
-      flags.out_dir.c_str());
+      "%s: %zu keyframes (%ld camera frames used, %ld skipped, %ld unreadable), "
+      "%ld lines used, %ld rejected; update %.2f ms median, %.2f ms p99; started at %s\n",
+      flags.dataset_dir.c_str(), keyframes.size(), c.frames_used, c.frames_skipped,
+      c.frames_unreadable, c.lines_used, c.lines_rejected, Percentile(update_ms, 0.5),
+      Percentile(update_ms, 0.99), start_from.c_str());
+  if (options.mode == loc::LocalizerMode::kMapping) {
+    const fs::path atlas_out =
+        flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
+    const loc::Atlas built = localizer.CurrentAtlas();
+    if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
+    std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
+                built.junctions.size(), atlas_out.string().c_str());
+  }
+  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth, clock, out, &summary);
+      !s.ok()) {
+    return Fail(s.message());
+  }
   return 0;
 }
 
@@ -195,83 +372,65 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->capture_default_str();
   cmd->add_option("--initial-pose", flags->initial_pose, "Start pose: x_m y_m yaw_deg")
       ->expected(3);
-  auto lines = std::make_shared<LocalizeLinesFlags>();
-  cmd->add_option("--atlas", lines->atlas_path,
+  cmd->add_option("--atlas", flags->atlas_path,
                   "--mode lines: the atlas to localize on (default: the dataset's floor map)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--atlas-out", lines->atlas_out_path,
+  cmd->add_option("--atlas-out", flags->atlas_out_path,
                   "--mode mapping: where to write the atlas (default OUT/atlas.json)");
-  cmd->add_flag("--diagnose", lines->diagnose,
+  cmd->add_flag("--diagnose", flags->diagnose,
                 "--mode lines: with ground truth, add per-keyframe errors (along/across track, "
-                "heading) and an association check (right/wrong/missed lines) to health.jsonl");
-  cmd->add_option("--wheel-variance", lines->wheel_variance_m2_per_m,
-                  "--mode lines/mapping: odometry noise as independent wheel errors of this "
-                  "variance per metre of wheel travel [m^2/m] (0: the OdometryNoiseParams "
-                  "defaults)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--lateral-variance", lines->lateral_variance_m2_per_m,
-                  "--mode lines/mapping, with --wheel-variance > 0: lateral odometry variance "
-                  "per metre travelled [m^2/m] (> 0)")
-      ->check(CLI::Range(1e-12, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--slip-sigma", lines->slip_sigma_m,
-                  "--mode lines: RMS spurious travel of a wheel slip [m]; when nothing a "
-                  "keyframe sees passes the gate, it is associated again allowing one slip "
-                  "(0: off)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--gate-chi2", lines->gate_chi2,
-                  "--mode lines/mapping: association gate on the Mahalanobis distance of a line "
-                  "(chi-square, 2 dof; 9.21 = 0.99 quantile)")
-      ->check(CLI::Range(0.1, 1000.0))
-      ->capture_default_str();
-  cmd->add_option("--window", lines->window_s,
-                  "--mode lines/mapping: sliding-window length, seconds")
-      ->check(CLI::Range(1.0, 3600.0))
-      ->capture_default_str();
-  cmd->add_flag("--relocalize", lines->relocalize,
+                "heading) and an association check (right/wrong/missed lines) to health.jsonl "
+                "(evaluation only)");
+  cmd->add_option("--wheel-variance", flags->wheel_variance_m2_per_m,
+                  "--mode lines/mapping: override the preset's odometry noise: independent "
+                  "wheel errors of this variance per metre of wheel travel [m^2/m] (0: the "
+                  "OdometryNoiseParams defaults)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--lateral-variance", flags->lateral_variance_m2_per_m,
+                  "--mode lines/mapping: override the preset's lateral odometry variance per "
+                  "metre travelled [m^2/m] (> 0)")
+      ->check(CLI::Range(1e-12, 1.0));
+  cmd->add_option("--slip-sigma", flags->slip_sigma_m,
+                  "--mode lines: override the preset's RMS spurious travel of a wheel slip [m] "
+                  "for the association gate's slip hypothesis (0: off)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--gate-chi2", flags->gate_chi2,
+                  "--mode lines/mapping: override the association gate on the Mahalanobis "
+                  "distance of a line (chi-square, 2 dof; preset 9.21 = 0.99 quantile)")
+      ->check(CLI::Range(0.1, 1000.0));
+  cmd->add_option("--window", flags->window_s,
+                  "--mode lines/mapping: override the sliding-window length, seconds (preset 120)")
+      ->check(CLI::Range(1.0, 3600.0));
+  cmd->add_flag("--relocalize", flags->relocalize,
                 "--mode lines: find the start pose on the atlas from a junction and the lines "
-                "around it (no --initial-pose, no ground truth used)");
-  cmd->add_option("--near", lines->near,
+                "around it (no --initial-pose used)");
+  cmd->add_option("--near", flags->near,
                   "With --relocalize: x_m y_m [radius_m] where the drive starts (default radius "
                   "2 m); needed where the floor repeats (identical aisle mouths)")
       ->expected(2, 3);
-  cmd->add_flag("--lidar", lines->lidar,
-                "--mode lines: add the LiDAR scan-match factor (needs lidar_scans) and the "
-                "straight faces (rack faces, walls) of the scans as line observations against "
-                "the atlas' wall lines");
-  cmd->add_flag("--no-wall-lines{false}", lines->wall_lines,
+  cmd->add_flag("--lidar", flags->lidar,
+                "--mode lines/mapping: add the LiDAR scan-match factor (needs lidar_scans) and, "
+                "when localizing, the straight faces (rack faces, walls) of the scans as line "
+                "observations against the atlas' face lines");
+  cmd->add_flag("--no-wall-lines{false}", flags->wall_lines,
                 "--mode lines --lidar: no wall lines (only the scan-match factor)");
-  cmd->add_option("--solver", lines->solver,
+  cmd->add_option("--solver", flags->solver,
                   "--mode lines: window solver, chain (exact block elimination of the pose "
                   "chain) or ceres (Levenberg-Marquardt, the reference)")
       ->check(CLI::IsMember({"chain", "ceres"}))
       ->capture_default_str();
-  cmd->add_option("--max-duration", lines->max_duration_s,
-                  "--mode lines/mapping: replay only this many seconds of data after the start "
-                  "(0: all), e.g. --max-duration 150")
+  cmd->add_option("--max-duration", flags->max_duration_s,
+                  "Replay only this many seconds of data after the first reading (0: all), "
+                  "e.g. --max-duration 150")
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
-  cmd->callback([flags, carmen, lines, run] {
+  cmd->callback([flags, carmen, run] {
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
       *run = [carmen] { return RunLocalizeCarmen(*carmen); };
       return;
     }
     if (flags->dataset_dir.empty()) throw CLI::RequiredError("--dataset or --carmen");
-    if (flags->mode != "odometry") {
-      lines->dataset_dir = flags->dataset_dir;
-      lines->out_dir = flags->out_dir;
-      lines->mapping = flags->mode == "mapping";
-      lines->initial_pose = flags->initial_pose;
-      if (flags->mode == "lidar") {
-        *run = [lines] { return RunLocalizeLidar(*lines); };
-        return;
-      }
-      *run = [lines] { return RunLocalizeLines(*lines); };
-      return;
-    }
     *run = [flags] { return RunLocalize(*flags); };
   });
   return cmd;

@@ -50,7 +50,7 @@ LidarSensor ParseLidar(YamlFields& y, const YAML::Node& node) {
   LidarSensor l;
   if (!y.ExpectMap(node, path)) return l;
   y.CheckKeys(node, path,
-              {"rate_hz", "T_base_lidar", "mount_height_m", "range_min_m", "range_max_m"});
+              {"rate_hz", "T_base_lidar", "mount_height_m", "range_min_m", "range_max_m", "stamp"});
   l.rate_hz = y.Number(node, path, "rate_hz");
   const std::string pose_path = path + ".T_base_lidar";
   const YAML::Node pose = y.Child(node, path, "T_base_lidar");
@@ -64,7 +64,43 @@ LidarSensor ParseLidar(YamlFields& y, const YAML::Node& node) {
   l.mount_height_m = y.Number(node, path, "mount_height_m");
   l.range_min_m = y.Number(node, path, "range_min_m");
   l.range_max_m = y.Number(node, path, "range_max_m");
+  if (node["stamp"]) {
+    const std::string stamp = y.Text(node, path, "stamp");
+    if (stamp == "first_ray") {
+      l.stamp = LidarStamp::kFirstRay;
+    } else if (stamp != "mid_sweep") {
+      y.Fail(node["stamp"], path + ".stamp", "'mid_sweep' or 'first_ray'", stamp);
+    }
+  }
   return l;
+}
+
+// Files before 1.2 named the stamp convention only in the provenance of
+// simulated datasets (lidar_stamp: mid_sweep; absent: the first ray).
+void MigrateLidarStamp(const YAML::Node& lidar, DatasetManifest* m) {
+  if (!m->lidar || lidar["stamp"]) return;
+  const auto generator = m->provenance.find("generator");
+  const auto stamp = m->provenance.find("lidar_stamp");
+  if (generator != m->provenance.end() && generator->second == "groundline sim" &&
+      (stamp == m->provenance.end() || stamp->second != "mid_sweep")) {
+    m->lidar->stamp = LidarStamp::kFirstRay;
+  }
+}
+
+std::optional<StartPose> ParseStartPose(YamlFields& y, const YAML::Node& root) {
+  const YAML::Node node = y.Child(root, "", "start_pose", false);
+  if (!node || !y.ExpectMap(node, "start_pose")) return std::nullopt;
+  y.CheckKeys(node, "start_pose",
+              {"stamp_s", "x_m", "y_m", "yaw_rad", "sigma_xy_m", "sigma_yaw_rad"});
+  StartPose s;
+  s.stamp_s = y.Number(node, "start_pose", "stamp_s");
+  const double x_m = y.Number(node, "start_pose", "x_m");
+  const double y_m = y.Number(node, "start_pose", "y_m");
+  const double yaw_rad = y.Number(node, "start_pose", "yaw_rad");
+  s.T_map_base = SE2(x_m, y_m, yaw_rad);
+  if (node["sigma_xy_m"]) s.sigma_xy_m = y.Number(node, "start_pose", "sigma_xy_m");
+  if (node["sigma_yaw_rad"]) s.sigma_yaw_rad = y.Number(node, "start_pose", "sigma_yaw_rad");
+  return s;
 }
 
 void ParseSensors(YamlFields& y, const YAML::Node& root, DatasetManifest* m) {
@@ -154,7 +190,7 @@ Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
   if (!y.ok()) return y.status();
   y.CheckKeys(root, "",
               {"format", "version", "name", "description", "units", "frames", "sensors", "files",
-               "provenance"});
+               "provenance", "start_pose"});
   m.name = y.Text(root, "", "name");
   m.description = y.Text(root, "", "description", /*allow_empty=*/true);
   if (const std::string units = y.Text(root, "", "units"); y.ok() && units != "SI") {
@@ -170,7 +206,11 @@ Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
   ParseSensors(y, root, &m);
   ParseFiles(y, root, &m.files);
   ParseProvenance(y, root, &m.provenance);
+  m.start_pose = ParseStartPose(y, root);
   if (!y.ok()) return y.status();
+  if (const YAML::Node sensors = root["sensors"]; sensors && sensors.IsMap()) {
+    MigrateLidarStamp(sensors["lidar"], &m);
+  }
   if (const std::optional<internal::FieldProblem> problem = internal::CheckManifest(m)) {
     y.Fail(internal::LineOfPath(root, problem->field), problem->field, problem->expected,
            problem->got);

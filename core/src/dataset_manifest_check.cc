@@ -107,6 +107,15 @@ std::optional<FieldProblem> CheckManifest(const DatasetManifest& m) {
   if (m.lidar) {
     if (Problem e = CheckLidar(*m.lidar)) return e;
   }
+  if (m.start_pose) {
+    const StartPose& s = *m.start_pose;
+    if (Problem e = Finite("start_pose.stamp_s", s.stamp_s)) return e;
+    if (Problem e = Finite("start_pose.x_m", s.T_map_base.x())) return e;
+    if (Problem e = Finite("start_pose.y_m", s.T_map_base.y())) return e;
+    if (Problem e = Finite("start_pose.yaw_rad", s.T_map_base.yaw())) return e;
+    if (Problem e = Positive("start_pose.sigma_xy_m", s.sigma_xy_m)) return e;
+    if (Problem e = Positive("start_pose.sigma_yaw_rad", s.sigma_yaw_rad)) return e;
+  }
   const DatasetFiles& files = m.files;
   if (Problem e = CheckPairing(m.camera.has_value(), "camera", files.image_index, "image_index")) {
     return e;

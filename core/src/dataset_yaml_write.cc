@@ -72,6 +72,7 @@ void EmitSensors(YAML::Emitter& out, const DatasetManifest& m) {
     Number(out, "mount_height_m", l.mount_height_m);
     Number(out, "range_min_m", l.range_min_m);
     Number(out, "range_max_m", l.range_max_m);
+    Quoted(out, "stamp", l.stamp == LidarStamp::kFirstRay ? "first_ray" : "mid_sweep");
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
@@ -125,6 +126,17 @@ std::string FormatManifest(const DatasetManifest& m) {
   Quoted(out, "base_link", m.frames.base_link);
   out << YAML::EndMap;
   EmitSensors(out, m);
+  if (m.start_pose) {
+    const StartPose& s = *m.start_pose;
+    out << YAML::Key << "start_pose" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    Number(out, "stamp_s", s.stamp_s);
+    Number(out, "x_m", s.T_map_base.x());
+    Number(out, "y_m", s.T_map_base.y());
+    Number(out, "yaw_rad", s.T_map_base.yaw());
+    Number(out, "sigma_xy_m", s.sigma_xy_m);
+    Number(out, "sigma_yaw_rad", s.sigma_yaw_rad);
+    out << YAML::EndMap;
+  }
   EmitFiles(out, m.files);
   out << YAML::Key << "provenance" << YAML::Value;
   if (m.provenance.empty()) out << YAML::Flow;

@@ -157,4 +157,18 @@ Result<Association> AssociateByStamp(const Trajectory& estimate, const Trajector
   return association;
 }
 
+SE2 InterpolatePose(const Trajectory& trajectory, double stamp_s) {
+  assert(!trajectory.empty());
+  if (stamp_s <= trajectory.front().stamp_s) return trajectory.front().pose;
+  if (stamp_s >= trajectory.back().stamp_s) return trajectory.back().pose;
+  const auto it =
+      std::upper_bound(trajectory.begin(), trajectory.end(), stamp_s,
+                       [](double t, const StampedPose& p) { return t < p.stamp_s; });
+  const StampedPose& b = *it;
+  const StampedPose& a = *(it - 1);
+  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  const Vector2 p = a.pose.translation() + f * (b.pose.translation() - a.pose.translation());
+  return SE2(p, a.pose.yaw() + f * WrapAngle(b.pose.yaw() - a.pose.yaw()));
+}
+
 }  // namespace groundline::core

@@ -98,17 +98,19 @@ Result<Trajectory> ReadTumTrajectory(const std::filesystem::path& path) {
   return trajectory;
 }
 
+std::string FormatTumLine(const StampedPose& p) {
+  char buffer[256];
+  double qz = 0.0, qw = 1.0;
+  QuaternionFromYaw(p.pose.yaw(), &qz, &qw);
+  std::snprintf(buffer, sizeof(buffer), "%.9f %.9f %.9f 0 0 0 %.12f %.12f\n", p.stamp_s,
+                p.pose.x(), p.pose.y(), qz, qw);
+  return buffer;
+}
+
 Status WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory) {
   if (Status s = ValidateTrajectory(trajectory, path.string()); !s.ok()) return s;
   return WriteFileAtomically(path, [&trajectory](std::ostream& out) {
-    char buffer[256];
-    for (const StampedPose& p : trajectory) {
-      double qz = 0.0, qw = 1.0;
-      QuaternionFromYaw(p.pose.yaw(), &qz, &qw);
-      std::snprintf(buffer, sizeof(buffer), "%.9f %.9f %.9f 0 0 0 %.12f %.12f\n", p.stamp_s,
-                    p.pose.x(), p.pose.y(), qz, qw);
-      out << buffer;
-    }
+    for (const StampedPose& p : trajectory) out << FormatTumLine(p);
     return Status::Ok();
   });
 }

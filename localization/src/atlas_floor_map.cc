@@ -1,7 +1,9 @@
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_walls.h"
 
 namespace groundline::localization {
 namespace {
@@ -41,12 +43,16 @@ core::Status AtlasFromFloorMapOptions::Validate() const {
   if (!(junction_merge_distance_m >= 0.0)) {
     return core::Status::Error("junction_merge_distance_m must be >= 0");
   }
+  if (!(face_rho_sigma_m > 0.0) || !(face_alpha_sigma_rad > 0.0)) {
+    return core::Status::Error("face_rho_sigma_m and face_alpha_sigma_rad must be > 0");
+  }
   return core::Status::Ok();
 }
 
 std::vector<MarkingSegment> MarkingSegments(const core::FloorMap& map) {
   std::vector<MarkingSegment> segments;
   for (const core::FloorMarking& marking : map.markings) {
+    if (core::IsFaceKind(marking.kind)) continue;
     for (size_t i = 0; i + 1 < marking.polyline_m.size(); ++i) {
       segments.push_back({marking.polyline_m[i], marking.polyline_m[i + 1], marking.kind});
     }
@@ -59,6 +65,7 @@ std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
   std::vector<Eigen::Vector2d> junctions;
   const double merge_m = options.junction_merge_distance_m;
   for (const core::FloorMarking& marking : map.markings) {
+    if (core::IsFaceKind(marking.kind)) continue;
     const auto& p = marking.polyline_m;
     const bool closed = p.size() > 3 && (p.front() - p.back()).norm() < 1e-9;
     for (size_t i = 0; i < p.size(); ++i) {
@@ -76,6 +83,7 @@ std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
   // Crossings and T meetings between segments of different markings.
   std::vector<std::pair<MarkingSegment, size_t>> segments;
   for (size_t m = 0; m < map.markings.size(); ++m) {
+    if (core::IsFaceKind(map.markings[m].kind)) continue;
     const auto& p = map.markings[m].polyline_m;
     for (size_t i = 0; i + 1 < p.size(); ++i) segments.push_back({{p[i], p[i + 1]}, m});
   }
@@ -120,6 +128,20 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     atlas.junctions.push_back({static_cast<std::int64_t>(atlas.junctions.size()), point,
                                Eigen::Matrix2d::Identity() * variance});
   }
+  std::vector<WallSegment> faces;
+  for (const core::FloorMarking& marking : map.markings) {
+    if (!core::IsFaceKind(marking.kind)) continue;
+    for (size_t i = 0; i + 1 < marking.polyline_m.size(); ++i) {
+      faces.push_back({marking.polyline_m[i], marking.polyline_m[i + 1],
+                       marking.kind == core::MarkingKind::kRackFace});
+    }
+  }
+  AtlasWallOptions face_options;
+  face_options.rho_sigma_m = options.face_rho_sigma_m;
+  face_options.alpha_sigma_rad = options.face_alpha_sigma_rad;
+  // A validated floor map has no segment under 1 mm, so this cannot fail.
+  [[maybe_unused]] const core::Status added = AppendWallLines(faces, face_options, &atlas);
+  assert(added.ok());
   return atlas;
 }
 

@@ -87,8 +87,19 @@ core::Status RelocalizerOptions::Validate() const {
   return core::Status::Ok();
 }
 
+namespace {
+
+// The camera recognizes floor markings: wall and rack faces take no part.
+Atlas FloorLandmarks(const Atlas& atlas) {
+  Atlas floor = atlas;
+  std::erase_if(floor.lines, [](const AtlasLine& l) { return core::IsFaceKind(l.kind); });
+  return floor;
+}
+
+}  // namespace
+
 Relocalizer::Relocalizer(const Atlas& atlas, const RelocalizerOptions& options)
-    : atlas_(atlas), options_(options) {
+    : atlas_(FloorLandmarks(atlas)), options_(options) {
   assert(atlas_.Validate().ok());
   assert(options_.Validate().ok());
   BuildGrid();

@@ -1,5 +1,6 @@
 #include "groundline/perception/bev_remap.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -182,6 +183,31 @@ Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::Cam
   const Eigen::Matrix3d H_img_floor =
       calibration::FloorToImageHomography(calibration::BaseFromCamera(mount), K);
   return H_img_floor * grid.FloorFromCell();
+}
+
+BevGridOptions FloorFootprintGrid(const calibration::CameraModel& camera,
+                                  const calibration::CameraMount& mount, double cell_m,
+                                  double max_ahead_m, double max_side_m) {
+  BevRemap::Options coarse;
+  coarse.grid = {0.0, max_ahead_m, -max_side_m, max_side_m, 0.02};
+  const BevRemap probe(camera, mount, coarse);
+  std::vector<cv::Point> valid;
+  cv::findNonZero(probe.valid_mask(), valid);
+  BevGridOptions grid;
+  grid.cell_m = cell_m;
+  if (valid.empty()) return grid;
+  const cv::Rect box = cv::boundingRect(valid);
+  const BevGrid& g = probe.grid();
+  // Row 0 is the far edge (x_max), column 0 the left edge (y_max).
+  const Eigen::Vector2d far_left = g.FloorPointOfCell(Eigen::Vector2d(box.x, box.y));
+  const Eigen::Vector2d near_right =
+      g.FloorPointOfCell(Eigen::Vector2d(box.x + box.width - 1, box.y + box.height - 1));
+  const double margin_m = g.cell_m();
+  grid.x_max_m = far_left.x() + margin_m;
+  grid.y_max_m = far_left.y() + margin_m;
+  grid.x_min_m = std::max(0.0, near_right.x() - margin_m);
+  grid.y_min_m = near_right.y() - margin_m;
+  return grid;
 }
 
 void WarpToBevPinhole(const cv::Mat& image, const BevGrid& grid,

@@ -99,6 +99,7 @@ std::vector<TrueLine> VisibleMarkingLines(const core::FloorMap& map, const core:
   };
   std::vector<TrueLine> lines;
   for (const core::FloorMarking& marking : map.markings) {
+    if (core::IsFaceKind(marking.kind)) continue;  // seen by the LiDAR, not on the floor
     const bool dashed =
         marking.kind == core::MarkingKind::kTapeDashed && marking.dash_m && marking.gap_m;
     const bool wide = marking.width_m >= options.edge_min_width_m;

@@ -75,6 +75,15 @@ double LineExtractorOptions::CorrelationSamples() const {
   return std::max(1.0, correlation_samples > 0.0 ? correlation_samples : 2.5 * ridge.sigma_cells);
 }
 
+LineExtractorOptions LineExtractorOptions::ForFusion() {
+  LineExtractorOptions options;
+  options.correlation_samples = options.ScatterCorrelationSamples();
+  options.rho_floor_m = 0.0;
+  options.alpha_floor_rad = 0.0007;  // 0.04 deg
+  options.floor_about_centroid = false;
+  return options;
+}
+
 double LineExtractorOptions::ScatterCorrelationSamples() const {
   return std::max(1.0, scatter_correlation_samples > 0.0
                            ? scatter_correlation_samples

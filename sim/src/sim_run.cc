@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "groundline/sim/wall_faces.h"
 #include "sim_run_internal.h"
 
 namespace groundline::sim {
@@ -84,6 +85,7 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
     lidar.mount_height_m = options.lidar.height_m;
     lidar.range_min_m = options.lidar.range_min_m;
     lidar.range_max_m = options.lidar.range_max_m;
+    lidar.stamp = core::LidarStamp::kMidSweep;  // ToDatasetScan moves the stamp there
     manifest.lidar = lidar;
   }
   if (options.with_camera) {
@@ -98,9 +100,6 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
   manifest.provenance["seed"] = std::to_string(options.seed);
   manifest.provenance["route_length_m"] = std::to_string(options.route.length_m);
   manifest.provenance["route_closed_loop"] = options.route.closed_loop ? "true" : "false";
-  // Scans are stamped at the middle of the sweep (docs/dataset.md); datasets
-  // written before this key existed stamped the first ray.
-  if (options.with_lidar) manifest.provenance["lidar_stamp"] = "mid_sweep";
   return manifest;
 }
 
@@ -149,6 +148,24 @@ core::FloorMap ToFloorMap(const World& world) {
       out.dash_m = m.dash_length_m;
       out.gap_m = m.gap_length_m;
     }
+    map.markings.push_back(std::move(out));
+  }
+  return map;
+}
+
+core::FloorMap SiteFloorMap(const World& world, double lidar_plane_height_m) {
+  core::FloorMap map = ToFloorMap(world);
+  WallFaceOptions options;
+  options.plane_height_m = lidar_plane_height_m;
+  auto next_id = static_cast<std::int64_t>(map.markings.size());
+  for (const WallFace& face : WallFaces(world, options)) {
+    core::FloorMarking out;
+    out.id = next_id++;
+    out.kind = face.rack_face ? MarkingKind::kRackFace : MarkingKind::kWall;
+    out.width_m = 0.05;  // drawn thickness only: a face is its line
+    out.colour_rgb = {96, 96, 96};
+    out.polarity = core::MarkingPolarity::kDark;
+    out.polyline_m = {face.a_m, face.b_m};
     map.markings.push_back(std::move(out));
   }
   return map;
@@ -212,7 +229,10 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
   core::Dataset& dataset = run.dataset;
   dataset.manifest = MakeManifest(options, run.world);
   dataset.ground_truth = run.route.T_map_base;
-  dataset.floor_map = ToFloorMap(run.world);
+  dataset.floor_map =
+      SiteFloorMap(run.world, options.with_lidar ? options.lidar.height_m : WallFaceOptions().plane_height_m);
+  dataset.manifest.start_pose = core::StartPose{run.route.T_map_base.front().stamp_s,
+                                                run.route.T_map_base.front().pose};
   dataset.wheel_encoders.reserve(run.encoder_log.readings.size());
   for (const EncoderReading& r : run.encoder_log.readings) {
     dataset.wheel_encoders.push_back({r.stamp_s, r.increment.left_rad, r.increment.right_rad});

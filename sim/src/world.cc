@@ -136,18 +136,4 @@ OrientedBox MovingObstacle::FootprintAt(double stamp_s) const {
   return box;
 }
 
-core::SE2 InterpolatePose(const core::Trajectory& trajectory, double stamp_s) {
-  assert(!trajectory.empty());
-  if (stamp_s <= trajectory.front().stamp_s) return trajectory.front().pose;
-  if (stamp_s >= trajectory.back().stamp_s) return trajectory.back().pose;
-  const auto it =
-      std::upper_bound(trajectory.begin(), trajectory.end(), stamp_s,
-                       [](double t, const core::StampedPose& p) { return t < p.stamp_s; });
-  const core::StampedPose& b = *it;
-  const core::StampedPose& a = *(it - 1);
-  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
-  const Vector2 p = a.pose.translation() + f * (b.pose.translation() - a.pose.translation());
-  return core::SE2(p, a.pose.yaw() + f * core::WrapAngle(b.pose.yaw() - a.pose.yaw()));
-}
-
 }  // namespace groundline::sim

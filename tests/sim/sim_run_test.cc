@@ -43,9 +43,21 @@ TEST(SimRun, WritesAValidDatasetThatReadsBackUnchanged) {
   EXPECT_NEAR(dataset.scans.front().stamp_s - dataset.ground_truth.front().stamp_s,
               0.5 * 818 * 0.33 / 360.0 / 15.0, 1e-9);
   EXPECT_LE(dataset.scans.back().stamp_s, dataset.ground_truth.back().stamp_s);
-  EXPECT_EQ(dataset.manifest.provenance.at("lidar_stamp"), "mid_sweep");
+  ASSERT_TRUE(dataset.manifest.lidar.has_value());
+  EXPECT_EQ(dataset.manifest.lidar->stamp, core::LidarStamp::kMidSweep);
+  // The start pose a site knows (its dock): the route's first pose.
+  ASSERT_TRUE(dataset.manifest.start_pose.has_value());
+  EXPECT_EQ(dataset.manifest.start_pose->stamp_s, dataset.ground_truth.front().stamp_s);
+  EXPECT_LT((dataset.manifest.start_pose->T_map_base.translation() -
+             dataset.ground_truth.front().pose.translation()).norm(), 1e-12);
+  // The floor map: the world's markings, then the faces of its installation
+  // drawing (wall and rack faces), which zone C's dock walls have.
   ASSERT_TRUE(dataset.floor_map.has_value());
-  EXPECT_EQ(dataset.floor_map->markings.size(), run->world.markings.size());
+  ASSERT_GT(dataset.floor_map->markings.size(), run->world.markings.size());
+  for (std::size_t i = 0; i < dataset.floor_map->markings.size(); ++i) {
+    EXPECT_EQ(core::IsFaceKind(dataset.floor_map->markings[i].kind), i >= run->world.markings.size())
+        << "marking " << i;
+  }
   EXPECT_NEAR(run->route.length_m, 150.0, 0.05 * 150.0);
 
   const auto dir = testing::ScratchDir("sim_run");
@@ -56,6 +68,11 @@ TEST(SimRun, WritesAValidDatasetThatReadsBackUnchanged) {
   EXPECT_EQ(read->scans.size(), dataset.scans.size());
   EXPECT_EQ(read->ground_truth.size(), dataset.ground_truth.size());
   EXPECT_EQ(read->manifest.provenance.at("zone"), "C");
+  EXPECT_EQ(read->manifest.lidar->stamp, core::LidarStamp::kMidSweep);
+  ASSERT_TRUE(read->manifest.start_pose.has_value());
+  EXPECT_EQ(read->manifest.start_pose->T_map_base.x(), dataset.manifest.start_pose->T_map_base.x());
+  ASSERT_TRUE(read->floor_map.has_value());
+  EXPECT_EQ(read->floor_map->markings.size(), dataset.floor_map->markings.size());
   EXPECT_EQ(read->manifest.wheel_encoders->track_m, ShortZoneC().drive.track_m);
 }
 

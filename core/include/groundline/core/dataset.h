@@ -40,8 +40,9 @@ namespace groundline::core {
 
 inline constexpr char kDatasetFormatName[] = "groundline-dataset";
 inline constexpr int kDatasetFormatMajor = 1;
-// 1.1 added files.ground_truth_extrinsics (ground_truth_extrinsics.csv).
-inline constexpr int kDatasetFormatMinor = 1;
+// 1.1 added files.ground_truth_extrinsics (ground_truth_extrinsics.csv);
+// 1.2 added sensors.lidar.stamp and start_pose.
+inline constexpr int kDatasetFormatMinor = 2;
 inline constexpr char kManifestFileName[] = "manifest.yaml";
 
 // Default file names, relative to the dataset directory.
@@ -69,12 +70,32 @@ struct WheelEncoderSensor {
   std::int64_t ticks_per_rev = 0;  // > 0, encoder resolution (deltas need not be multiples)
 };
 
+// Which instant a scan's stamp_s names (file spelling "mid_sweep" /
+// "first_ray"). A sweeping scanner's rays are spread over one revolution;
+// a match of the whole scan estimates the pose at the middle of the sweep.
+// The ROS LaserScan stamp is the first ray's time.
+enum class LidarStamp { kMidSweep, kFirstRay };
+
 struct LidarSensor {
   double rate_hz = 0.0;         // nominal, > 0
   SE2 T_base_lidar;             // mounting pose of the LiDAR frame in base_link
   double mount_height_m = 0.0;  // scan plane above the floor, >= 0
   double range_min_m = 0.0;     // >= kMinRangeLimit_m; every scan repeats it
   double range_max_m = 0.0;     // > range_min_m; every scan repeats it
+  // Since 1.2. Older files: mid_sweep, except those whose provenance says
+  // they come from `groundline sim` without `lidar_stamp: mid_sweep` (first
+  // ray), which the reader maps here.
+  LidarStamp stamp = LidarStamp::kMidSweep;
+};
+
+// Since 1.2, optional: where the vehicle starts, as the site knows it (its
+// dock or charging station, from the fleet manager), with its uncertainty
+// (1 sigma; > 0). A localizer starts from it when no other start is given.
+struct StartPose {
+  double stamp_s = 0.0;  // when it stood there: at or before the first wheel reading
+  SE2 T_map_base;
+  double sigma_xy_m = 0.005;
+  double sigma_yaw_rad = 0.0017453292519943296;  // 0.1 deg
 };
 
 // Frame names (REP-105); configurable for namespaced fleets ("agv7/base_link").
@@ -109,6 +130,7 @@ struct DatasetManifest {
   std::optional<CameraSensor> camera;
   std::optional<WheelEncoderSensor> wheel_encoders;
   std::optional<LidarSensor> lidar;
+  std::optional<StartPose> start_pose;
   DatasetFiles files;
   // Free-form scalars: generator, seed, zone, source log, ...
   std::map<std::string, std::string> provenance;

@@ -33,7 +33,8 @@ enum class MarkingKind {
   kJoint,            // saw-cut expansion joint in the concrete (a dark groove)
   // Not a floor marking: a straight vertical face (rack face, wall) seen by the
   // planar LiDAR. Atlas lines of this kind associate only with LiDAR wall
-  // observations (floor_association.h); floor maps of the simulator hold none.
+  // observations (floor_association.h); the simulator writes the faces of its
+  // installation drawing into the dataset's floor map after the markings.
   kWall,
   // A rack face: the line of the upright fronts, with the loads set back a
   // few centimetres behind them, so that the LiDAR sees a recessed band and

@@ -85,6 +85,12 @@ Result<Association> AssociateByStamp(const Trajectory& estimate, const Trajector
 // a * Exp(fraction * Log(a^-1 * b)): a at 0, b at 1.
 SE2 InterpolateSE2(const SE2& a, const SE2& b, double fraction);
 
+// The pose of a sorted, non-empty trajectory at a stamp, interpolated
+// linearly in x, y and (shortest-way) yaw between the bracketing poses (at
+// odometry or simulation rates the difference from InterpolateSE2 is far
+// below a micrometre); clamped to the first and last pose outside its span.
+SE2 InterpolatePose(const Trajectory& trajectory, double stamp_s);
+
 // The unit tangent of the reference path at stamp_s, as described above.
 // Sets *from_heading (if non-null) when the heading fallback was used.
 // `reference` must be non-empty and sorted.

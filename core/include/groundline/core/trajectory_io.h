@@ -16,6 +16,7 @@
 #define GROUNDLINE_CORE_TRAJECTORY_IO_H_
 
 #include <filesystem>
+#include <string>
 
 #include "groundline/core/status.h"
 #include "groundline/core/trajectory.h"
@@ -26,6 +27,9 @@ enum class TrajectoryFormat { kTum, kEuroc };
 
 Result<Trajectory> ReadTumTrajectory(const std::filesystem::path& path);
 Status WriteTumTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);
+// One TUM line ("t x y 0 0 0 qz qw\n", as WriteTumTrajectory writes it), for
+// writers that stream a trajectory.
+std::string FormatTumLine(const StampedPose& pose);
 
 Result<Trajectory> ReadEurocTrajectory(const std::filesystem::path& path);
 Status WriteEurocTrajectory(const std::filesystem::path& path, const Trajectory& trajectory);

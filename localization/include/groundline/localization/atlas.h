@@ -82,19 +82,24 @@ struct AtlasFromFloorMapOptions {
   double min_corner_angle_rad = 30.0 * std::numbers::pi / 180.0;
   // Junctions closer than this are merged.
   double junction_merge_distance_m = 0.05;
+  // Survey accuracy of a wall or rack face (AtlasWallOptions, atlas_walls.h).
+  double face_rho_sigma_m = 0.005;
+  double face_alpha_sigma_rad = 0.002;
 
   core::Status Validate() const;
 };
 
-// A surveyed atlas from ground-truth markings: one line per centre-line
-// segment of every marking (dashed tape as its full segments), junctions at
-// polyline corners and where segments of different markings cross or meet
-// (a segment end within junction_merge_distance_m of another segment).
+// A surveyed atlas from a floor map: one line per centre-line segment of
+// every floor marking (dashed tape as its full segments), junctions at
+// polyline corners and where segments of different floor markings cross or
+// meet (a segment end within junction_merge_distance_m of another segment);
+// then the map's wall and rack faces as face lines (AppendWallLines), which
+// make no junctions.
 Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options);
 
-// The centre-line segments of the map's markings with their kinds, and the
-// junction points, as AtlasFromFloorMap finds them (shared with the
-// observation simulator).
+// The centre-line segments of the map's floor markings (no faces) with their
+// kinds, and the junction points, as AtlasFromFloorMap finds them (shared
+// with the observation simulator).
 struct MarkingSegment {
   Eigen::Vector2d a_m;
   Eigen::Vector2d b_m;

@@ -189,6 +189,15 @@ Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::Cam
 
 // The pinhole baseline: cv::warpPerspective(image, bev, M_img_cell, grid size,
 // INTER_LINEAR | WARP_INVERSE_MAP, BORDER_CONSTANT 0). Lens distortion ignored.
+// The grid (cell_m cells) over the floor the camera actually sees: the
+// bounding box, plus one cell, of the valid cells of a coarse 2 cm probe over
+// 0..max_ahead_m ahead and +-max_side_m across. The default BevGridOptions
+// (+-1.0 m) cut off the far corners of the reference camera's footprint
+// (+-1.3 m). Nothing seen: the default extent.
+BevGridOptions FloorFootprintGrid(const calibration::CameraModel& camera,
+                                  const calibration::CameraMount& mount, double cell_m = 0.01,
+                                  double max_ahead_m = 6.0, double max_side_m = 4.0);
+
 void WarpToBevPinhole(const cv::Mat& image, const BevGrid& grid,
                       const calibration::CameraMount& mount, const Eigen::Matrix3d& K,
                       cv::Mat* bev);

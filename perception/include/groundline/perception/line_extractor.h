@@ -174,6 +174,15 @@ struct LineExtractorOptions {
   // (<= 0) resolved, each at least 1.
   double CorrelationSamples() const;
   double ScatterCorrelationSamples() const;
+
+  // The preset for the localizer's smoother, which treats frames as
+  // independent although a bias that a scuff, a stain or wear puts on a line
+  // persists over every frame that sees it: one correlation length for the
+  // scatter and the mean (ScatterCorrelationSamples), no rho floor, and a
+  // 0.04 deg alpha floor about the foot of the origin. Tuned on the 1.2 km
+  // loops of zones A-D (seed 11) for pose NEES (docs/perception.md,
+  // "Covariance for the smoother").
+  static LineExtractorOptions ForFusion();
 };
 
 struct ExtractedLine {

@@ -145,6 +145,12 @@ core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun
 // The world's markings as the dataset's floor map (ids in world order).
 core::FloorMap ToFloorMap(const World& world);
 
+// What a site has: the floor survey (ToFloorMap) followed by the wall and rack
+// faces of its installation drawing (wall_faces.h, in the LiDAR plane at
+// lidar_plane_height_m) as markings of kind wall / rack_face, ids after the
+// markings'. The dataset's floor_map.yaml.
+core::FloorMap SiteFloorMap(const World& world, double lidar_plane_height_m);
+
 // Converts a simulated scan to the dataset's encoding: no return and
 // closer-than-minimum both become core::kNoReturnRange_m, and the stamp moves
 // from the first ray to the middle of the sweep (docs/dataset.md).

@@ -23,6 +23,7 @@
 #include "groundline/core/floor_map.h"
 #include "groundline/core/se2.h"
 #include "groundline/core/trajectory.h"
+#include "groundline/core/trajectory_association.h"
 
 namespace groundline::sim {
 
@@ -153,9 +154,8 @@ struct World {
 // Length of a polyline in metres.
 double PolylineLength(const std::vector<Vector2>& polyline_m);
 
-// The pose at a stamp, interpolated linearly in x, y and (shortest-way) yaw;
-// clamped to the first and last pose outside the trajectory's time span.
-core::SE2 InterpolatePose(const core::Trajectory& trajectory, double stamp_s);
+// trajectory_association.h: linear in x, y and shortest-way yaw, clamped.
+using core::InterpolatePose;
 
 }  // namespace groundline::sim
 

@@ -1,0 +1,63 @@
+// The camera front end of the localizer: one grey frame -> undistort + IPM
+// (perception/bev_remap.h, one remap table) -> lines and junctions with
+// covariance (perception/line_extractor.h) -> floor observations in base_link
+// (observations_from_extraction.h). The service runs it on its camera thread,
+// the replay and the tests inside Localizer::AddFrame.
+//
+// Thread-safety: immutable after construction; Observe may run concurrently
+// from several threads.
+#ifndef GROUNDLINE_LOCALIZATION_FLOOR_FRONT_END_H_
+#define GROUNDLINE_LOCALIZATION_FLOOR_FRONT_END_H_
+
+#include <opencv2/core.hpp>
+#include <optional>
+
+#include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/camera_model.h"
+#include "groundline/core/status.h"
+#include "groundline/localization/observations_from_extraction.h"
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::localization {
+
+struct FloorFrontEndOptions {
+  perception::BevRemap::Options remap = perception::BevRemap::Options::ForLineExtraction();
+  // The BEV covers the camera's floor footprint (perception::FloorFootprintGrid
+  // at remap.grid.cell_m); false: remap.grid as given.
+  bool grid_from_footprint = true;
+  perception::LineExtractorOptions extractor = perception::LineExtractorOptions::ForFusion();
+
+  core::Status Validate() const;
+};
+
+class FloorFrontEnd {
+ public:
+  // Errors: invalid options; a camera that sees no floor cell of the grid.
+  static core::Result<FloorFrontEnd> Create(const calibration::CameraModel& camera,
+                                            const calibration::CameraMount& mount,
+                                            const FloorFrontEndOptions& options = {});
+
+  // The frame's lines and junctions, stamped stamp_s. Errors: an empty frame,
+  // or one whose size is not the camera model's.
+  core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s) const;
+  // The same, also returning the BEV image (for a status page or an overlay).
+  core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s,
+                                              cv::Mat* bev) const;
+
+  const perception::BevRemap& remap() const { return *remap_; }
+  const perception::LineExtractor& extractor() const { return *extractor_; }
+  int image_width_px() const { return width_px_; }
+  int image_height_px() const { return height_px_; }
+
+ private:
+  FloorFrontEnd() = default;
+  std::shared_ptr<const perception::BevRemap> remap_;
+  std::shared_ptr<const perception::LineExtractor> extractor_;
+  int width_px_ = 0;
+  int height_px_ = 0;
+};
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_FLOOR_FRONT_END_H_

@@ -1,0 +1,245 @@
+// The causal localizer: the one estimator the service, the dataset replay
+// (`groundline localize --dataset`) and the tests drive. It is fed one sensor
+// reading at a time, per sensor in time order, and never reads ahead
+// (cartographer's TrajectoryBuilderInterface::AddSensorData; basalt's input
+// queues):
+//   AddWheelReading   wheel encoder increments (the clock of the estimate)
+//   AddFrame          a camera frame, decoded lazily (only when a keyframe
+//                     uses it), or AddFloorObservations for lines extracted
+//                     elsewhere (the service's camera thread, FloorFrontEnd)
+//   AddScan           a planar LiDAR scan
+//   SetInitialPose / RequestRelocalization   how the estimate starts
+//
+// Pipeline per wheel reading (modes below):
+//  1. the reading is checked (finite, stamps increasing; else dropped and
+//     counted, never fatal) and integrated (differential drive with
+//     covariance, OdometryIntegrator);
+//  2. a pending frame whose stamp lies within this reading's interval splits
+//     the reading there (the wheel increments scaled by the time fraction,
+//     i.e. constant wheel speeds over one reading), so the keyframe sits at
+//     the frame's own time; a keyframe is due when the motion since the last
+//     one passes KeyframeSelector, or (blind) after blind_keyframe_m without
+//     a usable frame;
+//  3. scans are matched (lidar/scan_odometry.h) once the odometry covers the
+//     time they describe (first-ray stamps moved to mid-sweep);
+//  4. a keyframe: the frame's lines (+ with the LiDAR the straight faces of
+//     the last scan as wall observations, and the scan-match relative pose)
+//     go to the sliding-window smoother on the atlas.
+// Between keyframes the pose is the keyframe estimate composed with the
+// odometry since (PoseAt, Current).
+//
+// Modes: kOdometry (dead reckoning), kLines (localization on the atlas:
+// floor lines + odometry, optionally the LiDAR), kMapping (the smoother
+// builds the atlas), kLidar (LiDAR scan odometry + wheel odometry only).
+//
+// No ground truth and no simulator: everything arrives through these calls
+// and the setup. Not thread-safe: one thread drives it (the service's
+// estimator thread).
+#ifndef GROUNDLINE_LOCALIZATION_LOCALIZER_H_
+#define GROUNDLINE_LOCALIZATION_LOCALIZER_H_
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "groundline/core/dataset.h"
+#include "groundline/core/dataset_records.h"
+#include "groundline/core/se2.h"
+#include "groundline/core/status.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/diff_drive_odometry.h"
+#include "groundline/localization/floor_front_end.h"
+#include "groundline/localization/keyframe_selector.h"
+#include "groundline/localization/lidar/scan_odometry.h"
+#include "groundline/localization/lidar/scan_points.h"
+#include "groundline/localization/lidar/wall_lines.h"
+#include "groundline/localization/relocalizer.h"
+#include "groundline/localization/sliding_window_smoother.h"
+
+namespace groundline::localization {
+namespace internal {
+class LocalizerImpl;
+}  // namespace internal
+
+enum class LocalizerMode { kOdometry, kLines, kMapping, kLidar };
+
+struct LocalizerOptions {
+  LocalizerMode mode = LocalizerMode::kLines;
+  // kLines / kMapping: the LiDAR scan-match factor between keyframes (needs
+  // LocalizerSetup::lidar); kLidar always uses the LiDAR.
+  bool use_lidar = false;
+  // kLines with the LiDAR: the scans' straight faces as line observations
+  // against the atlas' wall and rack-face lines.
+  bool use_wall_lines = true;
+  KeyframeSelector::Options keyframes;
+  // kLines / kMapping: a keyframe without a frame after this much driving,
+  // so that the window keeps up with the odometry when the camera is blind.
+  double blind_keyframe_m = 1.0;
+  // Odometry noise: > 0 models independent wheel errors of this variance per
+  // metre of wheel travel with the given lateral variance per metre
+  // (OdometryNoiseFromWheelVariance, at the setup's track); 0: `noise`.
+  double wheel_variance_m2_per_m = 0.0;
+  double lateral_variance_m2_per_m = 1.0e-7;
+  OdometryNoiseParams noise;
+  // track_m is taken from the setup's drive.
+  SmootherOptions smoother;
+  lidar::ScanOdometryOptions scan_odometry;
+  lidar::ScanPointsOptions scan_points;
+  lidar::WallLineOptions walls;
+  RelocalizerOptions relocalizer;
+  // Odometry kept for interpolation at scan, ray and query times [s].
+  double odometry_history_s = 3.0;
+  // Wheel readings further apart than this are counted as a gap (a stalled
+  // driver or a clock jump) in the health [s].
+  double max_odometry_gap_s = 0.5;
+  // A frame more than this behind the newest wheel reading when it arrives
+  // is dropped (its time has passed; counted) [s].
+  double max_frame_lag_s = 0.5;
+  // A sensor is reported stale in the health after this long without data [s].
+  double stale_after_s = 1.0;
+
+  core::Status Validate() const;
+  // The full system's preset: floor lines + odometry + the LiDAR in the
+  // smoother, tuned on the 1.2 km loops of zones A-D (seed 11; docs/localization.md).
+  static LocalizerOptions ForFusion();
+};
+
+struct LidarSetup {
+  core::SE2 T_base_lidar;
+  double rate_hz = 15.0;  // one mirror revolution per scan
+  core::LidarStamp stamp = core::LidarStamp::kMidSweep;
+};
+
+// What the localizer knows about the vehicle and the site.
+struct LocalizerSetup {
+  DiffDriveParams drive;
+  // kLines: the atlas to localize on (floor lines, junctions, wall faces);
+  // kMapping starts from an empty atlas and ignores it.
+  Atlas atlas;
+  std::optional<LidarSetup> lidar;
+  // Needed for AddFrame (kLines / kMapping); AddFloorObservations works without it.
+  std::shared_ptr<const FloorFrontEnd> camera;
+};
+
+// Counts of everything that was dropped, skipped or failed: the service's
+// "never dies, drops and counts".
+struct LocalizerCounters {
+  long wheel_readings = 0;
+  long wheel_dropped_non_finite = 0;
+  long wheel_dropped_out_of_order = 0;  // stamp not after the previous one (duplicates too)
+  long wheel_before_start = 0;          // before the start pose was known
+  long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
+  long frames = 0;
+  long frames_used = 0;
+  long frames_skipped = 0;      // no keyframe due when the frame's turn came
+  long frames_superseded = 0;   // a newer frame arrived before this one's turn
+  long frames_unreadable = 0;   // the loader or the front end failed
+  long frames_dropped_late = 0; // max_frame_lag_s behind, or before the start
+  long scans = 0;
+  long scans_dropped_bad = 0;
+  long scans_dropped_out_of_order = 0;
+  long scans_before_start = 0;
+  long scans_matched = 0;
+  long keyframes = 0;
+  long solve_failures = 0;
+  long solves_unconverged = 0;
+  long lidar_failures = 0;
+  long lines_used = 0;
+  long lines_rejected = 0;
+  long lines_dropped = 0;
+  long lidar_keyframes = 0;
+  long lidar_degenerate = 0;
+  long lidar_fisher_degenerate = 0;
+  long lidar_aliased = 0;
+  long lidar_with_relative = 0;
+  long walls_observed = 0;
+  long walls_used = 0;
+  long walls_ambiguous = 0;
+};
+
+struct WallCounts {
+  int observed = 0;
+  int used = 0;  // associated with an atlas face at the prediction
+  int ambiguous = 0;
+};
+
+// Which sensors have delivered lately (stale_after_s, by the wheel clock).
+struct SensorState {
+  bool camera_ok = false;
+  bool lidar_ok = false;
+  double camera_age_s = -1.0;  // since the last frame (-1: none yet)
+  double lidar_age_s = -1.0;
+  // "full", "lines+odometry", "lidar+odometry", "odometry", by what was used lately.
+  std::string degraded_mode;
+};
+
+struct KeyframeOutput {
+  long index = 0;         // 0, 1, ... over the run's keyframes
+  double stamp_s = 0.0;
+  PoseEstimate pose;      // the estimate after the update (kLidar: no covariance)
+  PoseEstimate predicted; // odometry prediction from the previous keyframe
+  bool has_covariance = true;
+  std::optional<KeyframeHealth> smoother;  // kLines / kMapping
+  std::string error;                       // a failed solve or LiDAR stage
+  std::optional<double> frame_stamp_s;     // the frame it used
+  int lines_dropped = 0;                   // non-SPD covariance
+  FloorObservations floor;                 // the frame's observations (no walls)
+  std::optional<lidar::ScanOdometryKeyframe> lidar;
+  std::optional<WallCounts> walls;
+  SensorState sensors;
+  double update_cpu_s = 0.0;  // the estimator thread's CPU time for this keyframe
+};
+
+class Localizer {
+ public:
+  // Errors: invalid options; a mode that needs a sensor the setup lacks
+  // (the LiDAR), an invalid atlas.
+  static core::Result<std::unique_ptr<Localizer>> Create(const LocalizerOptions& options,
+                                                         LocalizerSetup setup);
+  ~Localizer();
+
+  // Starts the estimate at stamp_s (readings up to it are not integrated).
+  // Errors: non-finite values, a covariance that is not symmetric positive definite.
+  core::Status SetInitialPose(double stamp_s, const core::SE2& T_map_base,
+                              const core::Matrix3& covariance);
+  // kLines: recognize the start on the atlas from the frames (relocalizer.h);
+  // the estimate starts when one hypothesis is unambiguous. Errors: another mode.
+  core::Status RequestRelocalization();
+  bool started() const;
+  // Set once a relocalization committed.
+  const std::optional<PoseEstimate>& relocalized() const;
+  const RelocalizerStatus* relocalizer_status() const;
+
+  // Returns the keyframe this reading closed, if any.
+  std::optional<KeyframeOutput> AddWheelReading(const core::WheelEncoderReading& reading);
+  // A frame to be decoded when a keyframe uses it; load returns an empty Mat
+  // when the frame cannot be read (counted as unreadable).
+  using FrameLoader = std::function<cv::Mat()>;
+  void AddFrame(double stamp_s, FrameLoader load);
+  void AddFloorObservations(ConvertedObservations observations);
+  void AddScan(core::LaserScan scan);
+
+  // The pose at the newest wheel reading, with covariance (started() only).
+  PoseEstimate Current() const;
+  // The pose at stamp_s within the odometry history (interpolated between
+  // readings), nullopt outside it or before the start.
+  std::optional<PoseEstimate> PoseAt(double stamp_s) const;
+  // The atlas with the current landmark estimates.
+  Atlas CurrentAtlas() const;
+  const LocalizerCounters& counters() const;
+  SensorState Sensors() const;
+  double path_length_m() const;
+  const LocalizerOptions& options() const;
+
+ private:
+  explicit Localizer(std::unique_ptr<internal::LocalizerImpl> impl);
+  std::unique_ptr<internal::LocalizerImpl> impl_;
+};
+
+}  // namespace groundline::localization
+
+#endif  // GROUNDLINE_LOCALIZATION_LOCALIZER_H_

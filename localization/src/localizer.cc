@@ -1,0 +1,95 @@
+#include "groundline/localization/localizer.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "groundline/core/trajectory_association.h"
+#include "localizer_impl.h"
+
+namespace groundline::localization {
+
+using internal::LocalizerImpl;
+
+core::Status LocalizerOptions::Validate() const {
+  if (core::Status s = keyframes.Validate(); !s.ok()) return s.WithContext("keyframes");
+  if (core::Status s = noise.Validate(); !s.ok()) return s.WithContext("noise");
+  if (core::Status s = smoother.Validate(); !s.ok()) return s.WithContext("smoother");
+  if (core::Status s = scan_odometry.Validate(); !s.ok()) return s.WithContext("scan_odometry");
+  if (core::Status s = scan_points.Validate(); !s.ok()) return s.WithContext("scan_points");
+  if (core::Status s = relocalizer.Validate(); !s.ok()) return s.WithContext("relocalizer");
+  const std::pair<const char*, double> positive[] = {
+      {"blind_keyframe_m", blind_keyframe_m},     {"odometry_history_s", odometry_history_s},
+      {"max_odometry_gap_s", max_odometry_gap_s}, {"max_frame_lag_s", max_frame_lag_s},
+      {"stale_after_s", stale_after_s},           {"lateral_variance_m2_per_m", lateral_variance_m2_per_m}};
+  for (const auto& [name, value] : positive) {
+    if (!(std::isfinite(value) && value > 0.0)) {
+      return core::Status::Error(std::string("localizer option ") + name +
+                                 ": expected a finite number > 0, got " + std::to_string(value));
+    }
+  }
+  if (!(std::isfinite(wheel_variance_m2_per_m) && wheel_variance_m2_per_m >= 0.0)) {
+    return core::Status::Error("localizer option wheel_variance_m2_per_m: expected >= 0, got " +
+                               std::to_string(wheel_variance_m2_per_m));
+  }
+  return core::Status::Ok();
+}
+
+LocalizerOptions LocalizerOptions::ForFusion() {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLines;
+  options.use_lidar = true;
+  options.use_wall_lines = true;
+  // The simulated vehicle's random wheel travel error without its slips
+  // (docs/localization.md, "Odometry noise"); slips go to the gate's slip
+  // hypothesis (5.2 cm RMS).
+  options.wheel_variance_m2_per_m = 1.0e-5;
+  options.lateral_variance_m2_per_m = 1.0e-7;
+  options.smoother.slip_sigma_m = 0.052;
+  return options;
+}
+
+Localizer::Localizer(std::unique_ptr<LocalizerImpl> impl) : impl_(std::move(impl)) {}
+Localizer::~Localizer() = default;
+
+core::Result<std::unique_ptr<Localizer>> Localizer::Create(const LocalizerOptions& options,
+                                                           LocalizerSetup setup) {
+  core::Result<std::unique_ptr<LocalizerImpl>> impl = LocalizerImpl::Create(options, std::move(setup));
+  if (!impl.ok()) return impl.status();
+  return std::unique_ptr<Localizer>(new Localizer(std::move(*impl)));
+}
+
+core::Status Localizer::SetInitialPose(double stamp_s, const core::SE2& T_map_base,
+                                       const core::Matrix3& covariance) {
+  return impl_->SetInitialPose(stamp_s, T_map_base, covariance);
+}
+core::Status Localizer::RequestRelocalization() { return impl_->RequestRelocalization(); }
+bool Localizer::started() const { return impl_->started; }
+const std::optional<PoseEstimate>& Localizer::relocalized() const { return impl_->relocalized; }
+const RelocalizerStatus* Localizer::relocalizer_status() const {
+  return impl_->relocalizer ? &impl_->relocalizer->status() : nullptr;
+}
+std::optional<KeyframeOutput> Localizer::AddWheelReading(const core::WheelEncoderReading& r) {
+  return impl_->AddWheelReading(r);
+}
+void Localizer::AddFrame(double stamp_s, FrameLoader load) {
+  impl_->AddFrame(stamp_s, std::move(load), std::nullopt);
+}
+void Localizer::AddFloorObservations(ConvertedObservations observations) {
+  const double stamp_s = observations.observations.stamp_s;
+  impl_->AddFrame(stamp_s, nullptr, std::move(observations));
+}
+void Localizer::AddScan(core::LaserScan scan) { impl_->AddScan(std::move(scan)); }
+PoseEstimate Localizer::Current() const { return impl_->current; }
+std::optional<PoseEstimate> Localizer::PoseAt(double stamp_s) const {
+  return impl_->PoseAt(stamp_s);
+}
+Atlas Localizer::CurrentAtlas() const {
+  return impl_->smoother ? impl_->smoother->CurrentAtlas() : impl_->setup.atlas;
+}
+const LocalizerCounters& Localizer::counters() const { return impl_->counters; }
+SensorState Localizer::Sensors() const { return impl_->Sensors(); }
+double Localizer::path_length_m() const { return impl_->path_length_m; }
+const LocalizerOptions& Localizer::options() const { return impl_->options; }
+
+}  // namespace groundline::localization

@@ -1,0 +1,402 @@
+#include "localizer_impl.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <ctime>
+#include <string>
+
+#include "groundline/core/trajectory_association.h"
+
+namespace groundline::localization::internal {
+namespace {
+
+// Stamps within this of each other are the same instant (text round trips).
+constexpr double kSameInstantS = 1e-9;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+bool IsCovariance(const core::Matrix3& c) {
+  if (!c.allFinite() || !c.isApprox(c.transpose(), 1e-9)) return false;
+  return Eigen::LLT<core::Matrix3>(c).info() == Eigen::Success;
+}
+
+}  // namespace
+
+core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const LocalizerOptions& options,
+                                                                   LocalizerSetup setup) {
+  if (core::Status s = options.Validate(); !s.ok()) return s;
+  if (core::Status s = setup.drive.Validate(); !s.ok()) return s.WithContext("localizer drive");
+  const bool needs_lidar = options.mode == LocalizerMode::kLidar ||
+                           (options.use_lidar && (options.mode == LocalizerMode::kLines ||
+                                                  options.mode == LocalizerMode::kMapping));
+  if (needs_lidar && !setup.lidar) {
+    return core::Status::Error(
+        "localizer: the LiDAR is enabled but the setup has no LiDAR (its mounting pose and rate)");
+  }
+  if (setup.lidar && !(setup.lidar->rate_hz > 0.0)) {
+    return core::Status::Error("localizer: the LiDAR rate must be > 0 Hz");
+  }
+  auto impl = std::make_unique<LocalizerImpl>();
+  impl->options = options;
+  if (options.wheel_variance_m2_per_m > 0.0) {
+    impl->options.noise = OdometryNoiseFromWheelVariance(
+        options.wheel_variance_m2_per_m, setup.drive.track_m, options.lateral_variance_m2_per_m);
+  }
+  impl->options.smoother.track_m = setup.drive.track_m;
+  impl->selector = KeyframeSelector(options.keyframes);
+  const bool floor = options.mode == LocalizerMode::kLines || options.mode == LocalizerMode::kMapping;
+  if (floor) {
+    SmootherOptions smoother = impl->options.smoother;
+    smoother.mode = options.mode == LocalizerMode::kMapping ? SmootherMode::kMapping
+                                                            : SmootherMode::kLocalization;
+    if (core::Status s = smoother.Validate(); !s.ok()) return s.WithContext("localizer smoother");
+    Atlas atlas = options.mode == LocalizerMode::kMapping ? Atlas() : setup.atlas;
+    if (core::Status s = atlas.Validate(); !s.ok()) return s.WithContext("localizer atlas");
+    for (const AtlasLine& line : atlas.lines) {
+      if (core::IsFaceKind(line.kind)) impl->walls.lines.push_back(line);
+    }
+    impl->smoother = std::make_unique<SlidingWindowSmoother>(smoother, std::move(atlas));
+  }
+  if (needs_lidar) impl->lidar = std::make_unique<LidarStage>(*setup.lidar, impl->options);
+  impl->setup = std::move(setup);
+  return impl;
+}
+
+core::Status LocalizerImpl::SetInitialPose(double stamp_s, const core::SE2& T_map_base,
+                                           const core::Matrix3& covariance) {
+  if (!std::isfinite(stamp_s) || !std::isfinite(T_map_base.x()) || !std::isfinite(T_map_base.y()) ||
+      !std::isfinite(T_map_base.yaw())) {
+    return core::Status::Error("initial pose: expected a finite stamp, x, y and yaw");
+  }
+  if (!IsCovariance(covariance)) {
+    return core::Status::Error(
+        "initial pose: expected a symmetric positive definite 3x3 covariance (x, y, yaw)");
+  }
+  if (started) return core::Status::Error("initial pose: the localizer has already started");
+  relocalizer.reset();
+  Start(stamp_s, T_map_base, covariance);
+  return core::Status::Ok();
+}
+
+core::Status LocalizerImpl::RequestRelocalization() {
+  if (options.mode != LocalizerMode::kLines) {
+    return core::Status::Error("relocalization needs an atlas to recognize: the lines mode");
+  }
+  if (started) return core::Status::Error("relocalization: the localizer has already started");
+  relocalizer = std::make_unique<Relocalizer>(setup.atlas, options.relocalizer);
+  relocalizer_odometry.emplace(setup.drive, options.noise);
+  return core::Status::Ok();
+}
+
+void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
+                          const core::Matrix3& covariance) {
+  started = true;
+  T_map_start = T_map_base;
+  odometry.emplace(setup.drive, options.noise);
+  // Dead reckoning carries the start's uncertainty; the smoother has its own prior.
+  if (!smoother) odometry->Reset(core::SE2(), covariance);
+  current = {stamp_s, T_map_base, covariance};
+  keyframe = current;
+  T_odom_keyframe = T_map_base;
+  history.assign(1, current);
+  if (smoother) smoother->Initialize(stamp_s, T_map_base, covariance);
+  if (lidar) lidar->Start(stamp_s, T_map_base);
+  if (pending && pending->stamp_s < stamp_s - kSameInstantS) {
+    ++counters.frames_dropped_late;
+    pending.reset();
+  }
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEncoderReading& r) {
+  ++counters.wheel_readings;
+  if (!std::isfinite(r.stamp_s) || !std::isfinite(r.left_delta_rad) ||
+      !std::isfinite(r.right_delta_rad)) {
+    ++counters.wheel_dropped_non_finite;
+    return std::nullopt;
+  }
+  const std::optional<double> previous_s = last_reading_s;
+  if (previous_s && !(r.stamp_s > *previous_s)) {
+    ++counters.wheel_dropped_out_of_order;
+    return std::nullopt;
+  }
+  if (previous_s && r.stamp_s - *previous_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
+  last_reading_s = r.stamp_s;
+  if (relocalizer && !relocalizer_done_) {
+    if (previous_s) return Relocalize(r);
+    return std::nullopt;
+  }
+  if (!started) {
+    ++counters.wheel_before_start;
+    return std::nullopt;
+  }
+  if (r.stamp_s <= current.stamp_s) return std::nullopt;  // at or before the start
+
+  // The frame whose turn it is: the newest one up to this reading. Inside
+  // the reading's interval it splits the reading (constant wheel speeds).
+  std::optional<PendingFrame> frame;
+  if (pending && pending->stamp_s <= r.stamp_s + kSameInstantS) {
+    frame = std::move(pending);
+    pending.reset();
+  }
+  const double from_s = std::max(previous_s.value_or(current.stamp_s), current.stamp_s);
+  if (frame && frame->stamp_s > from_s + kSameInstantS &&
+      frame->stamp_s < r.stamp_s - kSameInstantS) {
+    const double fraction = (frame->stamp_s - from_s) / (r.stamp_s - from_s);
+    const double frame_s = frame->stamp_s;
+    Integrate(r, fraction, frame_s);
+    std::optional<KeyframeOutput> out = Step(frame_s, std::move(frame));
+    Integrate(r, 1.0 - fraction, r.stamp_s);
+    std::optional<KeyframeOutput> late = Step(r.stamp_s, std::nullopt);
+    return out ? out : late;
+  }
+  Integrate(r, 1.0, r.stamp_s);
+  return Step(r.stamp_s, std::move(frame));
+}
+
+void LocalizerImpl::Integrate(const core::WheelEncoderReading& r, double fraction,
+                              double stamp_s) {
+  const OdometryIncrement increment = odometry->Integrate(
+      WheelAngleIncrement{fraction * r.left_delta_rad, fraction * r.right_delta_rad});
+  path_length_m += std::abs(increment.distance_m);
+  if (lidar) lidar->AddOdometry(stamp_s, T_map_start * odometry->T_odom_base(), &counters);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
+                                                  std::optional<PendingFrame> frame) {
+  const RelativeMotion& since = odometry->SinceKeyframe();
+  const bool moved = selector.IsKeyframeDue(since.T_start_end);
+  std::optional<KeyframeOutput> out;
+  switch (options.mode) {
+    case LocalizerMode::kOdometry:
+    case LocalizerMode::kLidar: {
+      if (frame) ++counters.frames_skipped;
+      if (!moved) break;
+      const double cpu_before_s = ThreadCpuSeconds();
+      odometry->StartKeyframe();
+      KeyframeOutput k;
+      k.stamp_s = stamp_s;
+      k.predicted = {stamp_s, T_map_start * odometry->T_odom_base(), odometry->covariance()};
+      k.pose = k.predicted;
+      if (options.mode == LocalizerMode::kLidar) {
+        lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s);
+        CountLidar(scan);
+        k.pose = {stamp_s, scan.T_odom_base, core::Matrix3::Zero()};
+        k.has_covariance = false;
+        k.lidar = std::move(scan);
+      }
+      keyframe = k.pose;
+      T_odom_keyframe = k.predicted.T_map_base;
+      k.update_cpu_s = ThreadCpuSeconds() - cpu_before_s;
+      out = std::move(k);
+      break;
+    }
+    case LocalizerMode::kLines:
+    case LocalizerMode::kMapping: {
+      const bool blind = since.path_length_m >= options.blind_keyframe_m;
+      // A vehicle without a camera (the LiDAR's wall lines alone) keyframes on motion.
+      const bool lidar_only = !setup.camera && lidar != nullptr;
+      if (frame && !moved) ++counters.frames_skipped;
+      if ((frame && moved) || blind || (lidar_only && moved)) {
+        out = FloorKeyframe(stamp_s, std::move(frame));
+      }
+      break;
+    }
+  }
+  if (out) {
+    out->index = keyframe_index++;
+    out->sensors = Sensors();
+    ++counters.keyframes;
+  }
+  UpdateCurrent(stamp_s);
+  return out;
+}
+
+std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame, double stamp_s) {
+  if (frame.observations) {
+    ConvertedObservations seen = std::move(*frame.observations);
+    seen.observations.stamp_s = stamp_s;
+    return seen;
+  }
+  if (!frame.load || !setup.camera) return std::nullopt;
+  const cv::Mat grey = frame.load();
+  if (grey.empty()) return std::nullopt;
+  core::Result<ConvertedObservations> seen = setup.camera->Observe(grey, stamp_s);
+  if (!seen.ok()) return std::nullopt;
+  return std::move(seen).value();
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
+                                                           std::optional<PendingFrame> frame) {
+  const double cpu_before_s = ThreadCpuSeconds();
+  KeyframeOutput k;
+  k.stamp_s = stamp_s;
+  ConvertedObservations converted;
+  converted.observations.stamp_s = stamp_s;
+  if (frame) {
+    std::optional<ConvertedObservations> seen = Observe(*frame, stamp_s);
+    if (seen) {
+      converted = std::move(*seen);
+      ++counters.frames_used;
+      last_frame_used_s = stamp_s;
+      k.frame_stamp_s = frame->stamp_s;
+    } else {
+      ++counters.frames_unreadable;
+    }
+  }
+  k.lines_dropped = converted.dropped_lines;
+  k.floor = converted.observations;
+  const RelativeMotion motion = odometry->StartKeyframe();
+  k.predicted = PropagateFromKeyframe(smoother->Latest(), motion, stamp_s);
+  std::optional<RelativePoseMeasurement> relative;
+  if (lidar) {
+    lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s);
+    CountLidar(scan);
+    relative = scan.relative;
+    k.lidar = std::move(scan);
+    if (options.use_wall_lines && options.mode == LocalizerMode::kLines) {
+      const std::vector<LineObservation> seen = lidar->WallObservations(stamp_s);
+      WallCounts counts;
+      counts.observed = static_cast<int>(seen.size());
+      for (const Match& m : AssociateLines(seen, walls, k.predicted.T_map_base,
+                                           k.predicted.covariance, options.smoother.association)) {
+        counts.ambiguous += m.ambiguous;
+        counts.used += m.landmark >= 0;
+      }
+      counters.walls_observed += counts.observed;
+      counters.walls_used += counts.used;
+      counters.walls_ambiguous += counts.ambiguous;
+      k.walls = counts;
+      converted.observations.lines.insert(converted.observations.lines.end(), seen.begin(),
+                                          seen.end());
+    }
+  }
+  core::Result<KeyframeHealth> health =
+      smoother->AddKeyframe(stamp_s, motion, converted.observations, relative);
+  if (!health.ok()) {
+    ++counters.solve_failures;
+    k.error = health.message();
+  } else {
+    counters.lines_used += health->lines_used;
+    counters.lines_rejected += health->lines_rejected;
+    counters.solves_unconverged += health->converged ? 0 : 1;
+    k.smoother = *health;
+  }
+  counters.lines_dropped += converted.dropped_lines;
+  k.pose = smoother->Latest();
+  k.update_cpu_s = ThreadCpuSeconds() - cpu_before_s;
+  return k;
+}
+
+void LocalizerImpl::CountLidar(const lidar::ScanOdometryKeyframe& k) {
+  ++counters.lidar_keyframes;
+  counters.lidar_degenerate += k.degenerate;
+  counters.lidar_fisher_degenerate += k.information.degenerate;
+  counters.lidar_aliased += k.aliasing.aliased;
+  counters.lidar_with_relative += k.relative.has_value();
+  if (k.scans_since_previous > 0) last_scan_match_s = k.stamp_s;
+}
+
+void LocalizerImpl::UpdateCurrent(double stamp_s) {
+  if (smoother) {
+    current = PropagateFromKeyframe(smoother->Latest(), odometry->SinceKeyframe(), stamp_s);
+  } else {
+    // Dead reckoning (or the LiDAR estimate) composed with the odometry since.
+    const core::SE2 T_map_odom = T_map_start * odometry->T_odom_base();
+    current = {stamp_s, keyframe.T_map_base * T_odom_keyframe.Between(T_map_odom),
+               options.mode == LocalizerMode::kOdometry ? odometry->covariance()
+                                                        : core::Matrix3::Zero()};
+  }
+  history.push_back(current);
+  while (history.size() > 2 && history[1].stamp_s < stamp_s - options.odometry_history_s) {
+    history.pop_front();
+  }
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Relocalize(const core::WheelEncoderReading& r) {
+  relocalizer_odometry->Integrate(WheelAngleIncrement{r.left_delta_rad, r.right_delta_rad});
+  if (!pending || pending->stamp_s > r.stamp_s + kSameInstantS) return std::nullopt;
+  PendingFrame frame = std::move(*pending);
+  pending.reset();
+  const RelativeMotion motion = relocalizer_odometry->StartKeyframe();
+  std::optional<ConvertedObservations> seen = Observe(frame, r.stamp_s);
+  if (seen) {
+    ++counters.frames_used;
+  } else {
+    ++counters.frames_unreadable;
+  }
+  const std::optional<PoseEstimate> pose = relocalizer->AddFrame(
+      r.stamp_s, motion, seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}});
+  if (!pose) return std::nullopt;
+  relocalized = *pose;
+  relocalizer_odometry.reset();
+  auto keep = std::move(relocalizer);  // its status stays readable
+  Start(pose->stamp_s, pose->T_map_base, pose->covariance);
+  relocalizer = std::move(keep);
+  relocalizer_done_ = true;
+  return std::nullopt;
+}
+
+void LocalizerImpl::AddFrame(double stamp_s, Localizer::FrameLoader load,
+                             std::optional<ConvertedObservations> observations) {
+  ++counters.frames;
+  const bool waiting = !started && !(relocalizer && !relocalizer_done_);
+  if (!std::isfinite(stamp_s) || stamp_s <= last_frame_s) {
+    ++counters.frames_unreadable;
+    return;
+  }
+  last_frame_s = stamp_s;
+  if (waiting || (last_reading_s && stamp_s < *last_reading_s - options.max_frame_lag_s)) {
+    ++counters.frames_dropped_late;
+    return;
+  }
+  if (pending) ++counters.frames_superseded;
+  pending = PendingFrame{stamp_s, std::move(load), std::move(observations)};
+}
+
+void LocalizerImpl::AddScan(core::LaserScan scan) {
+  if (!lidar) return;
+  lidar->AddScan(std::move(scan), &counters);
+}
+
+std::optional<PoseEstimate> LocalizerImpl::PoseAt(double stamp_s) const {
+  if (!started || history.empty() || stamp_s < history.front().stamp_s - kSameInstantS ||
+      stamp_s > history.back().stamp_s + kSameInstantS) {
+    return std::nullopt;
+  }
+  const auto it = std::lower_bound(history.begin(), history.end(), stamp_s,
+                                   [](const PoseEstimate& p, double t) { return p.stamp_s < t; });
+  if (it == history.begin()) return *it;
+  if (it == history.end()) return history.back();
+  const PoseEstimate& b = *it;
+  const PoseEstimate& a = *(it - 1);
+  const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);
+  return PoseEstimate{stamp_s, core::InterpolateSE2(a.T_map_base, b.T_map_base, f), b.covariance};
+}
+
+SensorState LocalizerImpl::Sensors() const {
+  SensorState s;
+  const double now_s = last_reading_s.value_or(0.0);
+  const bool uses_camera = smoother != nullptr;
+  if (std::isfinite(last_frame_used_s)) s.camera_age_s = now_s - last_frame_used_s;
+  if (std::isfinite(last_scan_match_s)) s.lidar_age_s = now_s - last_scan_match_s;
+  s.camera_ok = uses_camera && s.camera_age_s >= 0.0 && s.camera_age_s <= options.stale_after_s;
+  s.lidar_ok = lidar && s.lidar_age_s >= 0.0 && s.lidar_age_s <= options.stale_after_s;
+  const bool wants_camera = uses_camera;
+  const bool wants_lidar = lidar != nullptr;
+  if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok)) {
+    s.degraded_mode = "full";
+  } else if (s.camera_ok) {
+    s.degraded_mode = "lines+odometry";
+  } else if (s.lidar_ok) {
+    s.degraded_mode = "lidar+odometry";
+  } else {
+    s.degraded_mode = "odometry";
+  }
+  return s;
+}
+
+}  // namespace groundline::localization::internal

@@ -1,0 +1,80 @@
+// The state of a Localizer (localizer.h). Private to the localization library.
+#ifndef GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_IMPL_H_
+#define GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_IMPL_H_
+
+#include <deque>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "groundline/localization/localizer.h"
+#include "groundline/localization/odometry_integrator.h"
+#include "localizer_lidar.h"
+
+namespace groundline::localization::internal {
+
+class LocalizerImpl {
+ public:
+  static core::Result<std::unique_ptr<LocalizerImpl>> Create(const LocalizerOptions& options,
+                                                             LocalizerSetup setup);
+
+  core::Status SetInitialPose(double stamp_s, const core::SE2& T_map_base,
+                              const core::Matrix3& covariance);
+  core::Status RequestRelocalization();
+  std::optional<KeyframeOutput> AddWheelReading(const core::WheelEncoderReading& reading);
+  void AddFrame(double stamp_s, Localizer::FrameLoader load,
+                std::optional<ConvertedObservations> observations);
+  void AddScan(core::LaserScan scan);
+  std::optional<PoseEstimate> PoseAt(double stamp_s) const;
+  SensorState Sensors() const;
+
+  struct PendingFrame {
+    double stamp_s = 0.0;
+    Localizer::FrameLoader load;
+    std::optional<ConvertedObservations> observations;
+  };
+
+  LocalizerOptions options;
+  LocalizerSetup setup;
+  LocalizerCounters counters;
+  std::unique_ptr<SlidingWindowSmoother> smoother;  // kLines, kMapping
+  std::unique_ptr<LidarStage> lidar;
+  Atlas walls;  // the atlas' face lines (wall counts)
+  std::unique_ptr<Relocalizer> relocalizer;
+  std::optional<OdometryIntegrator> relocalizer_odometry;
+  std::optional<PoseEstimate> relocalized;
+
+  bool started = false;
+  core::SE2 T_map_start;
+  std::optional<OdometryIntegrator> odometry;
+  KeyframeSelector selector{KeyframeSelector::Options()};
+  PoseEstimate keyframe;  // kOdometry / kLidar: the last keyframe's estimate
+  core::SE2 T_odom_keyframe;
+  PoseEstimate current;
+  std::deque<PoseEstimate> history;  // odometry-rate poses, newest last
+  std::optional<PendingFrame> pending;
+  std::optional<double> last_reading_s;
+  double last_frame_s = -std::numeric_limits<double>::infinity();
+  double last_frame_used_s = -std::numeric_limits<double>::infinity();
+  double last_scan_match_s = -std::numeric_limits<double>::infinity();
+  double path_length_m = 0.0;
+  long keyframe_index = 0;
+  bool relocalizer_done_ = false;  // committed: the relocalizer is kept for its status
+
+ private:
+  void Start(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
+  std::optional<KeyframeOutput> Relocalize(const core::WheelEncoderReading& reading);
+  // Integrates `fraction` of the reading's increments, up to stamp_s.
+  void Integrate(const core::WheelEncoderReading& reading, double fraction, double stamp_s);
+  // The keyframe decision at stamp_s, with the frame whose turn it is.
+  std::optional<KeyframeOutput> Step(double stamp_s, std::optional<PendingFrame> frame);
+  std::optional<KeyframeOutput> FloorKeyframe(double stamp_s, std::optional<PendingFrame> frame);
+  // The frame's observations stamped stamp_s; nullopt when unreadable.
+  std::optional<ConvertedObservations> Observe(PendingFrame& frame, double stamp_s);
+  void UpdateCurrent(double stamp_s);
+  void CountLidar(const lidar::ScanOdometryKeyframe& k);
+};
+
+}  // namespace groundline::localization::internal
+
+#endif  // GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_IMPL_H_

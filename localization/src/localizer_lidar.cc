@@ -1,0 +1,109 @@
+#include "localizer_lidar.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "groundline/core/trajectory_association.h"
+
+namespace groundline::localization::internal {
+
+LidarStage::LidarStage(const LidarSetup& setup, const LocalizerOptions& options)
+    : setup_(setup),
+      points_options_(options.scan_points),
+      wall_options_(options.walls),
+      history_s_(options.odometry_history_s),
+      scan_odometry_(options.scan_odometry),
+      last_received_s_(-std::numeric_limits<double>::infinity()) {}
+
+void LidarStage::Start(double stamp_s, const core::SE2& T_odom_base) {
+  start_s_ = stamp_s;
+  started_ = true;
+  odometry_.clear();
+  odometry_.push_back({stamp_s, T_odom_base, std::nullopt});
+  while (!queue_.empty() && queue_.front().first <= stamp_s) queue_.pop_front();
+}
+
+bool LidarStage::AddScan(core::LaserScan scan, LocalizerCounters* counters) {
+  ++counters->scans;
+  bool finite = std::isfinite(scan.stamp_s) && std::isfinite(scan.angle_min_rad) &&
+                std::isfinite(scan.angle_increment_rad) && scan.angle_increment_rad != 0.0 &&
+                std::isfinite(scan.range_max_m) && !scan.ranges_m.empty();
+  for (double r : scan.ranges_m) finite = finite && !std::isnan(r);
+  if (!finite) {
+    ++counters->scans_dropped_bad;
+    return false;
+  }
+  // The instant the scan describes: the middle of its sweep (scan_odometry.h).
+  double describes_s = scan.stamp_s;
+  if (setup_.stamp == core::LidarStamp::kFirstRay) {
+    describes_s += lidar::MidSweepOffsetS(scan.ranges_m.size(), scan.angle_increment_rad,
+                                          setup_.rate_hz);
+  }
+  if (describes_s <= last_received_s_) {
+    ++counters->scans_dropped_out_of_order;
+    return false;
+  }
+  if (started_ && describes_s <= start_s_) {
+    ++counters->scans_before_start;
+    last_received_s_ = describes_s;
+    return false;
+  }
+  last_received_s_ = describes_s;
+  queue_.emplace_back(describes_s, std::move(scan));
+  // Before the start nothing is matched: keep only the recent scans.
+  while (!started_ && queue_.front().first < describes_s - history_s_) queue_.pop_front();
+  return true;
+}
+
+void LidarStage::AddOdometry(double stamp_s, const core::SE2& T_odom_base,
+                             LocalizerCounters* counters) {
+  odometry_.push_back({stamp_s, T_odom_base, std::nullopt});
+  // Keep history_s_ of odometry (and at least two readings) for interpolation.
+  std::size_t drop = 0;
+  while (drop + 2 < odometry_.size() && odometry_[drop + 1].stamp_s < stamp_s - history_s_) ++drop;
+  if (drop > 64) odometry_.erase(odometry_.begin(), odometry_.begin() + static_cast<long>(drop));
+  MatchCovered(stamp_s, counters);
+}
+
+void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
+  while (!queue_.empty() && queue_.front().first <= up_to_s) {
+    auto [describes_s, scan] = std::move(queue_.front());
+    queue_.pop_front();
+    const lidar::ScanPoints points =
+        lidar::ScanPointsFromRanges(scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad,
+                                    scan.range_max_m, setup_.T_base_lidar, points_options_);
+    core::Result<lidar::ScanReport> report =
+        scan_odometry_.AddScan(describes_s, OdometryAt(describes_s), points);
+    if (!report.ok()) {
+      ++counters->lidar_failures;
+      continue;
+    }
+    counters->scans_matched += report->matched;
+    last_ = std::move(scan);
+  }
+}
+
+lidar::ScanOdometryKeyframe LidarStage::Keyframe(double stamp_s) {
+  return scan_odometry_.Keyframe(stamp_s, OdometryAt(stamp_s));
+}
+
+core::SE2 LidarStage::OdometryAt(double stamp_s) const {
+  return core::InterpolatePose(odometry_, stamp_s);
+}
+
+std::vector<LineObservation> LidarStage::WallObservations(double stamp_s) const {
+  if (!last_) return {};
+  const core::LaserScan& scan = *last_;
+  // A rotating mirror: one revolution per scan period, rays in angle order.
+  const double time_increment_s =
+      std::abs(scan.angle_increment_rad) / (setup_.rate_hz * 2.0 * std::numbers::pi);
+  const std::vector<lidar::RangePoint> points = lidar::RangePointsAt(
+      scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, scan.stamp_s, time_increment_s,
+      setup_.T_base_lidar, OdometryAt(stamp_s), [this](double t) { return OdometryAt(t); },
+      std::max(wall_options_.min_range_m, scan.range_min_m),
+      std::min(wall_options_.max_range_m, scan.range_max_m));
+  return lidar::WallLineObservations(lidar::ExtractWallLines(points, wall_options_));
+}
+
+}  // namespace groundline::localization::internal

@@ -1,0 +1,59 @@
+// The localizer's LiDAR stage (localizer.h): scans queued in the time order
+// of the instant they describe, matched by the scan odometry once the wheel
+// odometry covers that instant, read out at keyframes; and the straight
+// faces of the last matched scan as wall observations. Private to the
+// localization library.
+#ifndef GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_LIDAR_H_
+#define GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_LIDAR_H_
+
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "groundline/core/dataset_records.h"
+#include "groundline/core/trajectory.h"
+#include "groundline/localization/localizer.h"
+
+namespace groundline::localization::internal {
+
+class LidarStage {
+ public:
+  LidarStage(const LidarSetup& setup, const LocalizerOptions& options);
+
+  // The odometry frame's origin: scans describing times up to stamp_s are
+  // not matched (the estimate starts there).
+  void Start(double stamp_s, const core::SE2& T_odom_base);
+  // Checks and queues a scan. Returns false (and counts) when dropped.
+  bool AddScan(core::LaserScan scan, LocalizerCounters* counters);
+  // The odometry pose at a reading's time (strictly increasing); matches
+  // the queued scans it now covers.
+  void AddOdometry(double stamp_s, const core::SE2& T_odom_base, LocalizerCounters* counters);
+  // A keyframe at stamp_s (the odometry must cover it).
+  lidar::ScanOdometryKeyframe Keyframe(double stamp_s);
+  // The straight faces of the last matched scan in base_link at stamp_s.
+  std::vector<LineObservation> WallObservations(double stamp_s) const;
+  // T_odom_base at stamp_s, interpolated in the history (clamped).
+  core::SE2 OdometryAt(double stamp_s) const;
+  // Stamp of the newest scan received (-inf before any).
+  double last_scan_received_s() const { return last_received_s_; }
+
+ private:
+  void MatchCovered(double up_to_s, LocalizerCounters* counters);
+
+  LidarSetup setup_;
+  lidar::ScanPointsOptions points_options_;
+  lidar::WallLineOptions wall_options_;
+  double history_s_;
+  lidar::ScanOdometry scan_odometry_;
+  core::Trajectory odometry_;  // T_odom_base at the wheel readings, recent history
+  double start_s_ = 0.0;
+  bool started_ = false;
+  // Queued scans and the instant each describes (mid-sweep), in time order.
+  std::deque<std::pair<double, core::LaserScan>> queue_;
+  std::optional<core::LaserScan> last_;  // the last scan matched
+  double last_received_s_;
+};
+
+}  // namespace groundline::localization::internal
+
+#endif  // GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_LIDAR_H_

@@ -1,0 +1,51 @@
+// A Localizer (localization/localizer.h) set up from what a dataset
+// directory holds, as a site would provide it: the camera's .cameramodel and
+// mount file, the wheel geometry and LiDAR block of the manifest, the floor
+// map (markings, wall and rack faces) or a given atlas, and the manifest's
+// start pose. Shared by `groundline localize --dataset`, `groundline serve`
+// and the tests; nothing here reads ground truth or the provenance.
+#ifndef GROUNDLINE_SERVICE_DATASET_LOCALIZER_H_
+#define GROUNDLINE_SERVICE_DATASET_LOCALIZER_H_
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "groundline/core/dataset.h"
+#include "groundline/core/status.h"
+#include "groundline/localization/floor_front_end.h"
+#include "groundline/localization/localizer.h"
+
+namespace groundline::service {
+
+struct DatasetLocalizerOptions {
+  localization::LocalizerOptions localizer = localization::LocalizerOptions::ForFusion();
+  localization::FloorFrontEndOptions front_end;
+  // kLines: the atlas file to localize on; empty: the dataset's floor map.
+  std::string atlas_path;
+};
+
+struct DatasetSetup {
+  localization::LocalizerSetup setup;
+  // Where the atlas came from ("floor_map.yaml", the atlas file, or "empty").
+  std::string atlas_source;
+  // The manifest's start pose, if it has one.
+  std::optional<core::StartPose> start_pose;
+  double first_reading_s = 0.0;
+};
+
+// Reads the calibration and the atlas for the localizer's mode. Errors name
+// the dataset and the missing or malformed part (no wheel encoders; the
+// lines modes without a camera; the LiDAR enabled without a LiDAR; kLines
+// without an atlas or a floor map).
+core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
+                                            const core::Dataset& dataset,
+                                            const DatasetLocalizerOptions& options);
+
+// The default start covariance of a start pose (its sigmas, diagonal).
+core::Matrix3 StartCovariance(const core::StartPose& start);
+
+}  // namespace groundline::service
+
+#endif  // GROUNDLINE_SERVICE_DATASET_LOCALIZER_H_

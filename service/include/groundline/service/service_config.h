@@ -1,0 +1,49 @@
+// The configuration of `groundline serve` (docs/service.md lists every key
+// with its default). Read from YAML at the edge; every error names the file,
+// the line and the key, and what was expected.
+#ifndef GROUNDLINE_SERVICE_SERVICE_CONFIG_H_
+#define GROUNDLINE_SERVICE_SERVICE_CONFIG_H_
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "groundline/core/status.h"
+
+namespace groundline::service {
+
+struct ServiceConfig {
+  // inputs.replay: a dataset replayed with its timestamps honoured.
+  std::string replay_dataset;  // required (the live inputs come through DDS)
+  double replay_speed = 1.0;   // 1: real time; N: N times faster; 0: as fast as possible
+  // localizer
+  std::string preset = "fusion";  // fusion | lines | odometry | lidar
+  std::string atlas;              // empty: the dataset's floor map
+  // start: initial_pose [x_m, y_m, yaw_deg], else relocalize, else the
+  // dataset's start pose (or the saved state when resume is on).
+  std::optional<std::array<double, 3>> initial_pose;
+  bool relocalize = false;
+  bool resume = true;  // start from output.dir/state.json when it exists
+  // output
+  std::string output_dir;  // required
+  // http: the status page and health endpoint
+  bool http_enabled = true;
+  std::string http_address = "127.0.0.1";
+  int http_port = 8088;  // 0: any free port (reported at start)
+  // queues (per stage, bounded; a full camera queue drops the oldest frame)
+  int camera_queue_depth = 2;
+  // The estimator holds a wheel reading at most this long for a frame of its
+  // time still in the camera stage [s].
+  double max_frame_wait_s = 0.05;
+
+  core::Status Validate() const;
+};
+
+// Reads and validates a config file. Unknown keys are errors (a typo must
+// not silently fall back to a default).
+core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path);
+
+}  // namespace groundline::service
+
+#endif  // GROUNDLINE_SERVICE_SERVICE_CONFIG_H_

@@ -1,0 +1,430 @@
+#include "groundline/service/service.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <mutex>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+#include <thread>
+
+#include "groundline/core/atomic_file.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/dataset_streams.h"
+#include "groundline/core/trajectory_io.h"
+#include "groundline/localization/localizer_json.h"
+#include "groundline/service/dataset_localizer.h"
+#include "groundline/service/replay.h"
+#include "service_queues.h"
+#include "status_page.h"
+
+// Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
+#include <httplib.h>
+
+namespace groundline::service {
+namespace {
+
+namespace fs = std::filesystem;
+namespace loc = localization;
+using Clock = std::chrono::steady_clock;
+using internal::BoundedQueue;
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+}
+
+struct FrameJob {
+  double stamp_s = 0.0;
+  fs::path path;
+  Clock::time_point arrived;
+};
+struct Observed {
+  loc::ConvertedObservations observations;
+  Clock::time_point arrived;
+};
+struct EstimatorEvent {
+  enum class Kind { kWheel, kScan, kObserved } kind = Kind::kWheel;
+  core::WheelEncoderReading wheel;
+  core::LaserScan scan;
+  Observed observed;
+};
+
+loc::LocalizerOptions PresetOptions(const std::string& preset) {
+  if (preset == "fusion") return loc::LocalizerOptions::ForFusion();
+  if (preset == "lines") {
+    loc::LocalizerOptions o = loc::LocalizerOptions::ForFusion();
+    o.use_lidar = false;
+    return o;
+  }
+  loc::LocalizerOptions o;
+  o.mode = preset == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
+  return o;
+}
+
+}  // namespace
+
+struct Service::Impl {
+  ServiceConfig config;
+  core::Dataset dataset;
+  std::unique_ptr<loc::Localizer> localizer;
+  std::shared_ptr<const loc::FloorFrontEnd> camera;
+  loc::Atlas atlas;
+  std::optional<loc::PoseEstimate> start;
+  double resume_after_s = -std::numeric_limits<double>::infinity();
+  bool relocalize = false;
+
+  std::unique_ptr<BoundedQueue<FrameJob>> frames;
+  BoundedQueue<EstimatorEvent> events{1 << 20};
+  // Stamps of the frames in the camera stage (queued or being processed).
+  std::mutex pending_mutex;
+  std::multiset<double> pending_frames;
+  std::atomic<long> camera_dropped{0}, camera_unreadable{0}, camera_processed{0};
+
+  // Shared with the HTTP thread.
+  mutable std::mutex status_mutex;
+  nlohmann::ordered_json last_keyframe;
+  loc::PoseEstimate pose;
+  loc::LocalizerCounters counters;
+  std::vector<std::uint8_t> bev_png;
+  std::string atlas_json;
+  std::vector<double> latency_ms;
+  double cpu_replay_s = 0.0, cpu_camera_s = 0.0, cpu_estimator_s = 0.0;
+  long odometry_out = 0;
+
+  httplib::Server http;
+  int port = 0;
+  std::thread http_thread;
+
+  void CameraStage();
+  void EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry, std::ofstream& health);
+  void ReleasePending(double stamp_s) {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    if (auto it = pending_frames.find(stamp_s); it != pending_frames.end()) pending_frames.erase(it);
+  }
+  bool FramePendingAtOrBefore(double stamp_s) {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    return !pending_frames.empty() && *pending_frames.begin() <= stamp_s + 1e-9;
+  }
+};
+
+Service::Service(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Service::~Service() {
+  if (impl_->http_thread.joinable()) {
+    impl_->http.stop();
+    impl_->http_thread.join();
+  }
+}
+int Service::http_port() const { return impl_->port; }
+
+core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& config) {
+  if (core::Status s = config.Validate(); !s.ok()) return s;
+  auto impl = std::make_unique<Impl>();
+  impl->config = config;
+  impl->frames = std::make_unique<BoundedQueue<FrameJob>>(
+      static_cast<std::size_t>(config.camera_queue_depth));
+  core::DatasetReadOptions read;
+  read.check_image_files = false;
+  read.load_scans = false;
+  core::Result<core::Dataset> dataset = core::ReadDataset(config.replay_dataset, read);
+  if (!dataset.ok()) return dataset.status();
+  impl->dataset = std::move(dataset).value();
+  DatasetLocalizerOptions options;
+  options.localizer = PresetOptions(config.preset);
+  options.atlas_path = config.atlas;
+  core::Result<DatasetSetup> setup = SetupFromDataset(config.replay_dataset, impl->dataset, options);
+  if (!setup.ok()) return setup.status();
+  impl->camera = setup->setup.camera;
+  impl->atlas = setup->setup.atlas;
+  core::Result<std::unique_ptr<loc::Localizer>> localizer =
+      loc::Localizer::Create(options.localizer, std::move(setup->setup));
+  if (!localizer.ok()) return localizer.status();
+  impl->localizer = std::move(localizer).value();
+
+  // The start: a saved state (resume), the configured pose, relocalization,
+  // or the dataset's start pose.
+  const fs::path state_path = fs::path(config.output_dir) / "state.json";
+  core::Status started = core::Status::Ok();
+  if (config.resume && fs::exists(state_path)) {
+    std::ifstream in(state_path);
+    const nlohmann::json state = nlohmann::json::parse(in, nullptr, false);
+    if (state.is_discarded() || !state.contains("stamp_s") || !state.contains("cov") ||
+        state["cov"].size() != 9) {
+      return core::Status::Error(state_path.string() +
+                                 ": expected the service's saved state (stamp_s, x_m, y_m, "
+                                 "yaw_rad, cov[9]); delete it or set start.resume: false");
+    }
+    core::Matrix3 cov;
+    for (int i = 0; i < 9; ++i) cov(i / 3, i % 3) = state["cov"][i].get<double>();
+    impl->resume_after_s = state["stamp_s"].get<double>();
+    started = impl->localizer->SetInitialPose(
+        impl->resume_after_s,
+        core::SE2(state["x_m"].get<double>(), state["y_m"].get<double>(), state["yaw_rad"].get<double>()),
+        cov);
+    if (!started.ok()) return started.WithContext(state_path.string());
+  } else if (config.initial_pose) {
+    const auto& p = *config.initial_pose;
+    started = impl->localizer->SetInitialPose(setup->first_reading_s,
+                                              core::SE2(p[0], p[1], p[2] * std::numbers::pi / 180.0),
+                                              StartCovariance(core::StartPose{}));
+  } else if (config.relocalize) {
+    started = impl->localizer->RequestRelocalization();
+  } else if (setup->start_pose) {
+    started = impl->localizer->SetInitialPose(
+        std::min(setup->first_reading_s, setup->start_pose->stamp_s),
+        setup->start_pose->T_map_base, StartCovariance(*setup->start_pose));
+  } else {
+    return core::Status::Error(config.replay_dataset +
+                               ": no start: the manifest has no start_pose; set "
+                               "start.initial_pose or start.relocalize");
+  }
+  if (!started.ok()) return started;
+  impl->pose = impl->localizer->Current();
+  impl->atlas_json = AtlasJson(impl->atlas);
+
+  if (config.http_enabled) {
+    Impl* m = impl.get();
+    m->http.Get("/health.json", [m](const httplib::Request&, httplib::Response& res) {
+      res.set_content(Service::StatusJsonOf(*m).dump(), "application/json");
+    });
+    m->http.Get("/", [](const httplib::Request&, httplib::Response& res) {
+      res.set_content(StatusPageHtml(), "text/html");
+    });
+    m->http.Get("/atlas.json", [m](const httplib::Request&, httplib::Response& res) {
+      res.set_content(m->atlas_json, "application/json");
+    });
+    m->http.Get("/bev.png", [m](const httplib::Request&, httplib::Response& res) {
+      std::lock_guard<std::mutex> lock(m->status_mutex);
+      if (m->bev_png.empty()) {
+        res.status = 404;
+        return;
+      }
+      res.set_content(std::string(m->bev_png.begin(), m->bev_png.end()), "image/png");
+    });
+    m->port = config.http_port == 0 ? m->http.bind_to_any_port(config.http_address)
+                                    : (m->http.bind_to_port(config.http_address, config.http_port)
+                                           ? config.http_port
+                                           : -1);
+    if (m->port < 0) {
+      return core::Status::Error("http: cannot listen on " + config.http_address + ":" +
+                                 std::to_string(config.http_port) +
+                                 " (in use? set http.port, or 0 for any free port)");
+    }
+    m->http_thread = std::thread([m] { m->http.listen_after_bind(); });
+  }
+  return std::unique_ptr<Service>(new Service(std::move(impl)));
+}
+
+void Service::Impl::CameraStage() {
+  const double cpu_start_s = ThreadCpuSeconds();
+  Clock::time_point last_bev = Clock::now() - std::chrono::seconds(1);
+  while (!frames->closed_and_empty()) {
+    std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
+    if (!job) continue;
+    const cv::Mat grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    cv::Mat bev;
+    core::Result<loc::ConvertedObservations> seen =
+        grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())
+                                : camera->Observe(grey, job->stamp_s, &bev);
+    if (seen.ok()) {
+      ++camera_processed;
+      if (Clock::now() - last_bev > std::chrono::milliseconds(500)) {
+        last_bev = Clock::now();
+        std::vector<std::uint8_t> png = DrawBevPng(bev, *camera, seen->observations);
+        std::lock_guard<std::mutex> lock(status_mutex);
+        bev_png = std::move(png);
+      }
+      EstimatorEvent event;
+      event.kind = EstimatorEvent::Kind::kObserved;
+      event.observed = Observed{std::move(seen).value(), job->arrived};
+      events.Push(std::move(event));
+    } else {
+      ++camera_unreadable;
+    }
+    ReleasePending(job->stamp_s);
+  }
+  std::lock_guard<std::mutex> lock(status_mutex);
+  cpu_camera_s = ThreadCpuSeconds() - cpu_start_s;
+}
+
+void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry,
+                                   std::ofstream& health) {
+  const double cpu_start_s = ThreadCpuSeconds();
+  std::deque<std::pair<core::WheelEncoderReading, Clock::time_point>> held;
+  std::optional<Clock::time_point> last_frame_arrival;
+  const auto wait = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(config.max_frame_wait_s));
+  const loc::LocalizerMode mode = localizer->options().mode;
+  auto apply = [&](const core::WheelEncoderReading& r) {
+    const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
+    std::optional<loc::KeyframeOutput> k = localizer->AddWheelReading(r);
+    std::lock_guard<std::mutex> lock(status_mutex);
+    if (localizer->started() && localizer->Current().stamp_s != before_s) {
+      pose = localizer->Current();
+      odometry << core::FormatTumLine({pose.stamp_s, pose.T_map_base, std::nullopt});
+      ++odometry_out;
+    }
+    if (k) {
+      nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
+      if (k->frame_stamp_s && last_frame_arrival) {
+        latency_ms.push_back(
+            1e3 * std::chrono::duration<double>(Clock::now() - *last_frame_arrival).count());
+        line["latency_ms"] = latency_ms.back();
+      }
+      health << line.dump() << "\n";
+      health.flush();
+      keyframes << core::FormatTumLine({k->pose.stamp_s, k->pose.T_map_base, std::nullopt});
+      keyframes.flush();
+      last_keyframe = std::move(line);
+    }
+    counters = localizer->counters();
+  };
+  while (!events.closed_and_empty() || !held.empty()) {
+    std::optional<EstimatorEvent> event = events.Pop(std::chrono::milliseconds(2));
+    if (event) {
+      switch (event->kind) {
+        case EstimatorEvent::Kind::kWheel:
+          held.emplace_back(event->wheel, Clock::now());
+          break;
+        case EstimatorEvent::Kind::kScan:
+          localizer->AddScan(std::move(event->scan));
+          break;
+        case EstimatorEvent::Kind::kObserved:
+          last_frame_arrival = event->observed.arrived;
+          localizer->AddFloorObservations(std::move(event->observed.observations));
+          break;
+      }
+    }
+    // Apply the held readings whose frames are in (or that waited long enough).
+    while (!held.empty()) {
+      const auto& [reading, since] = held.front();
+      if (FramePendingAtOrBefore(reading.stamp_s) && Clock::now() - since < wait) break;
+      apply(reading);
+      held.pop_front();
+    }
+  }
+  std::lock_guard<std::mutex> lock(status_mutex);
+  cpu_estimator_s = ThreadCpuSeconds() - cpu_start_s;
+}
+
+core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop) {
+  Impl& m = *impl_;
+  const fs::path out(m.config.output_dir);
+  std::error_code ec;
+  fs::create_directories(out, ec);
+  if (ec) return core::Status::Error(out.string() + ": cannot create the output directory: " + ec.message());
+  const auto mode = std::ios::out | (std::isfinite(m.resume_after_s) ? std::ios::app : std::ios::trunc);
+  std::ofstream keyframes(out / "trajectory.tum", mode), odometry(out / "trajectory_odometry_rate.tum", mode),
+      health(out / "health.jsonl", mode);
+  if (!keyframes || !odometry || !health) {
+    return core::Status::Error(out.string() + ": cannot write the run outputs");
+  }
+  const Clock::time_point wall_start = Clock::now();
+  std::thread camera_thread([&m] { m.CameraStage(); });
+  std::thread estimator_thread([&] { m.EstimatorStage(keyframes, odometry, health); });
+
+  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(m.config.replay_dataset, m.dataset);
+  core::Status replayed = streams.status();
+  const double cpu_start_s = ThreadCpuSeconds();
+  if (streams.ok()) {
+    ReplayOptions options;
+    options.speed = m.config.replay_speed;
+    options.start_after_s = m.resume_after_s;
+    options.stop = [&stop] { return stop.load(); };
+    core::Result<ReplayStats> stats = ReplayEvents(*streams, options, [&m](core::DatasetEvent& e) {
+      switch (e.kind) {
+        case core::DatasetEvent::Kind::kWheel: {
+          EstimatorEvent event;
+          event.wheel = e.wheel;
+          m.events.Push(std::move(event));
+          break;
+        }
+        case core::DatasetEvent::Kind::kScan: {
+          EstimatorEvent event;
+          event.kind = EstimatorEvent::Kind::kScan;
+          event.scan = std::move(e.scan);
+          m.events.Push(std::move(event));
+          break;
+        }
+        case core::DatasetEvent::Kind::kFrame: {
+          {
+            std::lock_guard<std::mutex> lock(m.pending_mutex);
+            m.pending_frames.insert(e.stamp_s);
+          }
+          if (std::optional<FrameJob> dropped = m.frames->Push({e.stamp_s, e.image_path, Clock::now()})) {
+            ++m.camera_dropped;
+            m.ReleasePending(dropped->stamp_s);
+          }
+          break;
+        }
+      }
+    });
+    replayed = stats.status();
+  }
+  const double cpu_replay_s = ThreadCpuSeconds() - cpu_start_s;
+  m.frames->Close();
+  camera_thread.join();
+  m.events.Close();
+  estimator_thread.join();
+  const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+
+  // The state a restart resumes from, and the summary.
+  nlohmann::ordered_json state;
+  {
+    std::lock_guard<std::mutex> lock(m.status_mutex);
+    const loc::PoseEstimate& p = m.pose;
+    state = {{"stamp_s", p.stamp_s}, {"x_m", p.T_map_base.x()}, {"y_m", p.T_map_base.y()},
+             {"yaw_rad", p.T_map_base.yaw()}, {"cov", nlohmann::ordered_json::array()}};
+    for (int i = 0; i < 9; ++i) state["cov"].push_back(p.covariance(i / 3, i % 3));
+    m.cpu_replay_s = cpu_replay_s;
+  }
+  if (core::Status s = core::WriteFileAtomically(out / "state.json", state.dump(2) + "\n"); !s.ok()) return s;
+  if (m.localizer->options().mode == loc::LocalizerMode::kMapping) {
+    if (core::Status s = loc::WriteAtlas(out / "atlas.json", m.localizer->CurrentAtlas()); !s.ok()) return s;
+  }
+  nlohmann::ordered_json summary = StatusJsonOf(m);
+  summary["wall_s"] = wall_s;
+  summary["stopped"] = stop.load();
+  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n"); !s.ok()) return s;
+  if (!replayed.ok()) return replayed;
+  return summary;
+}
+
+nlohmann::ordered_json Service::StatusJson() const { return StatusJsonOf(*impl_); }
+
+nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
+  std::lock_guard<std::mutex> lock(m.status_mutex);
+  nlohmann::ordered_json j;
+  const loc::PoseEstimate& p = m.pose;
+  j["stamp_s"] = p.stamp_s;
+  j["pose"] = {{"x_m", p.T_map_base.x()}, {"y_m", p.T_map_base.y()},
+               {"yaw_deg", p.T_map_base.yaw() * 180.0 / std::numbers::pi}};
+  j["cov"] = nlohmann::ordered_json::array();
+  for (int i = 0; i < 9; ++i) j["cov"].push_back(p.covariance(i / 3, i % 3));
+  j["mode"] = loc::ModeName(m.localizer->options());
+  j["started"] = m.localizer->started();
+  j["counters"] = loc::CountersJson(m.counters);
+  j["camera_stage"] = {{"processed", m.camera_processed.load()},
+                       {"dropped_queue_full", m.camera_dropped.load()},
+                       {"unreadable", m.camera_unreadable.load()}};
+  j["odometry_poses_out"] = m.odometry_out;
+  j["latency_ms"] = {{"n", m.latency_ms.size()},
+                     {"median", Percentile(m.latency_ms, 0.5)},
+                     {"p99", Percentile(m.latency_ms, 0.99)}};
+  j["cpu_s"] = {{"replay", m.cpu_replay_s}, {"camera", m.cpu_camera_s}, {"estimator", m.cpu_estimator_s}};
+  j["last_keyframe"] = m.last_keyframe;
+  return j;
+}
+
+}  // namespace groundline::service

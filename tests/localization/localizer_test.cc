@@ -1,0 +1,159 @@
+// The causal localizer (localization/localizer.h) driven one reading at a
+// time: frame-time keyframes, drops that leave the estimate untouched, the
+// odometry-rate pose, and the setup checks.
+#include "groundline/localization/localizer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace groundline::localization {
+namespace {
+
+constexpr double kRadiusM = 0.125;
+constexpr double kPeriodS = 0.01;
+
+// Straight at 1 m/s: both wheels roll 1 cm per 10 ms reading.
+core::WheelEncoderReading Straight(int k) {
+  const double delta_rad = 0.01 / kRadiusM;
+  return {k * kPeriodS, delta_rad, delta_rad};
+}
+
+LocalizerSetup Vehicle() {
+  LocalizerSetup setup;
+  setup.drive.wheel_radius_m = kRadiusM;
+  setup.drive.track_m = 0.76;
+  return setup;
+}
+
+core::Matrix3 StartCovariance() {
+  return core::Vector3(1e-6, 1e-6, 1e-6).asDiagonal();
+}
+
+std::unique_ptr<Localizer> Make(LocalizerMode mode) {
+  LocalizerOptions options;
+  options.mode = mode;
+  core::Result<std::unique_ptr<Localizer>> made = Localizer::Create(options, Vehicle());
+  EXPECT_TRUE(made.ok()) << made.message();
+  EXPECT_TRUE((*made)->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  return std::move(made).value();
+}
+
+TEST(Localizer, AFrameBetweenReadingsPutsTheKeyframeAtTheFramesTime) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kLines);
+  std::vector<KeyframeOutput> keyframes;
+  for (int k = 1; k <= 40; ++k) {
+    if (k == 31) {
+      // A frame at 0.305 s, between the readings at 0.30 and 0.31 s, with
+      // nothing seen: the keyframe is at its time, 0.305 m along.
+      ConvertedObservations seen;
+      seen.observations.stamp_s = 0.305;
+      localizer->AddFloorObservations(seen);
+    }
+    if (auto out = localizer->AddWheelReading(Straight(k))) keyframes.push_back(*out);
+  }
+  ASSERT_EQ(keyframes.size(), 1u);
+  EXPECT_DOUBLE_EQ(keyframes[0].stamp_s, 0.305);
+  ASSERT_TRUE(keyframes[0].frame_stamp_s.has_value());
+  EXPECT_NEAR(keyframes[0].pose.T_map_base.x(), 0.305, 1e-9);
+  EXPECT_NEAR(keyframes[0].pose.T_map_base.y(), 0.0, 1e-12);
+  // The odometry continues from the keyframe to the newest reading.
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 0.40, 1e-9);
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 0.40);
+  EXPECT_EQ(localizer->counters().frames_used, 1);
+}
+
+TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
+  std::unique_ptr<Localizer> clean = Make(LocalizerMode::kOdometry);
+  std::unique_ptr<Localizer> noisy = Make(LocalizerMode::kOdometry);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<KeyframeOutput> clean_out, noisy_out;
+  for (int k = 1; k <= 300; ++k) {
+    if (auto out = clean->AddWheelReading(Straight(k))) clean_out.push_back(*out);
+    if (auto out = noisy->AddWheelReading(Straight(k))) noisy_out.push_back(*out);
+    if (k % 50 == 0) {
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));           // duplicate
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 3)));       // out of order
+      EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS + 0.001, nan, 0.0}));  // NaN
+      EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));       // NaN stamp
+    }
+  }
+  ASSERT_EQ(noisy_out.size(), clean_out.size());
+  ASSERT_GT(clean_out.size(), 10u);  // 3 m at a keyframe every 0.2 m
+  for (std::size_t i = 0; i < clean_out.size(); ++i) {
+    EXPECT_EQ(noisy_out[i].stamp_s, clean_out[i].stamp_s);
+    EXPECT_EQ(noisy_out[i].pose.T_map_base.x(), clean_out[i].pose.T_map_base.x());
+    EXPECT_EQ(noisy_out[i].pose.covariance, clean_out[i].pose.covariance);
+  }
+  const LocalizerCounters& c = noisy->counters();
+  EXPECT_EQ(c.wheel_readings, 300 + 6 * 4);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 6 * 2);
+  EXPECT_EQ(c.wheel_dropped_non_finite, 6 * 2);
+  EXPECT_NEAR(noisy->Current().T_map_base.x(), 3.0, 1e-9);
+}
+
+TEST(Localizer, AGapInTheReadingsIsCounted) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  localizer->AddWheelReading(Straight(1));
+  localizer->AddWheelReading(Straight(2));
+  localizer->AddWheelReading(Straight(200));  // 1.98 s later: a stalled driver
+  EXPECT_EQ(localizer->counters().odometry_gaps, 1);
+}
+
+TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  const std::optional<PoseEstimate> mid = localizer->PoseAt(0.555);
+  ASSERT_TRUE(mid.has_value());
+  EXPECT_NEAR(mid->T_map_base.x(), 0.555, 1e-9);
+  EXPECT_FALSE(localizer->PoseAt(1.5).has_value());   // after the newest reading
+  EXPECT_FALSE(localizer->PoseAt(-1.0).has_value());  // before the start
+  // The covariance grows along the drive.
+  EXPECT_GT(localizer->Current().covariance(0, 0), localizer->PoseAt(0.1)->covariance(0, 0));
+}
+
+TEST(Localizer, FramesBeforeTheStartOrFarBehindTheOdometryAreDropped) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLines;
+  std::unique_ptr<Localizer> localizer = std::move(Localizer::Create(options, Vehicle())).value();
+  ConvertedObservations seen;
+  seen.observations.stamp_s = -0.5;
+  localizer->AddFloorObservations(seen);  // nobody knows where the vehicle is yet
+  ASSERT_TRUE(localizer->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  seen.observations.stamp_s = 0.2;  // 0.8 s behind the newest reading (max 0.5 s)
+  localizer->AddFloorObservations(seen);
+  EXPECT_EQ(localizer->counters().frames_dropped_late, 2);
+  EXPECT_EQ(localizer->counters().frames_used, 0);
+}
+
+TEST(Localizer, RefusesWhatItsSetupCannotDo) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLidar;  // no LiDAR in the setup
+  core::Result<std::unique_ptr<Localizer>> lidar = Localizer::Create(options, Vehicle());
+  ASSERT_FALSE(lidar.ok());
+  EXPECT_NE(lidar.message().find("LiDAR"), std::string::npos) << lidar.message();
+
+  options.mode = LocalizerMode::kOdometry;
+  options.blind_keyframe_m = std::numeric_limits<double>::quiet_NaN();
+  core::Result<std::unique_ptr<Localizer>> invalid = Localizer::Create(options, Vehicle());
+  ASSERT_FALSE(invalid.ok());
+  EXPECT_NE(invalid.message().find("blind_keyframe_m"), std::string::npos) << invalid.message();
+
+  options = LocalizerOptions();
+  options.mode = LocalizerMode::kOdometry;
+  std::unique_ptr<Localizer> odometry = std::move(Localizer::Create(options, Vehicle())).value();
+  EXPECT_FALSE(odometry->RequestRelocalization().ok());  // nothing to recognize
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(odometry->SetInitialPose(0.0, core::SE2(1.0, 2.0, nan), StartCovariance()).ok());
+  EXPECT_FALSE(odometry->SetInitialPose(0.0, core::SE2(), -StartCovariance()).ok());
+  EXPECT_FALSE(odometry->started());
+  // Readings before a start are counted, not integrated.
+  odometry->AddWheelReading(Straight(1));
+  EXPECT_EQ(odometry->counters().wheel_before_start, 1);
+}
+
+}  // namespace
+}  // namespace groundline::localization
