@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # README command 1: install what is needed, build groundline, and run the main
 # job on the bundled default: simulate 400 m through the high-bay rack aisles
-# of zone B (seed 1, floor camera at 2 Hz), replay it through `groundline
-# localize` three times (the full system: floor lines, odometry and LiDAR;
-# floor lines and odometry; the odometry-only baseline), and print the
-# accuracies side by side against ground truth.
+# of zone B (seed 1, floor camera at 2 Hz), run the localization service
+# (`groundline serve` with samples/config/serve_replay.yaml) on it replayed 10x
+# faster than real time, replay it through `groundline localize` (floor lines
+# and odometry; the odometry-only baseline), and print the accuracies side by
+# side against ground truth.
 # When the shared real data is present (../shared/data), also run the LiDAR
 # SLAM on the ACES CARMEN log and score it and the raw odometry against the
 # log's Kuemmerle relations.
@@ -25,6 +26,16 @@ echo "== simulating zone B (high-bay rack aisles), 400 m, seed 1; floor camera a
 "$gl" sim --zone B --length 400m --seed 1 --camera-rate 2 --out "$out/zone_b_seed1"
 
 echo
+echo "== the localization service: floor lines + wheel odometry + LiDAR, the dataset replayed 10x faster"
+echo "   than real time (its status page is on 127.0.0.1 while it runs; the port is printed) =="
+# samples/config/serve_replay.yaml with this run's paths.
+abs_out="$(realpath -m "$out")"
+sed -e "s|dataset: .*#|dataset: $abs_out/zone_b_seed1   #|" -e "s|dir: .*run_service|dir: $abs_out/run_service|" \
+  -e "s|port: 8088 |port: 0    |" \
+  samples/config/serve_replay.yaml > "$out/serve.yaml"
+"$gl" serve --config "$out/serve.yaml"
+
+echo
 echo "== localizing: floor lines + wheel odometry (sliding-window factor graph on the surveyed floor map) =="
 "$gl" localize --dataset "$out/zone_b_seed1" --mode lines --out "$out/run_lines"
 
@@ -38,8 +49,9 @@ echo "== localizing: wheel odometry only (the baseline) =="
 
 echo
 echo "== accuracy table =="
-"$gl" eval --est "$out/run_full/trajectory.tum" --est "$out/run_lines/trajectory.tum" \
-  --est "$out/run_odometry/trajectory.tum" --label lines_lidar --label lines --label odometry \
+"$gl" eval --est "$out/run_service/trajectory.tum" --est "$out/run_full/trajectory.tum" \
+  --est "$out/run_lines/trajectory.tum" --est "$out/run_odometry/trajectory.tum" \
+  --label service --label lines_lidar --label lines --label odometry \
   --ref "$out/zone_b_seed1/ground_truth.tum" --json "$out/eval_zone_b_seed1.json"
 
 data="${GROUNDLINE_DATA_DIR:-../shared/data}"

@@ -211,7 +211,11 @@ int RunLocalize(const LocalizeFlags& flags) {
     }
   }
 
-  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(dir, *dataset);
+  core::DatasetStreamOptions stream_options;  // only the streams the mode uses
+  stream_options.frames = setup_options.localizer.mode == loc::LocalizerMode::kLines ||
+                          setup_options.localizer.mode == loc::LocalizerMode::kMapping;
+  stream_options.scans = options.mode == loc::LocalizerMode::kLidar || options.use_lidar;
+  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(dir, *dataset, stream_options);
   if (!streams.ok()) return Fail(streams.message());
   std::optional<LocalizeDiagnostics> diagnostics;
   if (flags.diagnose && !dataset->ground_truth.empty()) {

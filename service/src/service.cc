@@ -233,6 +233,8 @@ void Service::Impl::CameraStage() {
     std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
     if (!job) continue;
     const cv::Mat grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    // A camera delivers decoded frames: the latency counts from here.
+    job->arrived = Clock::now();
     cv::Mat bev;
     core::Result<loc::ConvertedObservations> seen =
         grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())

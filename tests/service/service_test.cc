@@ -1,0 +1,128 @@
+// `groundline serve`'s library (service/service.h): config errors that name
+// the key and line, a replay through the threaded stages with the HTTP
+// health endpoint, and a stop that saves the state a restart resumes from.
+#include "groundline/service/service.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include "groundline/core/dataset.h"
+#include "groundline/core/trajectory_association.h"
+#include "groundline/core/trajectory_io.h"
+#include "groundline/service/service_config.h"
+#include "groundline/sim/sim_run.h"
+#include "test_data.h"
+
+// Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
+#include <httplib.h>
+
+namespace groundline::service {
+namespace {
+
+std::filesystem::path WriteConfig(const std::filesystem::path& dir, const std::string& text) {
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "serve.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
+  const auto dir = testing::ScratchDir("service_config");
+  struct Case {
+    const char* text;
+    const char* expected;
+  } cases[] = {
+      {"inputs:\n  replay: {dataset: d, sped: 2}\noutput: {dir: o}\n", "sped"},
+      {"inputs:\n  replay: {dataset: d, speed: -1}\noutput: {dir: o}\n", "inputs.replay.speed"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {preset: magic}\n",
+       "localizer.preset"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nhttp: {port: 70000}\n", "http.port"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nstart: {initial_pose: [1, 2]}\n",
+       "start.initial_pose"},
+      {"inputs:\n  replay: {dataset: d}\n", "output"},
+  };
+  for (const Case& c : cases) {
+    const core::Result<ServiceConfig> read = ReadServiceConfig(WriteConfig(dir, c.text));
+    ASSERT_FALSE(read.ok()) << c.text;
+    EXPECT_NE(read.message().find(c.expected), std::string::npos) << read.message();
+    EXPECT_NE(read.message().find("serve.yaml"), std::string::npos) << read.message();
+  }
+  const core::Result<ServiceConfig> line = ReadServiceConfig(
+      WriteConfig(dir, "inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nqueues:\n  camera: x\n"));
+  ASSERT_FALSE(line.ok());
+  EXPECT_NE(line.message().find(":5:"), std::string::npos) << line.message();
+  // A valid one: paths relative to the config file.
+  const core::Result<ServiceConfig> ok = ReadServiceConfig(
+      WriteConfig(dir, "inputs:\n  replay: {dataset: d, speed: 0}\noutput: {dir: o}\n"));
+  ASSERT_TRUE(ok.ok()) << ok.message();
+  EXPECT_EQ(ok->replay_dataset, (dir / "d").string());
+  EXPECT_EQ(ok->http_address, "127.0.0.1");
+}
+
+TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+#endif
+  sim::SimRunOptions sim_options;
+  sim_options.zone = sim::Zone::kB;
+  sim_options.route.length_m = 20.0;
+  sim_options.seed = 7;
+  sim_options.with_camera = false;
+  core::Result<sim::SimRun> simulated = sim::SimulateRun(sim_options);
+  ASSERT_TRUE(simulated.ok()) << simulated.message();
+  const auto dir = testing::ScratchDir("service_run");
+  ASSERT_TRUE(core::WriteDataset(dir / "drive", simulated->dataset).ok());
+  const double end_s = simulated->dataset.wheel_encoders.back().stamp_s;
+
+  ServiceConfig config;
+  config.replay_dataset = (dir / "drive").string();
+  config.replay_speed = 4.0;  // paced: the stop lands mid-drive
+  config.output_dir = (dir / "out").string();
+  config.http_port = 0;
+  core::Result<std::unique_ptr<Service>> first = Service::Create(config);
+  ASSERT_TRUE(first.ok()) << first.message();
+  ASSERT_GT((*first)->http_port(), 0);
+  std::atomic<bool> stop{false};
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    // The health endpoint answers while the replay runs.
+    httplib::Client client("127.0.0.1", (*first)->http_port());
+    const httplib::Result health = client.Get("/health.json");
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+    EXPECT_NE(health->body.find("\"counters\""), std::string::npos);
+    stop.store(true);
+  });
+  core::Result<nlohmann::ordered_json> stopped = (*first)->Run(stop);
+  stopper.join();
+  ASSERT_TRUE(stopped.ok()) << stopped.message();
+  EXPECT_TRUE((*stopped)["stopped"].get<bool>());
+  std::ifstream state_file(dir / "out" / "state.json");
+  const nlohmann::json state = nlohmann::json::parse(state_file);
+  const double stopped_at_s = state["stamp_s"].get<double>();
+  EXPECT_GT(stopped_at_s, 1.0);
+  EXPECT_LT(stopped_at_s, end_s - 1.0);
+  first->reset();
+
+  // A restart resumes from the state and runs to the end of the drive.
+  config.replay_speed = 0.0;
+  core::Result<std::unique_ptr<Service>> second = Service::Create(config);
+  ASSERT_TRUE(second.ok()) << second.message();
+  std::atomic<bool> never{false};
+  core::Result<nlohmann::ordered_json> finished = (*second)->Run(never);
+  ASSERT_TRUE(finished.ok()) << finished.message();
+  EXPECT_FALSE((*finished)["stopped"].get<bool>());
+  const core::Result<core::Trajectory> keyframes = core::ReadTumTrajectory(dir / "out" / "trajectory.tum");
+  ASSERT_TRUE(keyframes.ok()) << keyframes.message();  // strictly increasing across the restart
+  EXPECT_GT(keyframes->back().stamp_s, end_s - 1.0);
+  // Close to the truth at the end (no jump at the restart).
+  const core::SE2 truth =
+      core::InterpolatePose(simulated->dataset.ground_truth, keyframes->back().stamp_s);
+  EXPECT_LT((keyframes->back().pose.translation() - truth.translation()).norm(), 0.05);
+}
+
+}  // namespace
+}  // namespace groundline::service
