@@ -12,6 +12,8 @@
 #include <limits>
 #include <thread>
 
+#include <unistd.h>
+
 #include "dds_cdr_builder.h"
 #include "dds_test_env.h"
 #include "groundline/io/dds_convert.h"
@@ -41,7 +43,9 @@ class DdsGoldenTest : public ::testing::Test {
   // The serialized sample, encapsulation header included.
   template <typename T>
   std::vector<std::uint8_t> WireBytes(const T& msg) {
-    const std::string topic = "rt/golden/t" + std::to_string(next_topic_++);
+    // The pid keeps topics of golden tests run in parallel (same domain) apart.
+    const std::string topic = "rt/golden/p" + std::to_string(::getpid()) + "/t" +
+                              std::to_string(next_topic_++);
     core::Result<DdsPublisher<T>> pub =
         DdsPublisher<T>::Create(*participant_, topic, QosPreset::kDefault);
     core::Result<DdsSubscriber<T>> sub =

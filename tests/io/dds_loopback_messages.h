@@ -34,7 +34,7 @@ inline core::LaserScan LoopbackScan(int i) {
   s.angle_increment_rad = 0.5;
   s.range_min_m = 0.1;
   s.range_max_m = 10.0;
-  s.ranges_m = {1.0 + i, core::kNoReturnRange_m, 0.5, 2.0, 9.5 - 0.25 * i, 3.0, 4.0};
+  s.ranges_m = {1.0 + 0.25 * i, core::kNoReturnRange_m, 0.5, 2.0, 9.5 - 0.125 * i, 3.0, 4.0};
   return s;
 }
 

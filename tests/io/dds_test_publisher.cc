@@ -1,5 +1,5 @@
 // The publishing side of dds_loopback_test, a separate process with its own
-// participant: io_dds_test_publisher DOMAIN_ID. Sends kLoopbackMessages of
+// participant: io_dds_test_publisher DOMAIN_ID TOPIC_PREFIX (e.g. "rt/t123/"). Sends kLoopbackMessages of
 // each input type (dds_loopback_messages.h) in time order, then three bad
 // messages, and exits once every reader has acknowledged everything.
 // Exit codes: 0 sent, 2 usage, 3 no reader matched, 4 DDS failure.
@@ -23,16 +23,16 @@ int Fail(const core::Status& s) {
   return 4;
 }
 
-int Run(unsigned domain_id) {
+int Run(unsigned domain_id, const std::string& prefix) {
   DdsParticipantOptions options;
   options.domain_id = domain_id;
   core::Result<DdsParticipant> participant = DdsParticipant::Create(options);
   if (!participant.ok()) return Fail(participant.status());
   const QosPreset qos = QosPreset::kLossless;
-  auto odom = DdsPublisher<RosOdometry>::Create(*participant, "rt/odom", qos);
-  auto joints = DdsPublisher<RosJointState>::Create(*participant, "rt/joint_states", qos);
-  auto scan = DdsPublisher<RosLaserScan>::Create(*participant, "rt/scan", qos);
-  auto image = DdsPublisher<RosImage>::Create(*participant, "rt/camera/image_raw", qos);
+  auto odom = DdsPublisher<RosOdometry>::Create(*participant, prefix + "odom", qos);
+  auto joints = DdsPublisher<RosJointState>::Create(*participant, prefix + "joint_states", qos);
+  auto scan = DdsPublisher<RosLaserScan>::Create(*participant, prefix + "scan", qos);
+  auto image = DdsPublisher<RosImage>::Create(*participant, prefix + "camera/image_raw", qos);
   for (const core::Status* s : {&odom.status(), &joints.status(), &scan.status(), &image.status()}) {
     if (!s->ok()) return Fail(*s);
   }
@@ -61,14 +61,14 @@ int Run(unsigned domain_id) {
   const int last = testing::kLoopbackMessages - 1;
   // Bad 1: a scan whose ranges disagree with its angles.
   DdsSample<RosLaserScan> bad_count = ToLaserScan(testing::LoopbackScan(last), "laser");
-  bad_count.msg().header.stamp = ToRosTime(testing::LoopbackStamp(last) + 1.0);
+  bad_count.msg().header.stamp = ToRosTime(testing::LoopbackStamp(last) + 0.06);
   bad_count.msg().ranges._length -= 1;
   // Bad 2: a scan 50 s older than the stream.
   core::LaserScan stale_scan = testing::LoopbackScan(0);
   stale_scan.stamp_s = testing::LoopbackStamp(0) - 50.0;
   // Bad 3: odometry with a NaN position.
   PlanarOdometry nan_odom = testing::LoopbackOdometry(last);
-  nan_odom.stamp_s += 1.0;
+  nan_odom.stamp_s += 0.05;
   DdsSample<RosOdometry> bad_odom = ToOdometry(nan_odom);
   bad_odom.msg().pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
   for (const core::Status& s : {scan->Write(bad_count.msg()),
@@ -86,9 +86,9 @@ int Run(unsigned domain_id) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: io_dds_test_publisher DOMAIN_ID\n");
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: io_dds_test_publisher DOMAIN_ID TOPIC_PREFIX\n");
     return 2;
   }
-  return Run(static_cast<unsigned>(std::strtoul(argv[1], nullptr, 10)));
+  return Run(static_cast<unsigned>(std::strtoul(argv[1], nullptr, 10)), argv[2]);
 }
