@@ -73,10 +73,12 @@ std::vector<Event> MergeStreams(const core::Dataset& d, const ReplayFlags& f) {
     }
   }
   if (!f.no_scans) {
-    for (std::size_t i = 0; i < d.scans.size(); ++i) events.push_back({d.scans[i].stamp_s, Stream::kScan, i});
+    for (std::size_t i = 0; i < d.scans.size(); ++i)
+      events.push_back({d.scans[i].stamp_s, Stream::kScan, i});
   }
   if (f.images) {
-    for (std::size_t i = 0; i < d.images.size(); ++i) events.push_back({d.images[i].stamp_s, Stream::kImage, i});
+    for (std::size_t i = 0; i < d.images.size(); ++i)
+      events.push_back({d.images[i].stamp_s, Stream::kImage, i});
   }
   // Stable: equal stamps keep the order wheels, scans, images.
   std::stable_sort(events.begin(), events.end(),
@@ -123,13 +125,15 @@ int RunReplay(const ReplayFlags& f) {
   const io::QosPreset qos = f.lossless ? io::QosPreset::kLossless : io::QosPreset::kDefault;
   Publishers pub;
   core::Status made = core::Status::Ok();
-  if (f.odometry == "odom" || f.odometry == "both") made = Make(*participant, "rt/odom", qos, &pub.odom);
+  if (f.odometry == "odom" || f.odometry == "both")
+    made = Make(*participant, "rt/odom", qos, &pub.odom);
   if (made.ok() && (f.odometry == "joint-states" || f.odometry == "both")) {
     made = Make(*participant, "rt/joint_states", qos, &pub.joints);
   }
   if (made.ok() && !f.no_scans && m.lidar) made = Make(*participant, "rt/scan", qos, &pub.scan);
   if (made.ok() && f.images) made = Make(*participant, "rt/camera/image_raw", qos, &pub.image);
-  if (made.ok() && m.lidar) made = Make(*participant, "rt/tf_static", io::QosPreset::kTfStatic, &pub.tf_static);
+  if (made.ok() && m.lidar)
+    made = Make(*participant, "rt/tf_static", io::QosPreset::kTfStatic, &pub.tf_static);
   if (!made.ok()) {
     std::fprintf(stderr, "replay-dds: %s\n", made.message().c_str());
     return 1;
@@ -138,10 +142,12 @@ int RunReplay(const ReplayFlags& f) {
               f.dir.c_str(), participant->domain_id(), participant->config_source().c_str(), f.rate,
               f.stamps.c_str());
   if (f.wait_for_subscribers_s > 0.0) {
-    const io::DdsEntity* first = pub.scan ? &pub.scan->writer()
-                                 : pub.odom ? &pub.odom->writer()
-                                            : pub.joints ? &pub.joints->writer() : nullptr;
-    const auto timeout = std::chrono::milliseconds(static_cast<long>(1000 * f.wait_for_subscribers_s));
+    const io::DdsEntity* first = pub.scan     ? &pub.scan->writer()
+                                 : pub.odom   ? &pub.odom->writer()
+                                 : pub.joints ? &pub.joints->writer()
+                                              : nullptr;
+    const auto timeout =
+        std::chrono::milliseconds(static_cast<long>(1000 * f.wait_for_subscribers_s));
     if (first != nullptr && !io::WaitForMatches(*first, true, 1, timeout)) {
       std::fprintf(stderr, "replay-dds: no subscriber within %g s\n", f.wait_for_subscribers_s);
       return 1;
@@ -157,11 +163,14 @@ int RunReplay(const ReplayFlags& f) {
   const auto wall_start = std::chrono::system_clock::now();
   const double wall_start_s = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
   const auto steady_start = std::chrono::steady_clock::now();
-  auto out_stamp = [&](double s) { return f.stamps == "wall" ? wall_start_s + (s - first_stamp_s) : s; };
+  auto out_stamp = [&](double s) {
+    return f.stamps == "wall" ? wall_start_s + (s - first_stamp_s) : s;
+  };
   if (pub.tf_static) {
-    const core::Status s = pub.tf_static->Write(
-        io::ToTfMessage({{out_stamp(first_stamp_s), m.frames.base_link, f.lidar_frame, m.lidar->T_base_lidar}})
-            .msg());
+    const core::Status s =
+        pub.tf_static->Write(io::ToTfMessage({{out_stamp(first_stamp_s), m.frames.base_link,
+                                               f.lidar_frame, m.lidar->T_base_lidar}})
+                                 .msg());
     if (!s.ok()) std::fprintf(stderr, "replay-dds: %s\n", s.message().c_str());
   }
   const std::filesystem::path image_dir =
@@ -169,8 +178,9 @@ int RunReplay(const ReplayFlags& f) {
   double left_rad = 0.0, right_rad = 0.0, prev_wheel_stamp_s = 0.0;
   std::size_t sent[3] = {0, 0, 0};
   for (const Event& e : events) {
-    std::this_thread::sleep_until(steady_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                     std::chrono::duration<double>((e.stamp_s - first_stamp_s) / f.rate)));
+    std::this_thread::sleep_until(
+        steady_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                           std::chrono::duration<double>((e.stamp_s - first_stamp_s) / f.rate)));
     core::Status s = core::Status::Ok();
     const double stamp = out_stamp(e.stamp_s);
     if (e.stream == Stream::kWheels) {
@@ -181,7 +191,8 @@ int RunReplay(const ReplayFlags& f) {
       odom.base_frame = m.frames.base_link;
       // The first reading's deltas predate the file (docs/dataset.md): not applied.
       if (e.index > 0) {
-        const localization::OdometryIncrement inc = integrator.Integrate({r.left_delta_rad, r.right_delta_rad});
+        const localization::OdometryIncrement inc =
+            integrator.Integrate({r.left_delta_rad, r.right_delta_rad});
         const double dt = r.stamp_s - prev_wheel_stamp_s;
         left_rad += r.left_delta_rad;
         right_rad += r.right_delta_rad;
@@ -205,7 +216,8 @@ int RunReplay(const ReplayFlags& f) {
     } else if (e.stream == Stream::kScan) {
       core::LaserScan scan = d.scans[e.index];
       scan.stamp_s = stamp;
-      s = pub.scan->Write(io::ToLaserScan(scan, f.lidar_frame, m.lidar ? 1.0 / m.lidar->rate_hz : 0.0).msg());
+      s = pub.scan->Write(
+          io::ToLaserScan(scan, f.lidar_frame, m.lidar ? 1.0 / m.lidar->rate_hz : 0.0).msg());
     } else {
       const std::filesystem::path path = image_dir / d.images[e.index].file;
       const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
@@ -221,13 +233,13 @@ int RunReplay(const ReplayFlags& f) {
     }
     ++sent[static_cast<int>(e.stream)];
   }
-  std::printf("replay-dds: published %zu wheel readings, %zu scans, %zu images over %.3f s of data\n",
-              sent[0], sent[1], sent[2], events.back().stamp_s - first_stamp_s);
+  std::printf(
+      "replay-dds: published %zu wheel readings, %zu scans, %zu images over %.3f s of data\n",
+      sent[0], sent[1], sent[2], events.back().stamp_s - first_stamp_s);
   // Reliable data still in flight is lost if the participant goes at once.
-  for (const io::DdsEntity* w : {pub.odom ? &pub.odom->writer() : nullptr,
-                                 pub.joints ? &pub.joints->writer() : nullptr,
-                                 pub.scan ? &pub.scan->writer() : nullptr,
-                                 pub.image ? &pub.image->writer() : nullptr}) {
+  for (const io::DdsEntity* w :
+       {pub.odom ? &pub.odom->writer() : nullptr, pub.joints ? &pub.joints->writer() : nullptr,
+        pub.scan ? &pub.scan->writer() : nullptr, pub.image ? &pub.image->writer() : nullptr}) {
     if (w != nullptr) dds_wait_for_acks(w->get(), DDS_SECS(5));
   }
   return 0;
@@ -252,8 +264,10 @@ CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run) {
       "--rate 1); --stamps dataset keeps the dataset's stamps (for other rates).\n"
       "Exit code: 0 published, 1 unreadable dataset or DDS failure, 2 usage.\n"
       "Example:\n"
-      "  ROS_DOMAIN_ID=7 groundline replay-dds /data/zone_b_seed7 --rate 2 --stamps dataset --images");
-  cmd->add_option("DATASET", f->dir, "dataset directory (the one holding manifest.yaml)")->required();
+      "  ROS_DOMAIN_ID=7 groundline replay-dds /data/zone_b_seed7 --rate 2 --stamps dataset "
+      "--images");
+  cmd->add_option("DATASET", f->dir, "dataset directory (the one holding manifest.yaml)")
+      ->required();
   cmd->add_option("--rate", f->rate, "playback speed, a multiple of real time (> 0)")
       ->default_val(1.0)
       ->check(CLI::PositiveNumber);
@@ -272,8 +286,9 @@ CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run) {
       ->default_val("left_wheel_joint");
   cmd->add_option("--right-joint", f->right_joint, "JointState name of the right wheel")
       ->default_val("right_wheel_joint");
-  cmd->add_option("--wait-for-subscribers", f->wait_for_subscribers_s,
-                  "wait up to this many seconds for a subscriber before publishing (0: do not wait)")
+  cmd->add_option(
+         "--wait-for-subscribers", f->wait_for_subscribers_s,
+         "wait up to this many seconds for a subscriber before publishing (0: do not wait)")
       ->default_val(0.0)
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--lossless", f->lossless,

@@ -1,8 +1,8 @@
 #include "groundline/io/dds_convert.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -96,8 +96,7 @@ core::Matrix3 FromPoseCovariance6(const core::SE2& T_parent_child, const double 
   return A.transpose() * GetPlanarCovariance6(covariance) * A;
 }
 
-DdsSample<RosPoseWithCovarianceStamped> ToPoseWithCovarianceStamped(
-    const PlanarPoseStamped& pose) {
+DdsSample<RosPoseWithCovarianceStamped> ToPoseWithCovarianceStamped(const PlanarPoseStamped& pose) {
   DdsSample<RosPoseWithCovarianceStamped> out;
   SetHeader(pose.stamp_s, pose.frame_id, &out.msg().header);
   SetPose(pose.T_frame_base, &out.msg().pose.pose);

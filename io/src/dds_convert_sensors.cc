@@ -81,11 +81,10 @@ core::Result<cv::Mat> FromMono8Image(const RosImage& msg) {
   }
   if (msg.step < msg.width ||
       static_cast<std::uint64_t>(msg.step) * msg.height != msg.data._length) {
-    return core::Status::Error("sensor_msgs/Image: field 'data': " +
-                               std::to_string(msg.data._length) + " bytes, expected step " +
-                               std::to_string(msg.step) + " x height " +
-                               std::to_string(msg.height) + " with step >= width " +
-                               std::to_string(msg.width));
+    return core::Status::Error(
+        "sensor_msgs/Image: field 'data': " + std::to_string(msg.data._length) +
+        " bytes, expected step " + std::to_string(msg.step) + " x height " +
+        std::to_string(msg.height) + " with step >= width " + std::to_string(msg.width));
   }
   cv::Mat grey(static_cast<int>(msg.height), static_cast<int>(msg.width), CV_8UC1);
   for (std::uint32_t r = 0; r < msg.height; ++r) {

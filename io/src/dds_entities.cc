@@ -34,17 +34,16 @@ core::Result<std::uint32_t> DomainIdFromEnvironment() {
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), id);
   if (ec != std::errc() || end != s.data() + s.size() || id > kMaxRosDomainId) {
     return core::Status::Error("ROS_DOMAIN_ID: expected an integer in [0, " +
-                               std::to_string(kMaxRosDomainId) + "], got '" + std::string(s) +
-                               "'");
+                               std::to_string(kMaxRosDomainId) + "], got '" + std::string(s) + "'");
   }
   return id;
 }
 
 core::Status DdsParticipantOptions::Validate() const {
   if (domain_id && *domain_id > kMaxRosDomainId) {
-    return core::Status::Error("DdsParticipantOptions.domain_id: expected <= " +
-                               std::to_string(kMaxRosDomainId) + ", got " +
-                               std::to_string(*domain_id));
+    return core::Status::Error(
+        "DdsParticipantOptions.domain_id: expected <= " + std::to_string(kMaxRosDomainId) +
+        ", got " + std::to_string(*domain_id));
   }
   return core::Status::Ok();
 }
@@ -85,18 +84,18 @@ core::Result<DdsParticipant> DdsParticipant::Create(const DdsParticipantOptions&
     } else if (domain != DDS_RETCODE_PRECONDITION_NOT_MET) {
       // PRECONDITION_NOT_MET: the domain exists in this process already and
       // keeps the configuration it was created with.
-      return core::Status::Error(DdsErrorText(
-          "DDS domain " + std::to_string(domain_id) + " with the " + p.config_source_ +
-              " configuration (check the XML)",
-          domain));
+      return core::Status::Error(DdsErrorText("DDS domain " + std::to_string(domain_id) +
+                                                  " with the " + p.config_source_ +
+                                                  " configuration (check the XML)",
+                                              domain));
     }
   }
   const dds_entity_t participant = dds_create_participant(domain_id, nullptr, nullptr);
   if (participant < 0) {
-    return core::Status::Error(DdsErrorText(
-        "DDS participant on domain " + std::to_string(domain_id) + " (" + p.config_source_ +
-            " configuration)",
-        participant));
+    return core::Status::Error(DdsErrorText("DDS participant on domain " +
+                                                std::to_string(domain_id) + " (" +
+                                                p.config_source_ + " configuration)",
+                                            participant));
   }
   p.participant_ = DdsEntity(participant);
   return p;

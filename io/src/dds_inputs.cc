@@ -10,11 +10,16 @@ namespace groundline::io {
 
 const char* DdsInputName(DdsInput input) {
   switch (input) {
-    case DdsInput::kOdometry: return "odometry";
-    case DdsInput::kJointState: return "joint_state";
-    case DdsInput::kScan: return "scan";
-    case DdsInput::kImage: return "image";
-    case DdsInput::kInitialPose: return "initial_pose";
+    case DdsInput::kOdometry:
+      return "odometry";
+    case DdsInput::kJointState:
+      return "joint_state";
+    case DdsInput::kScan:
+      return "scan";
+    case DdsInput::kImage:
+      return "image";
+    case DdsInput::kInitialPose:
+      return "initial_pose";
   }
   return "?";
 }
@@ -24,11 +29,16 @@ namespace {
 // The ROS 2 type of each input, for messages.
 const char* RosTypeOf(DdsInput input) {
   switch (input) {
-    case DdsInput::kOdometry: return "nav_msgs/Odometry";
-    case DdsInput::kJointState: return "sensor_msgs/JointState";
-    case DdsInput::kScan: return "sensor_msgs/LaserScan";
-    case DdsInput::kImage: return "sensor_msgs/Image";
-    case DdsInput::kInitialPose: return "geometry_msgs/PoseWithCovarianceStamped";
+    case DdsInput::kOdometry:
+      return "nav_msgs/Odometry";
+    case DdsInput::kJointState:
+      return "sensor_msgs/JointState";
+    case DdsInput::kScan:
+      return "sensor_msgs/LaserScan";
+    case DdsInput::kImage:
+      return "sensor_msgs/Image";
+    case DdsInput::kInitialPose:
+      return "geometry_msgs/PoseWithCovarianceStamped";
   }
   return "?";
 }
@@ -51,8 +61,9 @@ core::Status DdsInputsOptions::Validate() const {
   if (!any) return core::Status::Error("DdsInputsOptions: every topic is empty");
   if (left_wheel_joint.empty() || right_wheel_joint.empty() ||
       left_wheel_joint == right_wheel_joint) {
-    return core::Status::Error("DdsInputsOptions: wheel joint names must be distinct, non-empty (got '" +
-                               left_wheel_joint + "', '" + right_wheel_joint + "')");
+    return core::Status::Error(
+        "DdsInputsOptions: wheel joint names must be distinct, non-empty (got '" +
+        left_wheel_joint + "', '" + right_wheel_joint + "')");
   }
   return core::Status::Ok();
 }
@@ -76,13 +87,16 @@ struct DdsInputs::Impl {
     check.frame_id = frame;
     check.window = options.stamp_window;
     switch (options.stamp_reference) {
-      case StampReference::kNone: break;
-      case StampReference::kWallClock:
-        check.reference_s = std::chrono::duration<double>(
-                                std::chrono::system_clock::now().time_since_epoch())
-                                .count();
+      case StampReference::kNone:
         break;
-      case StampReference::kNewest: check.reference_s = newest_stamp_s; break;
+      case StampReference::kWallClock:
+        check.reference_s =
+            std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+                .count();
+        break;
+      case StampReference::kNewest:
+        check.reference_s = newest_stamp_s;
+        break;
     }
     return check;
   }
@@ -164,8 +178,8 @@ core::Result<DdsInputs> DdsInputs::Create(const DdsParticipant& participant,
   core::Status s = Subscribe(participant, options.odometry_topic, bool(cb.on_odometry),
                              options.sensor_qos, &impl->odometry);
   if (s.ok()) {
-    s = Subscribe(participant, options.joint_state_topic, bool(cb.on_wheels),
-                  options.sensor_qos, &impl->joints);
+    s = Subscribe(participant, options.joint_state_topic, bool(cb.on_wheels), options.sensor_qos,
+                  &impl->joints);
   }
   if (s.ok()) {
     s = Subscribe(participant, options.scan_topic, bool(cb.on_scan), options.sensor_qos,
@@ -184,12 +198,11 @@ core::Result<DdsInputs> DdsInputs::Create(const DdsParticipant& participant,
   core::Result<DdsWaitSet> ws = DdsWaitSet::Create(participant);
   if (!ws.ok()) return ws.status();
   impl->waitset.emplace(std::move(*ws));
-  const DdsEntity* readers[] = {
-      impl->odometry ? &impl->odometry->reader() : nullptr,
-      impl->joints ? &impl->joints->reader() : nullptr,
-      impl->scan ? &impl->scan->reader() : nullptr,
-      impl->image ? &impl->image->reader() : nullptr,
-      impl->initial_pose ? &impl->initial_pose->reader() : nullptr};
+  const DdsEntity* readers[] = {impl->odometry ? &impl->odometry->reader() : nullptr,
+                                impl->joints ? &impl->joints->reader() : nullptr,
+                                impl->scan ? &impl->scan->reader() : nullptr,
+                                impl->image ? &impl->image->reader() : nullptr,
+                                impl->initial_pose ? &impl->initial_pose->reader() : nullptr};
   bool any = false;
   for (const DdsEntity* r : readers) {
     if (r == nullptr) continue;
@@ -246,8 +259,7 @@ core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
       // An initial pose is a command, not a sensor stream: no stamp window.
       DdsCheck check;
       check.frame_id = d.options.map_frame;
-      if (d.Admit(DdsInput::kInitialPose, m.header,
-                  ValidatePoseWithCovarianceStamped(m, check))) {
+      if (d.Admit(DdsInput::kInitialPose, m.header, ValidatePoseWithCovarianceStamped(m, check))) {
         d.callbacks.on_initial_pose(FromPoseWithCovarianceStamped(m));
       }
     });
@@ -266,10 +278,18 @@ std::uint32_t DdsInputs::MatchedWriters(DdsInput input) const {
   const Impl& d = *impl_;
   const DdsEntity* reader = nullptr;
   switch (input) {
-    case DdsInput::kOdometry: reader = d.odometry ? &d.odometry->reader() : nullptr; break;
-    case DdsInput::kJointState: reader = d.joints ? &d.joints->reader() : nullptr; break;
-    case DdsInput::kScan: reader = d.scan ? &d.scan->reader() : nullptr; break;
-    case DdsInput::kImage: reader = d.image ? &d.image->reader() : nullptr; break;
+    case DdsInput::kOdometry:
+      reader = d.odometry ? &d.odometry->reader() : nullptr;
+      break;
+    case DdsInput::kJointState:
+      reader = d.joints ? &d.joints->reader() : nullptr;
+      break;
+    case DdsInput::kScan:
+      reader = d.scan ? &d.scan->reader() : nullptr;
+      break;
+    case DdsInput::kImage:
+      reader = d.image ? &d.image->reader() : nullptr;
+      break;
     case DdsInput::kInitialPose:
       reader = d.initial_pose ? &d.initial_pose->reader() : nullptr;
       break;

@@ -8,8 +8,8 @@ namespace {
 bool IsRtTopic(const std::string& name) { return name.empty() || name.rfind("rt/", 0) == 0; }
 
 template <typename T>
-core::Status MaybeCreate(const DdsParticipant& participant, const std::string& topic,
-                         QosPreset qos, std::optional<DdsPublisher<T>>* out) {
+core::Status MaybeCreate(const DdsParticipant& participant, const std::string& topic, QosPreset qos,
+                         std::optional<DdsPublisher<T>>* out) {
   if (topic.empty()) return core::Status::Ok();
   core::Result<DdsPublisher<T>> pub = DdsPublisher<T>::Create(participant, topic, qos);
   if (!pub.ok()) return pub.status();

@@ -47,8 +47,7 @@ core::Status DdsWaitSet::Attach(const DdsEntity& reader) {
 }
 
 core::Result<bool> DdsWaitSet::Wait(std::chrono::milliseconds timeout) const {
-  const dds_return_t rc =
-      dds_waitset_wait(waitset_.get(), nullptr, 0, DDS_MSECS(timeout.count()));
+  const dds_return_t rc = dds_waitset_wait(waitset_.get(), nullptr, 0, DDS_MSECS(timeout.count()));
   if (rc < 0) return core::Status::Error(DdsErrorText("DDS waitset wait", rc));
   return rc > 0;
 }

@@ -4,12 +4,18 @@ namespace groundline::io {
 
 const char* QosPresetName(QosPreset preset) {
   switch (preset) {
-    case QosPreset::kSensorData: return "sensor data";
-    case QosPreset::kDefault: return "default";
-    case QosPreset::kPoseOutput: return "pose output";
-    case QosPreset::kTf: return "tf";
-    case QosPreset::kTfStatic: return "tf_static";
-    case QosPreset::kLossless: return "lossless";
+    case QosPreset::kSensorData:
+      return "sensor data";
+    case QosPreset::kDefault:
+      return "default";
+    case QosPreset::kPoseOutput:
+      return "pose output";
+    case QosPreset::kTf:
+      return "tf";
+    case QosPreset::kTfStatic:
+      return "tf_static";
+    case QosPreset::kLossless:
+      return "lossless";
   }
   return "?";
 }

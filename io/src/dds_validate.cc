@@ -23,8 +23,7 @@ core::Status Finite(std::string_view type, const std::string& field, double v) {
   return FieldError(type, field, "expected a finite number, got " + Num(v));
 }
 
-core::Status FiniteArray(std::string_view type, const std::string& field, const double* v,
-                         int n) {
+core::Status FiniteArray(std::string_view type, const std::string& field, const double* v, int n) {
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(v[i])) {
       return FieldError(type, field + "[" + std::to_string(i) + "]",
@@ -93,28 +92,30 @@ core::Status ValidateHeader(std::string_view type, const RosHeader& header, cons
 core::Status ValidateLaserScan(const RosLaserScan& m, const DdsCheck& check) {
   constexpr std::string_view kType = DdsTraits<RosLaserScan>::kRosName;
   if (core::Status s = ValidateHeader(kType, m.header, check); !s.ok()) return s;
-  const std::pair<const char*, float> fields[] = {
-      {"angle_min", m.angle_min},           {"angle_max", m.angle_max},
-      {"angle_increment", m.angle_increment}, {"time_increment", m.time_increment},
-      {"scan_time", m.scan_time},           {"range_min", m.range_min},
-      {"range_max", m.range_max}};
+  const std::pair<const char*, float> fields[] = {{"angle_min", m.angle_min},
+                                                  {"angle_max", m.angle_max},
+                                                  {"angle_increment", m.angle_increment},
+                                                  {"time_increment", m.time_increment},
+                                                  {"scan_time", m.scan_time},
+                                                  {"range_min", m.range_min},
+                                                  {"range_max", m.range_max}};
   for (const auto& [name, value] : fields) {
     if (core::Status s = Finite(kType, name, value); !s.ok()) return s;
   }
   if (m.angle_increment == 0.0f) return FieldError(kType, "angle_increment", "expected != 0");
   if (!(m.range_min > 0.0f && m.range_min < m.range_max)) {
-    return FieldError(kType, "range_min",
-                      "expected 0 < range_min < range_max, got " + Num(m.range_min) + " and " +
-                          Num(m.range_max));
+    return FieldError(
+        kType, "range_min",
+        "expected 0 < range_min < range_max, got " + Num(m.range_min) + " and " + Num(m.range_max));
   }
   const double expected =
       (static_cast<double>(m.angle_max) - m.angle_min) / static_cast<double>(m.angle_increment) +
       1.0;
   if (std::abs(expected - m.ranges._length) > 0.1) {
-    return FieldError(kType, "ranges",
-                      std::to_string(m.ranges._length) +
-                          " values, but (angle_max - angle_min) / angle_increment + 1 = " +
-                          Num(expected));
+    return FieldError(
+        kType, "ranges",
+        std::to_string(m.ranges._length) +
+            " values, but (angle_max - angle_min) / angle_increment + 1 = " + Num(expected));
   }
   if (m.intensities._length != 0 && m.intensities._length != m.ranges._length) {
     return FieldError(kType, "intensities",
@@ -135,8 +136,8 @@ core::Status ValidateOdometry(const RosOdometry& m, const DdsCheck& check,
   }
   if (core::Status s = CheckPose(kType, "pose", m.pose); !s.ok()) return s;
   const auto& t = m.twist.twist;
-  const double twist[6] = {t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y,
-                           t.angular.z};
+  const double twist[6] = {t.linear.x,  t.linear.y,  t.linear.z,
+                           t.angular.x, t.angular.y, t.angular.z};
   if (core::Status s = FiniteArray(kType, "twist.twist(linear, angular)", twist, 6); !s.ok()) {
     return s;
   }
@@ -156,17 +157,19 @@ core::Status ValidateJointState(const RosJointState& m, const DdsCheck& check,
   if (core::Status s = ValidateHeader(kType, m.header, check); !s.ok()) return s;
   const std::uint32_t n = m.name._length;
   if (m.position._length != n) {
-    return FieldError(kType, "position",
-                      std::to_string(m.position._length) + " values for " + std::to_string(n) +
-                          " names");
+    return FieldError(
+        kType, "position",
+        std::to_string(m.position._length) + " values for " + std::to_string(n) + " names");
   }
   if (m.velocity._length != 0 && m.velocity._length != n) {
-    return FieldError(kType, "velocity", std::to_string(m.velocity._length) +
-                                             " values, expected 0 or " + std::to_string(n));
+    return FieldError(
+        kType, "velocity",
+        std::to_string(m.velocity._length) + " values, expected 0 or " + std::to_string(n));
   }
   if (m.effort._length != 0 && m.effort._length != n) {
-    return FieldError(kType, "effort", std::to_string(m.effort._length) +
-                                           " values, expected 0 or " + std::to_string(n));
+    return FieldError(
+        kType, "effort",
+        std::to_string(m.effort._length) + " values, expected 0 or " + std::to_string(n));
   }
   for (const std::string& joint : required_joints) {
     int found = -1;
@@ -194,13 +197,14 @@ core::Status ValidateImage(const RosImage& m, const DdsCheck& check) {
     return FieldError(kType, "encoding", "expected 'mono8', got '" + encoding + "'");
   }
   if (m.width == 0 || m.height == 0) {
-    return FieldError(kType, "width", "expected a non-empty image, got " +
-                                          std::to_string(m.width) + " x " +
-                                          std::to_string(m.height));
+    return FieldError(kType, "width",
+                      "expected a non-empty image, got " + std::to_string(m.width) + " x " +
+                          std::to_string(m.height));
   }
   if (m.step < m.width) {
-    return FieldError(kType, "step", "expected >= width " + std::to_string(m.width) + ", got " +
-                                         std::to_string(m.step));
+    return FieldError(
+        kType, "step",
+        "expected >= width " + std::to_string(m.width) + ", got " + std::to_string(m.step));
   }
   if (static_cast<std::uint64_t>(m.step) * m.height != m.data._length) {
     return FieldError(kType, "data",

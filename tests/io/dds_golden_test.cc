@@ -44,8 +44,8 @@ class DdsGoldenTest : public ::testing::Test {
   template <typename T>
   std::vector<std::uint8_t> WireBytes(const T& msg) {
     // The pid keeps topics of golden tests run in parallel (same domain) apart.
-    const std::string topic = "rt/golden/p" + std::to_string(::getpid()) + "/t" +
-                              std::to_string(next_topic_++);
+    const std::string topic =
+        "rt/golden/p" + std::to_string(::getpid()) + "/t" + std::to_string(next_topic_++);
     core::Result<DdsPublisher<T>> pub =
         DdsPublisher<T>::Create(*participant_, topic, QosPreset::kDefault);
     core::Result<DdsSubscriber<T>> sub =
@@ -87,7 +87,8 @@ std::string Hex(const std::vector<std::uint8_t>& b, std::size_t from, std::size_
 
 // Header and payload equal; a tail of padding (0-3 zero bytes, its length in
 // the options' low bits) is allowed.
-void ExpectWire(const std::vector<std::uint8_t>& actual, const std::vector<std::uint8_t>& expected) {
+void ExpectWire(const std::vector<std::uint8_t>& actual,
+                const std::vector<std::uint8_t>& expected) {
   ASSERT_GE(actual.size(), expected.size()) << "actual: " << Hex(actual, 0, actual.size());
   const std::size_t pad = actual.size() - expected.size();
   ASSERT_LT(pad, 4u) << "actual: " << Hex(actual, 0, actual.size());
@@ -97,9 +98,9 @@ void ExpectWire(const std::vector<std::uint8_t>& actual, const std::vector<std::
   EXPECT_EQ(actual[2], 0x00);
   EXPECT_EQ(actual[3] & 0x03u, pad);
   for (std::size_t i = 4; i < expected.size(); ++i) {
-    ASSERT_EQ(actual[i], expected[i])
-        << "first difference at payload offset " << i - 4 << "\nactual:   "
-        << Hex(actual, 4, actual.size()) << "\nexpected: " << Hex(expected, 4, expected.size());
+    ASSERT_EQ(actual[i], expected[i]) << "first difference at payload offset " << i - 4
+                                      << "\nactual:   " << Hex(actual, 4, actual.size())
+                                      << "\nexpected: " << Hex(expected, 4, expected.size());
   }
   for (std::size_t i = expected.size(); i < actual.size(); ++i) EXPECT_EQ(actual[i], 0);
 }
@@ -131,7 +132,7 @@ TEST_F(DdsGoldenTest, JointStateLiteralBytes) {
       0x01, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00,  // stamp 1 s 2 ns
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // frame_id "" + 3 pad
       0x01, 0x00, 0x00, 0x00,                          // name: 1 string
-      0x05, 0x00, 0x00, 0x00, 'l', 'e', 'f', 't', 0x00, 0x00, 0x00, 0x00,  // "left" + 3 pad
+      0x05, 0x00, 0x00, 0x00, 'l',  'e',  'f',  't',  0x00, 0x00, 0x00, 0x00,  // "left" + 3 pad
       0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,  // position: 1 double, pad to 8
       0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xf8, 0x3f,  // 1.5
       0x00, 0x00, 0x00, 0x00,                          // velocity: 0
@@ -151,9 +152,9 @@ TEST_F(DdsGoldenTest, PoseWithCovarianceStamped) {
   const DdsSample<RosPoseWithCovarianceStamped> msg = ToPoseWithCovarianceStamped(p);
   CdrBuilder b;
   b.Header(1700000000, 250000000, "map");
-  b.F64(1.5).F64(-2.0).F64(0.0);                                    // position
-  b.F64(0.0).F64(0.0).F64(std::sin(0.25)).F64(std::cos(0.25));      // orientation
-  for (double c : msg.msg().pose.covariance) b.F64(c);              // double[36], no count
+  b.F64(1.5).F64(-2.0).F64(0.0);                                // position
+  b.F64(0.0).F64(0.0).F64(std::sin(0.25)).F64(std::cos(0.25));  // orientation
+  for (double c : msg.msg().pose.covariance) b.F64(c);          // double[36], no count
   ExpectWire(WireBytes(msg.msg()), b.bytes());
 }
 

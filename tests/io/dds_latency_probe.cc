@@ -68,8 +68,8 @@ int Receive(const std::string& topic, int count) {
   }
   if (latency_us.empty()) return 1;
   std::sort(latency_us.begin(), latency_us.end());
-  std::printf("%s: %zu received, latency median %.0f us, p90 %.0f us, max %.0f us\n",
-              topic.c_str(), latency_us.size(), latency_us[latency_us.size() / 2],
+  std::printf("%s: %zu received, latency median %.0f us, p90 %.0f us, max %.0f us\n", topic.c_str(),
+              latency_us.size(), latency_us[latency_us.size() / 2],
               latency_us[latency_us.size() * 9 / 10], latency_us.back());
   return static_cast<int>(latency_us.size()) == count ? 0 : 1;
 }
@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
     if (posix_spawn(&pid, argv[0], nullptr, nullptr, cargs.data(), environ) != 0) return 1;
     int rc = 1;
     if (kind == "odometry") {
-      rc = Run<RosOdometry>(false, "rt/probe/odom", count, period_ms, [] { return ToOdometry({}); });
+      rc =
+          Run<RosOdometry>(false, "rt/probe/odom", count, period_ms, [] { return ToOdometry({}); });
     } else if (kind == "scan") {
       const core::LaserScan scan = ProbeScan();
       rc = Run<RosLaserScan>(false, "rt/probe/scan", count, period_ms,

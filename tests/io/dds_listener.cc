@@ -29,7 +29,8 @@ int Run(double idle_s, double timeout_s, bool lossless) {
   bool have_odom = false;
   io::DdsInputCallbacks cb;
   cb.on_odometry = [&](const io::PlanarOdometry& o) {
-    if (have_odom) travelled_m += std::hypot(o.T_odom_base.x() - last_x, o.T_odom_base.y() - last_y);
+    if (have_odom)
+      travelled_m += std::hypot(o.T_odom_base.x() - last_x, o.T_odom_base.y() - last_y);
     last_x = o.T_odom_base.x();
     last_y = o.T_odom_base.y();
     have_odom = true;

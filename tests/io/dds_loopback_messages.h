@@ -41,7 +41,8 @@ inline core::LaserScan LoopbackScan(int i) {
 inline cv::Mat LoopbackImage(int i) {
   cv::Mat grey(3, 4, CV_8UC1);
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) grey.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(i + 10 * r + c);
+    for (int c = 0; c < 4; ++c)
+      grey.at<std::uint8_t>(r, c) = static_cast<std::uint8_t>(i + 10 * r + c);
   }
   return grey;
 }

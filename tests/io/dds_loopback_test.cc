@@ -118,11 +118,10 @@ TEST(DdsLoopbackTest, EveryMessageFromAnotherProcessArrivesIntact) {
 
     const core::WheelEncoderReading& w = got.wheels[i];
     EXPECT_NEAR(w.stamp_s, testing::LoopbackStamp(i), 1e-9);
-    const double dl = i == 0 ? 0.0
-                             : testing::LoopbackLeftWheel_rad(i) - testing::LoopbackLeftWheel_rad(i - 1);
-    const double dr = i == 0 ? 0.0
-                             : testing::LoopbackRightWheel_rad(i) -
-                                   testing::LoopbackRightWheel_rad(i - 1);
+    const double dl =
+        i == 0 ? 0.0 : testing::LoopbackLeftWheel_rad(i) - testing::LoopbackLeftWheel_rad(i - 1);
+    const double dr =
+        i == 0 ? 0.0 : testing::LoopbackRightWheel_rad(i) - testing::LoopbackRightWheel_rad(i - 1);
     EXPECT_NEAR(w.left_delta_rad, dl, 1e-12);
     EXPECT_NEAR(w.right_delta_rad, dr, 1e-12);
 

@@ -1,6 +1,6 @@
 // The publishing side of dds_loopback_test, a separate process with its own
-// participant: io_dds_test_publisher DOMAIN_ID TOPIC_PREFIX (e.g. "rt/t123/"). Sends kLoopbackMessages of
-// each input type (dds_loopback_messages.h) in time order, then three bad
+// participant: io_dds_test_publisher DOMAIN_ID TOPIC_PREFIX (e.g. "rt/t123/"). Sends
+// kLoopbackMessages of each input type (dds_loopback_messages.h) in time order, then three bad
 // messages, and exits once every reader has acknowledged everything.
 // Exit codes: 0 sent, 2 usage, 3 no reader matched, 4 DDS failure.
 #include <chrono>
@@ -33,10 +33,12 @@ int Run(unsigned domain_id, const std::string& prefix) {
   auto joints = DdsPublisher<RosJointState>::Create(*participant, prefix + "joint_states", qos);
   auto scan = DdsPublisher<RosLaserScan>::Create(*participant, prefix + "scan", qos);
   auto image = DdsPublisher<RosImage>::Create(*participant, prefix + "camera/image_raw", qos);
-  for (const core::Status* s : {&odom.status(), &joints.status(), &scan.status(), &image.status()}) {
+  for (const core::Status* s :
+       {&odom.status(), &joints.status(), &scan.status(), &image.status()}) {
     if (!s->ok()) return Fail(*s);
   }
-  for (const DdsEntity* w : {&odom->writer(), &joints->writer(), &scan->writer(), &image->writer()}) {
+  for (const DdsEntity* w :
+       {&odom->writer(), &joints->writer(), &scan->writer(), &image->writer()}) {
     if (!WaitForMatches(*w, true, 1, std::chrono::seconds(60))) {
       std::fprintf(stderr, "io_dds_test_publisher: no reader matched within 60 s\n");
       return 3;
@@ -71,12 +73,13 @@ int Run(unsigned domain_id, const std::string& prefix) {
   nan_odom.stamp_s += 0.05;
   DdsSample<RosOdometry> bad_odom = ToOdometry(nan_odom);
   bad_odom.msg().pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
-  for (const core::Status& s : {scan->Write(bad_count.msg()),
-                                scan->Write(ToLaserScan(stale_scan, "laser").msg()),
-                                odom->Write(bad_odom.msg())}) {
+  for (const core::Status& s :
+       {scan->Write(bad_count.msg()), scan->Write(ToLaserScan(stale_scan, "laser").msg()),
+        odom->Write(bad_odom.msg())}) {
     if (!s.ok()) return Fail(s);
   }
-  for (const DdsEntity* w : {&odom->writer(), &joints->writer(), &scan->writer(), &image->writer()}) {
+  for (const DdsEntity* w :
+       {&odom->writer(), &joints->writer(), &scan->writer(), &image->writer()}) {
     const dds_return_t rc = dds_wait_for_acks(w->get(), DDS_SECS(60));
     if (rc != DDS_RETCODE_OK) return Fail(core::Status::Error(DdsErrorText("wait for acks", rc)));
   }

@@ -165,11 +165,9 @@ TEST(DdsValidateTest, StampsOutsideTheWindowAreRejected) {
   check.reference_s = 101.0;  // 0.75 s old: fine
   EXPECT_TRUE(ValidateLaserScan(m.msg(), check).ok());
   check.reference_s = 101.5;  // 1.25 s old
-  ExpectErrorMentions(ValidateLaserScan(m.msg(), check), "sensor_msgs/LaserScan",
-                      "'header.stamp'");
+  ExpectErrorMentions(ValidateLaserScan(m.msg(), check), "sensor_msgs/LaserScan", "'header.stamp'");
   check.reference_s = 100.0;  // 0.25 s in the future
-  ExpectErrorMentions(ValidateLaserScan(m.msg(), check), "sensor_msgs/LaserScan",
-                      "'header.stamp'");
+  ExpectErrorMentions(ValidateLaserScan(m.msg(), check), "sensor_msgs/LaserScan", "'header.stamp'");
   check.reference_s = 100.1;  // 0.15 s ahead: within the lead
   EXPECT_TRUE(ValidateLaserScan(m.msg(), check).ok());
 }

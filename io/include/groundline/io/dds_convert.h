@@ -56,8 +56,7 @@ struct PlanarPoseStamped {
   core::Matrix3 covariance = core::Matrix3::Zero();  // tangent space of T_frame_base
 };
 
-DdsSample<RosPoseWithCovarianceStamped> ToPoseWithCovarianceStamped(
-    const PlanarPoseStamped& pose);
+DdsSample<RosPoseWithCovarianceStamped> ToPoseWithCovarianceStamped(const PlanarPoseStamped& pose);
 // Call ValidatePoseWithCovarianceStamped first (NaNs pass through).
 PlanarPoseStamped FromPoseWithCovarianceStamped(const RosPoseWithCovarianceStamped& msg);
 

@@ -44,11 +44,11 @@ using RosDiagnosticArray = diagnostic_msgs_msg_dds__DiagnosticArray_;
 template <typename T>
 struct DdsTraits;
 
-#define GROUNDLINE_DDS_TRAITS(Type, Desc, RosName)                    \
-  template <>                                                         \
-  struct DdsTraits<Type> {                                            \
+#define GROUNDLINE_DDS_TRAITS(Type, Desc, RosName)                     \
+  template <>                                                          \
+  struct DdsTraits<Type> {                                             \
     static const dds_topic_descriptor_t& descriptor() { return Desc; } \
-    static constexpr std::string_view kRosName = RosName;             \
+    static constexpr std::string_view kRosName = RosName;              \
   }
 GROUNDLINE_DDS_TRAITS(RosPoseWithCovarianceStamped,
                       geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc,
@@ -57,8 +57,7 @@ GROUNDLINE_DDS_TRAITS(RosTransformStamped, geometry_msgs_msg_dds__TransformStamp
                       "geometry_msgs/TransformStamped");
 GROUNDLINE_DDS_TRAITS(RosTfMessage, tf2_msgs_msg_dds__TFMessage__desc, "tf2_msgs/TFMessage");
 GROUNDLINE_DDS_TRAITS(RosOdometry, nav_msgs_msg_dds__Odometry__desc, "nav_msgs/Odometry");
-GROUNDLINE_DDS_TRAITS(RosLaserScan, sensor_msgs_msg_dds__LaserScan__desc,
-                      "sensor_msgs/LaserScan");
+GROUNDLINE_DDS_TRAITS(RosLaserScan, sensor_msgs_msg_dds__LaserScan__desc, "sensor_msgs/LaserScan");
 GROUNDLINE_DDS_TRAITS(RosImage, sensor_msgs_msg_dds__Image__desc, "sensor_msgs/Image");
 GROUNDLINE_DDS_TRAITS(RosJointState, sensor_msgs_msg_dds__JointState__desc,
                       "sensor_msgs/JointState");

@@ -31,8 +31,8 @@ struct DdsStampWindow {
 };
 
 struct DdsCheck {
-  std::string frame_id;                  // empty: any frame
-  std::optional<double> reference_s;     // unset: no stamp check
+  std::string frame_id;               // empty: any frame
+  std::optional<double> reference_s;  // unset: no stamp check
   DdsStampWindow window;
 };
 
