@@ -78,7 +78,9 @@ class DdsParticipant {
  public:
   // Creates the participant (and, with an explicit or the loopback config,
   // its domain). Within one process, a domain id is configured once: a second
-  // participant on the same id shares the first one's configuration.
+  // participant on the same id shares the first one's configuration and must
+  // not outlive the first, whose destruction deletes the domain (one
+  // participant per process and domain, as in ROS 2, avoids the question).
   static core::Result<DdsParticipant> Create(const DdsParticipantOptions& options = {});
 
   dds_entity_t get() const { return participant_.get(); }
