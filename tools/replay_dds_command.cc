@@ -38,6 +38,7 @@ struct ReplayFlags {
   std::string right_joint = "right_wheel_joint";
   double wait_for_subscribers_s = 0.0;
   bool lossless = false;
+  std::string ros_namespace;  // "agv7": topics /agv7/odom, ...
 };
 
 enum class Stream { kWheels, kScan, kImage };
@@ -57,7 +58,7 @@ struct Publishers {
 };
 
 template <typename T>
-core::Status Make(const io::DdsParticipant& p, const char* topic, io::QosPreset qos,
+core::Status Make(const io::DdsParticipant& p, const std::string& topic, io::QosPreset qos,
                   std::optional<io::DdsPublisher<T>>* out) {
   core::Result<io::DdsPublisher<T>> pub = io::DdsPublisher<T>::Create(p, topic, qos);
   if (!pub.ok()) return pub.status();
@@ -121,22 +122,32 @@ int RunReplay(const ReplayFlags& f) {
     std::fprintf(stderr, "replay-dds: %s\n", participant.message().c_str());
     return 1;
   }
+  const std::string topic_prefix =
+      f.ros_namespace.empty() ? std::string("rt/") : "rt/" + f.ros_namespace + "/";
   // Reliable writers match both reliable and best-effort ROS 2 readers.
   const io::QosPreset qos = f.lossless ? io::QosPreset::kLossless : io::QosPreset::kDefault;
   Publishers pub;
   core::Status made = core::Status::Ok();
   if (f.odometry == "odom" || f.odometry == "both")
-    made = Make(*participant, "rt/odom", qos, &pub.odom);
+    made = Make(*participant, topic_prefix + "odom", qos, &pub.odom);
   if (made.ok() && (f.odometry == "joint-states" || f.odometry == "both")) {
-    made = Make(*participant, "rt/joint_states", qos, &pub.joints);
+    made = Make(*participant, topic_prefix + "joint_states", qos, &pub.joints);
   }
-  if (made.ok() && !f.no_scans && m.lidar) made = Make(*participant, "rt/scan", qos, &pub.scan);
-  if (made.ok() && f.images) made = Make(*participant, "rt/camera/image_raw", qos, &pub.image);
+  if (made.ok() && !f.no_scans && m.lidar)
+    made = Make(*participant, topic_prefix + "scan", qos, &pub.scan);
+  if (made.ok() && f.images)
+    made = Make(*participant, topic_prefix + "camera/image_raw", qos, &pub.image);
   if (made.ok() && m.lidar)
-    made = Make(*participant, "rt/tf_static", io::QosPreset::kTfStatic, &pub.tf_static);
+    made = Make(*participant, topic_prefix + "tf_static", io::QosPreset::kTfStatic, &pub.tf_static);
   if (!made.ok()) {
     std::fprintf(stderr, "replay-dds: %s\n", made.message().c_str());
     return 1;
+  }
+  if (f.stamps == "wall" && f.rate != 1.0) {
+    std::fprintf(stderr,
+                 "replay-dds: warning: wall-clock stamps at --rate %g run %s the clock; "
+                 "consider --stamps dataset\n",
+                 f.rate, f.rate > 1.0 ? "ahead of" : "behind");
   }
   std::printf("replay-dds: %s on DDS domain %u (%s configuration), rate %gx, %s stamps\n",
               f.dir.c_str(), participant->domain_id(), participant->config_source().c_str(), f.rate,
@@ -291,6 +302,13 @@ CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run) {
          "wait up to this many seconds for a subscriber before publishing (0: do not wait)")
       ->default_val(0.0)
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--namespace", f->ros_namespace,
+                  "ROS namespace of the topics, e.g. agv7 for /agv7/odom; default: none")
+      ->check([](const std::string& ns) {
+        const bool ok = !ns.empty() && ns.front() != '/' && ns.back() != '/' &&
+                        ns.find("//") == std::string::npos;
+        return ok ? std::string() : std::string("expected a name without leading/trailing '/'");
+      });
   cmd->add_flag("--lossless", f->lossless,
                 "keep-all reliable writers (a slow subscriber slows the replay instead of losing "
                 "data; not a ROS profile); default: reliable keep-last 10");
