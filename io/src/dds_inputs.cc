@@ -1,7 +1,9 @@
 #include "groundline/io/dds_inputs.h"
 
+#include <algorithm>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "groundline/io/dds_convert_sensors.h"
 #include "groundline/io/dds_pubsub.h"
@@ -81,6 +83,12 @@ struct DdsInputs::Impl {
   std::array<std::optional<double>, kNumDdsInputs> last_stamp_s;
   std::optional<double> newest_stamp_s;
   std::optional<std::pair<double, double>> last_wheel_angles_rad;
+  // Accepted messages of one Poll, converted, waiting to be merged by stamp.
+  struct Pending {
+    double stamp_s;
+    std::function<void()> deliver;
+  };
+  std::vector<Pending> pending;
 
   DdsCheck CheckFor(const std::string& frame) const {
     DdsCheck check;
@@ -143,7 +151,7 @@ struct DdsInputs::Impl {
       reading.right_delta_rad = right - last_wheel_angles_rad->second;
     }
     last_wheel_angles_rad = std::make_pair(left, right);
-    callbacks.on_wheels(reading);
+    pending.push_back({reading.stamp_s, [this, reading] { callbacks.on_wheels(reading); }});
   }
 };
 
@@ -215,6 +223,7 @@ core::Result<DdsInputs> DdsInputs::Create(const DdsParticipant& participant,
 
 core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
   Impl& d = *impl_;
+  d.pending.clear();
   core::Result<bool> ready = d.waitset->Wait(timeout);
   if (!ready.ok()) return ready.status();
   const std::uint64_t before = [&] {
@@ -226,7 +235,8 @@ core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
     core::Result<int> n = d.odometry->Take([&](const RosOdometry& m) {
       if (d.Admit(DdsInput::kOdometry, m.header,
                   ValidateOdometry(m, d.CheckFor(d.options.odom_frame), d.options.base_frame))) {
-        d.callbacks.on_odometry(FromOdometry(m));
+        d.pending.push_back({FromRosTime(m.header.stamp),
+                             [&d, o = FromOdometry(m)] { d.callbacks.on_odometry(o); }});
       }
     });
     if (!n.ok()) return n.status();
@@ -239,7 +249,8 @@ core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
     core::Result<int> n = d.scan->Take([&](const RosLaserScan& m) {
       if (d.Admit(DdsInput::kScan, m.header,
                   ValidateLaserScan(m, d.CheckFor(d.options.lidar_frame)))) {
-        d.callbacks.on_scan(FromLaserScan(m));
+        d.pending.push_back({FromRosTime(m.header.stamp),
+                             [&d, scan = FromLaserScan(m)] { d.callbacks.on_scan(scan); }});
       }
     });
     if (!n.ok()) return n.status();
@@ -249,7 +260,12 @@ core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
       if (d.Admit(DdsInput::kImage, m.header,
                   ValidateImage(m, d.CheckFor(d.options.camera_frame)))) {
         core::Result<cv::Mat> grey = FromMono8Image(m);
-        if (grey.ok()) d.callbacks.on_image(FromRosTime(m.header.stamp), *grey);
+        const double stamp_s = FromRosTime(m.header.stamp);
+        if (grey.ok()) {
+          d.pending.push_back({stamp_s, [&d, stamp_s, img = std::move(*grey)] {
+                                 d.callbacks.on_image(stamp_s, img);
+                               }});
+        }
       }
     });
     if (!n.ok()) return n.status();
@@ -265,6 +281,12 @@ core::Result<int> DdsInputs::Poll(std::chrono::milliseconds timeout) {
     });
     if (!n.ok()) return n.status();
   }
+  // Sensor data of this Poll in stamp order (stable: ties keep topic order).
+  std::stable_sort(
+      d.pending.begin(), d.pending.end(),
+      [](const Impl::Pending& a, const Impl::Pending& b) { return a.stamp_s < b.stamp_s; });
+  for (const Impl::Pending& p : d.pending) p.deliver();
+  d.pending.clear();
   std::uint64_t after = 0;
   for (const DdsInputCounters& c : d.counters) after += c.accepted;
   return static_cast<int>(after - before);

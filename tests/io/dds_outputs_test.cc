@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "dds_test_env.h"
+#include "groundline/io/dds_convert_sensors.h"
 #include "groundline/io/dds_inputs.h"
 #include "groundline/io/dds_outputs.h"
 
@@ -147,6 +148,52 @@ TEST_F(DdsOutputsTest, InitialPoseReachesItsCallbackAndWrongFrameIsDropped) {
   EXPECT_NE(c.last_drop_reason.find("'header.frame_id': expected 'map', got 'odom'"),
             std::string::npos)
       << c.last_drop_reason;
+}
+
+TEST_F(DdsOutputsTest, OnePollDeliversSensorDataInStampOrder) {
+  std::vector<std::string> order;
+  DdsInputCallbacks cb;
+  cb.on_odometry = [&](const PlanarOdometry& o) {
+    order.push_back("odom@" + std::to_string(o.stamp_s));
+  };
+  cb.on_scan = [&](const core::LaserScan& s) {
+    order.push_back("scan@" + std::to_string(s.stamp_s));
+  };
+  DdsInputsOptions options;
+  options.odometry_topic = prefix_ + "odom";
+  options.scan_topic = prefix_ + "scan";
+  options.joint_state_topic = options.image_topic = options.initial_pose_topic = "";
+  options.stamp_reference = StampReference::kNone;
+  options.sensor_qos = QosPreset::kLossless;
+  core::Result<DdsInputs> inputs = DdsInputs::Create(*participant_, options, cb);
+  ASSERT_TRUE(inputs.ok()) << inputs.message();
+  auto odom = DdsPublisher<RosOdometry>::Create(*participant_, options.odometry_topic,
+                                                QosPreset::kLossless);
+  auto scan =
+      DdsPublisher<RosLaserScan>::Create(*participant_, options.scan_topic, QosPreset::kLossless);
+  ASSERT_TRUE(odom.ok() && scan.ok());
+  core::LaserScan s;
+  s.angle_increment_rad = 0.1;
+  s.range_min_m = 0.1;
+  s.range_max_m = 10.0;
+  s.ranges_m = {1.0, 2.0};
+  // Scans written first, odometry second; stamps interleave.
+  for (double t : {2.0, 4.0}) {
+    s.stamp_s = t;
+    ASSERT_TRUE(scan->Write(ToLaserScan(s, "laser").msg()).ok());
+  }
+  for (double t : {1.0, 3.0, 5.0}) {
+    PlanarOdometry o;
+    o.stamp_s = t;
+    ASSERT_TRUE(odom->Write(ToOdometry(o).msg()).ok());
+  }
+  // Local delivery is synchronous for these keep-all readers: one Poll sees all five.
+  core::Result<int> n = inputs->Poll(std::chrono::milliseconds(1000));
+  ASSERT_TRUE(n.ok()) << n.message();
+  ASSERT_EQ(*n, 5);
+  const std::vector<std::string> want = {"odom@1.000000", "scan@2.000000", "odom@3.000000",
+                                         "scan@4.000000", "odom@5.000000"};
+  EXPECT_EQ(order, want);
 }
 
 TEST(DdsOptionsTest, ValidateNamesTheProblem) {

@@ -1,8 +1,14 @@
 // The sensor inputs of the localization service over ROS 2 topics: takes
 // odometry, wheel joint states, scans, images and initial poses, validates
 // them (dds_validate.h), converts them to groundline types and hands them to
-// one callback per message type, in arrival order per topic. Invalid
-// messages are dropped and counted, never passed on.
+// one callback per message type. Invalid messages are dropped and counted,
+// never passed on.
+//
+// Order: each Poll takes everything that arrived on every topic and delivers
+// the sensor messages merged by stamp (initial poses first). Across Polls the
+// order is that of arrival, so a message that arrives late on one topic can
+// follow a later-stamped one of another topic; each topic on its own is
+// strictly increasing in stamp (anything else is dropped).
 //
 // Driving it: call Poll() from the service's input loop (or a thread of its
 // own); callbacks run inside Poll, on the calling thread. Not thread-safe.
@@ -94,8 +100,8 @@ class DdsInputs {
   DdsInputs& operator=(DdsInputs&&) noexcept;
   ~DdsInputs();
 
-  // Waits up to `timeout` for data on any input, then takes and dispatches
-  // everything available. Returns the number of messages accepted; an error
+  // Waits up to `timeout` for data on any input, then takes, validates and
+  // delivers everything available (callbacks run inside, on this thread). Returns the number of messages accepted; an error
   // only for a failing DDS call.
   core::Result<int> Poll(std::chrono::milliseconds timeout);
 
