@@ -52,6 +52,10 @@ CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run);
 // (tools/calibrate_floor_command.cc); hangs on the `calibrate` parent.
 void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run);
 
+// `groundline replay-dds DATASET`: a dataset's sensor streams as ROS 2 topics
+// over DDS (tools/replay_dds_command.cc).
+CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run);
+
 }  // namespace groundline::tools
 
 #endif  // GROUNDLINE_TOOLS_COMMANDS_H_

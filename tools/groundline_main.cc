@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = groundline::tools::AddCalibrateCommand(app, &run);
   groundline::tools::AddCalibrateFloorSubcommand(calibrate, &run);
   groundline::tools::AddExtractCommand(app, &run);
+  groundline::tools::AddReplayDdsCommand(app, &run);
 
   try {
     app.parse(argc, argv);
