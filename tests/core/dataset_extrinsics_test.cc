@@ -39,7 +39,7 @@ TEST(DatasetExtrinsics, RoundTripsAtTheWrittenPrecision) {
   EXPECT_TRUE(fs::is_regular_file(dir / kDefaultGroundTruthExtrinsicsFile));
   const Result<Dataset> read = ReadDataset(dir);
   ASSERT_TRUE(read.ok()) << read.message();
-  EXPECT_EQ(read->manifest.version_minor, 1);
+  EXPECT_EQ(read->manifest.version_minor, kDatasetFormatMinor);
   EXPECT_EQ(read->manifest.files.ground_truth_extrinsics, kDefaultGroundTruthExtrinsicsFile);
   ASSERT_EQ(read->ground_truth_extrinsics.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
@@ -58,7 +58,7 @@ TEST(DatasetExtrinsics, RoundTripsAtTheWrittenPrecision) {
 TEST(DatasetExtrinsics, Version10ManifestsStillRead) {
   const fs::path dir = ::groundline::testing::ScratchDir("extrinsics_v10");
   ASSERT_TRUE(WriteDataset(dir, ::groundline::testing::MakeSyntheticDataset(dir)).ok());
-  ReplaceInFile(dir / kManifestFileName, "version: 1.1", "version: 1.0");
+  ReplaceInFile(dir / kManifestFileName, "version: 1.2", "version: 1.0");
   const Result<Dataset> read = ReadDataset(dir);
   ASSERT_TRUE(read.ok()) << read.message();
   EXPECT_EQ(read->manifest.version_minor, 0);

@@ -158,7 +158,7 @@ std::vector<Corruption> Cases() {
        },
        "format", "groundline-atlas"},
       {"manifest_higher_version", manifest,
-       [=](const fs::path& d) { return Replace(d / manifest, "version: 1.1", "version: 2.0"); },
+       [=](const fs::path& d) { return Replace(d / manifest, "version: 1.2", "version: 2.0"); },
        "version", "newer groundline"},
       {"manifest_lidar_rate_zero", manifest,
        [=](const fs::path& d) { return Replace(d / manifest, "rate_hz: 12.5", "rate_hz: 0"); },

@@ -139,7 +139,7 @@ TEST(Dataset, ManifestIsCommentedAndSaysItsUnits) {
   ASSERT_TRUE(WriteDataset(dir, MakeSyntheticDataset(dir)).ok());
   const std::string text = ReadText(dir / kManifestFileName);
   EXPECT_EQ(text.rfind("# groundline dataset manifest", 0), 0u) << text;
-  EXPECT_NE(text.find("format: groundline-dataset\nversion: 1.1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("format: groundline-dataset\nversion: 1.2\n"), std::string::npos) << text;
   EXPECT_NE(text.find("units: SI"), std::string::npos);
   EXPECT_NE(text.find("T_base_lidar: {x_m: 0.3, y_m: -0.02, yaw_rad: "), std::string::npos) << text;
 }
@@ -255,7 +255,7 @@ TEST(Dataset, NewerMinorVersionIgnoresUnknownKeysCurrentOneRejectsThem) {
                                   ": field 'weather'"),
             std::string::npos)
       << strict.message();
-  ReplaceInFile(manifest, "version: 1.1", "version: 1.7");
+  ReplaceInFile(manifest, "version: 1.2", "version: 1.7");
   const Result<Dataset> lenient = ReadDataset(dir);
   ASSERT_TRUE(lenient.ok()) << lenient.message();
   EXPECT_EQ(lenient->manifest.version_minor, 7);
