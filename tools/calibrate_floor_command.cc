@@ -41,7 +41,9 @@ image's corner RMS <= --max-rms (default 0.5 px), every tag's corner RMS
 under `floor_report:` (docs/calibration.md), the flags override it.
 --intrinsics-report DIR/report.json (from `calibrate intrinsics`) folds the
 intrinsics result in: one commissioning report with both verdicts, and the
-exit code is 0 only when both pass.
+exit code is 0 only when both pass. It is refused (exit 1) when the report is
+for another camera than --camera: another imager size, lens model or model
+fingerprint.
 Exit code 0 on PASS, 1 on FAIL or a data error (malformed layout, unreadable
 image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
@@ -84,6 +86,10 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   if (!flags.intrinsics_report.empty()) {  // fail before a live session, not after it
     const auto read = calibration::ReadIntrinsicsReportSummary(flags.intrinsics_report);
     if (!read.ok()) return fail(read.message());
+    if (core::Status same = calibration::CheckSameCamera(*read, *camera, flags.camera);
+        !same.ok()) {
+      return fail(same.message());
+    }
   }
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline calibrate floor: %s\n", s.message().c_str());

@@ -114,8 +114,96 @@ std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& 
     s << "<text x='" << qx[q] << "' y='" << qy[q] << "' font-size='20' text-anchor='middle' fill='"
       << (ok ? "#000" : "#d00") << "'>" << r.quadrant_corners[q] << "</text>";
   }
+  // The outer ring the border rule counts, with each zone's count.
+  const double bx = r.thresholds.border_fraction * w, by = r.thresholds.border_fraction * h;
+  s << "<rect x='" << bx << "' y='" << by << "' width='" << w - 2 * bx << "' height='"
+    << h - 2 * by << "' fill='none' stroke='#555' stroke-dasharray='6 4'/>";
+  const double zx[8] = {bx / 2, w / 2, w - bx / 2, bx / 2, w - bx / 2, bx / 2, w / 2, w - bx / 2};
+  const double zy[8] = {by / 2, by / 2, by / 2, h / 2, h / 2, h - by / 2, h - by / 2, h - by / 2};
+  for (int z = 0; z < 8; ++z) {
+    const bool ok = r.border_corners[z] >= r.thresholds.min_corners_per_border_zone;
+    s << "<text x='" << zx[z] << "' y='" << zy[z] + 5
+      << "' font-size='13' text-anchor='middle' font-style='italic' fill='"
+      << (ok ? "#000" : "#d00") << "'>" << r.border_corners[z] << "</text>";
+  }
   s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
   return s.str();
+}
+
+// The projection-uncertainty map: cells shaded from white (0) through
+// yellow (the limit) to dark red (3x the limit and beyond), with the value in
+// each cell; the rows above the floor part of the imager are hatched grey.
+std::string UncertaintySvg(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  const UncertaintyMap& m = r.uncertainty_map;
+  const double scale = kPlotWidth / c.camera.width_px();
+  const double w = kPlotWidth, h = c.camera.height_px() * scale;
+  const double limit = r.thresholds.max_projection_uncertainty_px;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h << "'>";
+  for (int y = 0; y < m.cells_y; ++y) {
+    for (int x = 0; x < m.cells_x; ++x) {
+      const double v = m.worst_px[y * m.cells_x + x];
+      std::string colour = "#888";
+      if (std::isfinite(v)) {
+        const double t = std::min(1.0, v / (3.0 * limit));  // 1/3: the limit
+        const int red = t < 1.0 / 3 ? 255 : static_cast<int>(255 - 120 * (t - 1.0 / 3) * 1.5);
+        const int green = t < 1.0 / 3 ? static_cast<int>(255 - 40 * 3 * t)
+                                      : static_cast<int>(215 * (1.0 - (t - 1.0 / 3) * 1.5));
+        const int blue = t < 1.0 / 3 ? static_cast<int>(255 * (1.0 - 3 * t)) : 0;
+        char text[16];
+        std::snprintf(text, sizeof(text), "#%02x%02x%02x", std::clamp(red, 0, 255),
+                      std::clamp(green, 0, 255), std::clamp(blue, 0, 255));
+        colour = text;
+      }
+      const double cx = x * w / m.cells_x, cy = y * h / m.cells_y;
+      s << "<rect x='" << Fmt("%.1f", cx) << "' y='" << Fmt("%.1f", cy) << "' width='"
+        << Fmt("%.2f", w / m.cells_x) << "' height='" << Fmt("%.2f", h / m.cells_y) << "' fill='"
+        << colour << "'><title>" << Fmt("%.3f px", v) << "</title></rect>";
+      if (x % 2 == 0 && y % 2 == 0 && std::isfinite(v)) {
+        s << "<text x='" << Fmt("%.1f", cx + w / m.cells_x) << "' y='"
+          << Fmt("%.1f", cy + h / m.cells_y + 4) << "' font-size='9' text-anchor='middle'>"
+          << Fmt(v < 10 ? "%.2f" : "%.0f", v) << "</text>";
+      }
+    }
+  }
+  if (r.thresholds.floor_top_fraction > 0.0) {
+    s << "<rect width='" << w << "' height='" << r.thresholds.floor_top_fraction * h
+      << "' fill='#000' fill-opacity='0.35'><title>not floor</title></rect>";
+  }
+  s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
+  return s.str();
+}
+
+std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  std::ostringstream h;
+  h << "<h2>Projection uncertainty</h2>";
+  if (r.uncertainty.empty()) {
+    h << "<p class='bad'>Not computed: " << internal::XmlEscape(c.covariance_error) << "</p>";
+    return h.str();
+  }
+  const UncertaintyFigure& judged = r.uncertainty.back();
+  h << "<p>How far a point's pixel may be off because the calibration itself is uncertain "
+       "(mrcal's method: the covariance of the solve propagated to the projection of a point "
+       "at the given range, through the intrinsics and the board poses, mean over the views). "
+       "1 sigma, worst direction; corner noise sigma "
+    << Fmt("%.3f px", r.observed_pixel_sigma_px)
+    << " (from the residuals). mm: the same error on a surface facing the camera at that "
+       "range.</p><table><tr><th>range</th><th>worst px</th><th>worst mm</th><th>at pixel</th>"
+       "</tr>";
+  for (std::size_t i = 0; i + 1 < r.uncertainty.size(); ++i) {
+    const UncertaintyFigure& f = r.uncertainty[i];
+    h << "<tr><td style='text-align:left'>" << Fmt("%.0f m", f.range_m) << "</td><td"
+      << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
+      << Fmt("%.3f", f.worst_px) << "</td><td>" << Fmt("%.2f", f.worst_mm) << "</td><td>"
+      << Fmt("%.0f", f.where_px.x()) << ", " << Fmt("%.0f", f.where_px.y()) << "</td></tr>";
+  }
+  h << "</table><p>Judged at " << Fmt("%.1f m", judged.range_m) << ": worst "
+    << Fmt("%.3f px", judged.worst_px) << ", limit "
+    << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px)
+    << ". Map at " << Fmt("%.1f m", r.uncertainty_map.range_m)
+    << " (px; white 0, yellow = the limit, dark red 3x the limit or more):</p>"
+    << UncertaintySvg(r, c);
+  return h.str();
 }
 
 }  // namespace
@@ -145,7 +233,27 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
     << "</td></tr><tr><td style='text-align:left'>worst residual |r|</td><td"
     << (s.worst_px > r.thresholds.max_worst_px ? " class='bad'" : "") << ">"
     << Fmt("%.4f px", s.worst_px) << "</td><td>" << Fmt("%.2f px", r.thresholds.max_worst_px)
-    << "</td></tr></table>";
+    << "</td></tr><tr><td style='text-align:left'>views</td><td"
+    << (static_cast<int>(c.views.size()) < r.thresholds.min_views ? " class='bad'" : "") << ">"
+    << c.views.size() << "</td><td>&ge; " << r.thresholds.min_views
+    << "</td></tr><tr><td style='text-align:left'>most board tilt about the vertical / "
+       "horizontal axis</td><td"
+    << (std::min(r.max_tilt_about_vertical_deg, r.max_tilt_about_horizontal_deg) <
+                r.thresholds.min_tilt_deg
+            ? " class='bad'"
+            : "")
+    << ">" << Fmt("%.1f", r.max_tilt_about_vertical_deg) << " / "
+    << Fmt("%.1f deg", r.max_tilt_about_horizontal_deg) << "</td><td>&ge; "
+    << Fmt("%.0f deg", r.thresholds.min_tilt_deg) << "</td></tr>";
+  if (!r.uncertainty.empty()) {
+    const UncertaintyFigure& f = r.uncertainty.back();
+    h << "<tr><td style='text-align:left'>projection uncertainty at "
+      << Fmt("%.1f m", f.range_m) << " (worst, floor part)</td><td"
+      << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
+      << Fmt("%.3f px", f.worst_px) << "</td><td>"
+      << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px) << "</td></tr>";
+  }
+  h << "</table><p>Camera fingerprint " << r.camera_fingerprint << "</p>";
   if (!r.pass) {
     h << "<h2>What failed and what to do</h2><ul>";
     for (const std::string& f : r.failures)
@@ -163,8 +271,10 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
   h << "<h2>Residual histogram (|r|, inliers)</h2>" << HistogramSvg(c, r.thresholds.max_worst_px);
   h << "<h2>Corner coverage over the imager</h2><p>Inlier corners per cell; the numbers are the "
        "quadrant totals (red: fewer than "
-    << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner.</p>"
-    << CoverageSvg(r, c);
+    << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner"
+    << ". In italics: the corners in each zone of the outer ring (dashed; red: fewer than "
+    << r.thresholds.min_corners_per_border_zone << ").</p>" << CoverageSvg(r, c)
+    << UncertaintySection(r, c);
   h << "<h2>Per-image residuals (worst first)</h2><table><tr><th>image</th><th>corners</th>"
        "<th>inliers</th><th>RMS px</th><th>worst px</th></tr>";
   for (int i : r.views_by_rms) {

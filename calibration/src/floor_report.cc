@@ -1,9 +1,11 @@
 // floor_report.json and the intrinsics summary it folds in (floor_calibration.h).
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "floor_report_rows.h"
+#include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
 #include "text_util.h"
 
@@ -48,11 +50,62 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     const nlohmann::json& q = j.at(field);
     s.quadrant_corners = {q.at("top_left").get<int>(), q.at("top_right").get<int>(),
                           q.at("bottom_left").get<int>(), q.at("bottom_right").get<int>()};
+    field = "imager_size_px";
+    s.imager_size_px = j.at(field).get<std::array<int, 2>>();
+    field = "intrinsics";
+    s.intrinsics = j.at(field).get<std::vector<double>>();
+    field = "camera_fingerprint";
+    s.camera_fingerprint = j.value(field, "");
+    field = "projection_uncertainty";
+    if (j.contains(field) && j.at(field).contains("worst")) {
+      const nlohmann::json& worst = j.at(field).at("worst");
+      for (std::size_t i = 0; i + 1 < worst.size(); ++i) {
+        s.projection_uncertainty.push_back({worst[i].at("range_m").get<double>(),
+                                            worst[i].at("worst_px").get<double>(),
+                                            worst[i].at("worst_mm").get<double>()});
+      }
+    }
   } catch (const nlohmann::json::exception& e) {
     return core::Status::Error(where + ": field '" + field + "': missing or malformed (" +
                                e.what() + ")");
   }
   return s;
+}
+
+core::Status CheckSameCamera(const IntrinsicsReportSummary& report, const CameraModel& camera,
+                             const std::string& camera_source) {
+  const std::string head = "--intrinsics-report " + report.source + " and --camera " +
+                           camera_source + " are not the same camera: ";
+  const std::string todo =
+      "; pass the report.json written by `groundline calibrate intrinsics` together with the "
+      ".cameramodel it wrote (the commissioning report must judge the camera that is mounted)";
+  const std::array<int, 2> size = {camera.width_px(), camera.height_px()};
+  if (report.imager_size_px != size) {
+    return core::Status::Error(
+        head + "the report is for a " + std::to_string(report.imager_size_px[0]) + "x" +
+        std::to_string(report.imager_size_px[1]) + " px imager, the camera model is " +
+        std::to_string(size[0]) + "x" + std::to_string(size[1]) + " px" + todo);
+  }
+  if (report.lens_model != camera.lens_model()) {
+    return core::Status::Error(head + "lens model " + report.lens_model + " in the report, " +
+                               camera.lens_model() + " in the camera model" + todo);
+  }
+  if (!report.camera_fingerprint.empty()) {
+    const std::string fingerprint = CameraFingerprint(camera);
+    if (report.camera_fingerprint != fingerprint) {
+      return core::Status::Error(head + "model fingerprint " + report.camera_fingerprint +
+                                 " in the report, " + fingerprint +
+                                 " for the camera model (different intrinsics)" + todo);
+    }
+    return core::Status::Ok();
+  }
+  const std::vector<double>& q = camera.intrinsics();
+  bool same = report.intrinsics.size() == q.size();
+  for (std::size_t i = 0; same && i < q.size(); ++i) {
+    same = std::abs(report.intrinsics[i] - q[i]) <= 1e-9 * std::max(1.0, std::abs(q[i]));
+  }
+  if (!same) return core::Status::Error(head + "the intrinsics differ" + todo);
+  return core::Status::Ok();
 }
 
 std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOptions& options,

@@ -124,10 +124,23 @@ struct IntrinsicsReportSummary {
   double worst_px = 0.0;
   int views = 0;
   std::array<int, 4> quadrant_corners{};
+  std::array<int, 2> imager_size_px{};
+  std::vector<double> intrinsics;
+  std::string camera_fingerprint;  // CameraFingerprint; empty in older reports
+  // Worst projection uncertainty (1 sigma) at 1, 2 and 4 m: {range_m, px, mm};
+  // empty when the report has none.
+  std::vector<std::array<double, 3>> projection_uncertainty;
 };
 // Errors name the file and the missing or malformed field.
 core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     const std::filesystem::path& report_json);
+
+// Whether the intrinsics report belongs to `camera` (the --camera of the floor
+// calibration): same imager size, same lens model, and the same model
+// (CameraFingerprint; for a report without one, the same intrinsics to 1e-9
+// relative). The error names both files and what differs, and says what to do.
+core::Status CheckSameCamera(const IntrinsicsReportSummary& report, const CameraModel& camera,
+                             const std::string& camera_source);
 
 // floor_report.json: verdict, failures with advice, mount values in mm and
 // degrees with 3-sigma bounds, BEV error at 1/2/4 m, per-image and per-tag
