@@ -195,8 +195,9 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
       cal->summary.points, (out / "report.html").c_str());
   for (const UncertaintyFigure& f : report.uncertainty) {
     if (&f == &report.uncertainty.back()) break;  // the last repeats the judged range
-    std::printf("  projection uncertainty at %.0f m: worst %.3f px (%.2f mm face on), 1 sigma\n",
-                f.range_m, f.worst_px, f.worst_mm);
+    std::printf("  projection uncertainty at %.0f m: worst %.3f px (%.2f mm face on), 1 sigma%s\n",
+                f.range_m, f.worst_px, f.worst_mm,
+                f.cells_not_computable > 0 ? "; not computable in part of the image" : "");
   }
   for (const std::string& f : report.failures) std::printf("  failed: %s\n", f.c_str());
   for (const std::string& a : report.advice) std::printf("  to do: %s\n", a.c_str());

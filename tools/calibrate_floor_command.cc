@@ -120,6 +120,7 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
   core::Result<calibration::FloorCalibration> result =
       calibration::CalibrateFloor(camera, layout, image_dir, options);
   if (!result.ok()) return fail(result.message());
+  if (intrinsics) calibration::AddIntrinsicsToBev(camera, *intrinsics, &*result);
   for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   const std::filesystem::path out(flags.out);
@@ -153,6 +154,15 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
       result->bev[2].rms_mm, result->verdict.c_str());
   for (const std::string& a : result->advice) std::printf("  to do: %s\n", a.c_str());
   if (intrinsics) {
+    for (const calibration::BevErrorBudget& b : result->bev_budget) {
+      if (!b.known) {
+        std::printf("  BEV error %.0f m ahead: intrinsics part not known\n", b.distance_m);
+        continue;
+      }
+      std::printf("  BEV error %.0f m ahead (1 sigma): mount %.2f mm, intrinsics %.2f mm, both "
+                  "%.2f mm\n",
+                  b.distance_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm, b.total_rms_mm);
+    }
     std::printf("intrinsics (%s): %s\ncommissioning: %s\n", intrinsics->source.c_str(),
                 intrinsics->pass ? "PASS" : "FAIL",
                 result->pass && intrinsics->pass ? "PASS" : "FAIL");

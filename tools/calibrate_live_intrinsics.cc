@@ -41,7 +41,12 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
   IntrinsicsSetup setup;
   if (const int code = PrepareIntrinsics(flags, &setup); code != 0) return code;
   ViewCoverageOptions coverage_options;
+  // The guidance asks for what the report's verdict needs.
   coverage_options.min_views = flags.min_views > 0 ? flags.min_views : setup.thresholds.min_views;
+  coverage_options.min_tilt_deg = setup.thresholds.min_tilt_deg;
+  coverage_options.border_fraction = setup.thresholds.border_fraction;
+  coverage_options.min_corners_per_border_zone =
+      setup.thresholds.require_border_coverage ? setup.thresholds.min_corners_per_border_zone : 0;
   if (core::Status s = coverage_options.Validate(); !s.ok()) {
     std::fprintf(stderr, "%s: --min-views: %s\n", kName, s.message().c_str());
     return 2;

@@ -132,7 +132,8 @@ std::string CalibrationReportJson(const CalibrationReport& report,
       ranges.push_back({{"range_m", f.range_m},
                         {"worst_px", f.worst_px},
                         {"worst_mm", f.worst_mm},
-                        {"where_px", {f.where_px.x(), f.where_px.y()}}});
+                        {"where_px", {f.where_px.x(), f.where_px.y()}},
+                        {"cells_not_computable", f.cells_not_computable}});
     }
     u["worst"] = ranges;  // 1, 2, 4 m, then the judged range
     const UncertaintyMap& m = report.uncertainty_map;
@@ -140,6 +141,26 @@ std::string CalibrationReportJson(const CalibrationReport& report,
     for (double v : m.worst_px) map_px.push_back(std::isfinite(v) ? json(v) : json(nullptr));
     u["map"] = {{"range_m", m.range_m}, {"cells_x", m.cells_x}, {"cells_y", m.cells_y},
                 {"worst_px", map_px}};
+    // Var(q) of every cell (xx, xy, yy; px^2, null where not computable) at
+    // 1, 2 and 4 m: what the floor report needs to carry the intrinsics'
+    // uncertainty to the floor.
+    json covariance_maps = json::array();
+    for (std::size_t i = 0; i + 1 < report.uncertainty_maps.size(); ++i) {
+      const UncertaintyMap& cm = report.uncertainty_maps[i];
+      json cells = json::array();
+      for (const Eigen::Matrix2d& c : cm.covariance_px2) {
+        if (c.allFinite()) {
+          cells.push_back({c(0, 0), c(0, 1), c(1, 1)});
+        } else {
+          cells.push_back(nullptr);
+        }
+      }
+      covariance_maps.push_back({{"range_m", cm.range_m},
+                                 {"cells_x", cm.cells_x},
+                                 {"cells_y", cm.cells_y},
+                                 {"covariance_px2", cells}});
+    }
+    u["covariance_maps"] = covariance_maps;
     j["projection_uncertainty"] = u;
   } else {
     j["projection_uncertainty"] = {{"error", calibration.covariance_error}};

@@ -189,13 +189,15 @@ std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibr
     << Fmt("%.3f px", r.observed_pixel_sigma_px)
     << " (from the residuals). mm: the same error on a surface facing the camera at that "
        "range.</p><table><tr><th>range</th><th>worst px</th><th>worst mm</th><th>at pixel</th>"
-       "</tr>";
+       "<th>cells not computable</th></tr>";
   for (std::size_t i = 0; i + 1 < r.uncertainty.size(); ++i) {
     const UncertaintyFigure& f = r.uncertainty[i];
     h << "<tr><td style='text-align:left'>" << Fmt("%.0f m", f.range_m) << "</td><td"
       << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
       << Fmt("%.3f", f.worst_px) << "</td><td>" << Fmt("%.2f", f.worst_mm) << "</td><td>"
-      << Fmt("%.0f", f.where_px.x()) << ", " << Fmt("%.0f", f.where_px.y()) << "</td></tr>";
+      << Fmt("%.0f", f.where_px.x()) << ", " << Fmt("%.0f", f.where_px.y()) << "</td><td"
+      << (f.cells_not_computable > 0 ? " class='bad'" : "") << ">" << f.cells_not_computable
+      << "</td></tr>";
   }
   h << "</table><p>Judged at " << Fmt("%.1f m", judged.range_m) << ": worst "
     << Fmt("%.3f px", judged.worst_px) << ", limit "

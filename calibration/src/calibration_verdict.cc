@@ -8,14 +8,14 @@
 #include <numeric>
 
 #include "groundline/calibration/calibration_report.h"
+#include "imager_zones.h"
 
 namespace groundline::calibration {
 namespace {
 
 constexpr const char* kQuadrantNames[4] = {"top-left", "top-right", "bottom-left", "bottom-right"};
-constexpr const char* kBorderNames[8] = {"top-left corner", "top edge",    "top-right corner",
-                                         "left edge",       "right edge",  "bottom-left corner",
-                                         "bottom edge",     "bottom-right corner"};
+using internal::BorderZone;
+using internal::kBorderZoneNames;
 
 std::string Fixed(double value, int decimals, const char* unit) {
   char text[48];
@@ -23,17 +23,6 @@ std::string Fixed(double value, int decimals, const char* unit) {
   return text;
 }
 std::string Px(double value) { return Fixed(value, 3, "px"); }
-
-// Zone of the outer ring (kBorderNames order) or -1 inside it.
-int BorderZone(const Eigen::Vector2d& q, int w, int h, double fraction) {
-  const double bx = fraction * w, by = fraction * h;
-  const int col = q.x() < bx - 0.5 ? 0 : (q.x() > w - 0.5 - bx ? 2 : 1);
-  const int row = q.y() < by - 0.5 ? 0 : (q.y() > h - 0.5 - by ? 2 : 1);
-  if (row == 1 && col == 1) return -1;
-  if (row == 0) return col;
-  if (row == 1) return col == 0 ? 3 : 4;
-  return 5 + col;
-}
 
 // Where a pixel is, in the words of the advice.
 std::string RegionName(const Eigen::Vector2d& q, int w, int h) {
@@ -80,16 +69,18 @@ void CountCorners(const IntrinsicCalibration& calibration, const ReportThreshold
 UncertaintyFigure WorstOnFloor(const UncertaintyMap& map, int w, int h, double floor_top_fraction) {
   UncertaintyFigure worst;
   worst.range_m = map.range_m;
-  worst.worst_px = -1.0;
+  worst.worst_px = 0.0;
   for (int iy = 0; iy < map.cells_y; ++iy) {
     for (int ix = 0; ix < map.cells_x; ++ix) {
       const Eigen::Vector2d c = map.CellCentre(ix, iy, w, h);
       if (c.y() < floor_top_fraction * h) continue;
       const double px = map.worst_px[iy * map.cells_x + ix];
-      // A cell whose figure cannot be computed counts as infinitely uncertain.
-      const double value = std::isfinite(px) ? px : std::numeric_limits<double>::infinity();
-      if (value > worst.worst_px) {
-        worst.worst_px = value;
+      if (!std::isfinite(px)) {
+        if (worst.cells_not_computable++ == 0) worst.first_not_computable_px = c;
+        continue;
+      }
+      if (px > worst.worst_px) {
+        worst.worst_px = px;
         worst.worst_mm = map.worst_mm[iy * map.cells_x + ix];
         worst.where_px = c;
       }
@@ -182,11 +173,11 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
     const int depth_pct = static_cast<int>(std::lround(100.0 * t.border_fraction));
     for (int z = 0; z < 8; ++z) {
       if (report.border_corners[z] >= t.min_corners_per_border_zone) continue;
-      fail(std::string("image ") + kBorderNames[z] + " (outer " + std::to_string(depth_pct) +
+      fail(std::string("image ") + kBorderZoneNames[z] + " (outer " + std::to_string(depth_pct) +
                "%): " + std::to_string(report.border_corners[z]) + " corners < " +
                std::to_string(t.min_corners_per_border_zone),
            std::string("capture views with the board pushed into the image's ") +
-               kBorderNames[z] + ", its corners within " + std::to_string(depth_pct) +
+               kBorderZoneNames[z] + ", its corners within " + std::to_string(depth_pct) +
                "% of the image border");
     }
   }
@@ -210,10 +201,22 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
     for (double range_m : {1.0, 2.0, 4.0, t.uncertainty_range_m}) {
       UncertaintyMap map = ComputeUncertaintyMap(calibration, range_m, kMapX, kMapY);
       report.uncertainty.push_back(WorstOnFloor(map, w, h, t.floor_top_fraction));
+      report.uncertainty_maps.push_back(map);
       report.uncertainty_map = std::move(map);  // the last: uncertainty_range_m
     }
     const UncertaintyFigure& judged = report.uncertainty.back();
-    if (!(judged.worst_px <= t.max_projection_uncertainty_px)) {
+    if (judged.cells_not_computable > 0) {
+      const Eigen::Vector2d& q = judged.first_not_computable_px;
+      fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") + " cannot be computed in " +
+               std::to_string(judged.cells_not_computable) + " of " +
+               std::to_string(report.uncertainty_map.cells_x * report.uncertainty_map.cells_y) +
+               " map cells, first at pixel " + std::to_string(static_cast<int>(q.x())) + "," +
+               std::to_string(static_cast<int>(q.y())) +
+               " (the solved lens model does not map those pixels back to rays)",
+           "capture views with the board in the image's " + RegionName(q, w, h) +
+               ": no corner constrained the lens there");
+    }
+    if (judged.worst_px > t.max_projection_uncertainty_px) {
       fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") + " " +
                Px(judged.worst_px) + " (1 sigma, worst direction, at pixel " +
                std::to_string(static_cast<int>(judged.where_px.x())) + "," +

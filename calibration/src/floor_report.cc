@@ -57,6 +57,29 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     field = "camera_fingerprint";
     s.camera_fingerprint = j.value(field, "");
     field = "projection_uncertainty";
+    if (j.contains(field) && j.at(field).contains("covariance_maps")) {
+      for (const nlohmann::json& m : j.at(field).at("covariance_maps")) {
+        IntrinsicsReportSummary::CovarianceMap map;
+        map.range_m = m.at("range_m").get<double>();
+        map.cells_x = m.at("cells_x").get<int>();
+        map.cells_y = m.at("cells_y").get<int>();
+        for (const nlohmann::json& c : m.at("covariance_px2")) {
+          Eigen::Matrix2d v = Eigen::Matrix2d::Constant(std::nan(""));
+          if (!c.is_null()) {
+            const std::array<double, 3> xy = c.get<std::array<double, 3>>();
+            v << xy[0], xy[1], xy[1], xy[2];
+          }
+          map.covariance_px2.push_back(v);
+        }
+        if (map.cells_x < 1 || map.cells_y < 1 ||
+            map.covariance_px2.size() != static_cast<std::size_t>(map.cells_x) * map.cells_y) {
+          throw nlohmann::json::other_error::create(501, "covariance map size mismatch", &m);
+        }
+        s.covariance_maps.push_back(std::move(map));
+      }
+      std::sort(s.covariance_maps.begin(), s.covariance_maps.end(),
+                [](const auto& a, const auto& b) { return a.range_m < b.range_m; });
+    }
     if (j.contains(field) && j.at(field).contains("worst")) {
       const nlohmann::json& worst = j.at(field).at("worst");
       for (std::size_t i = 0; i + 1 < worst.size(); ++i) {
@@ -197,6 +220,18 @@ std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOpt
         {"rms_px", intrinsics->rms_px},     {"worst_px", intrinsics->worst_px},
         {"views", intrinsics->views}};
     report["overall_verdict"] = c.pass && intrinsics->pass ? "PASS" : "FAIL";
+    json budget = json::array();
+    for (const BevErrorBudget& b : c.bev_budget) {
+      budget.push_back({{"distance_m", b.distance_m},
+                        {"known", b.known},
+                        {"pixel", {b.pixel.x(), b.pixel.y()}},
+                        {"range_m", b.range_m},
+                        {"extrinsics_rms_mm", b.extrinsics_rms_mm},
+                        {"intrinsics_rms_mm", b.intrinsics_rms_mm},
+                        {"total_rms_mm", b.total_rms_mm},
+                        {"total_sigma3_mm", b.total_sigma3_mm}});
+    }
+    report["bev_error_budget"] = budget;
   }
   return report.dump(2) + "\n";
 }

@@ -100,6 +100,7 @@ UncertaintyMap ComputeUncertaintyMap(const IntrinsicCalibration& calibration, do
   const double nan = std::numeric_limits<double>::quiet_NaN();
   map.worst_px.assign(static_cast<std::size_t>(cells_x) * cells_y, nan);
   map.worst_mm.assign(map.worst_px.size(), nan);
+  map.covariance_px2.assign(map.worst_px.size(), Eigen::Matrix2d::Constant(nan));
   const int w = calibration.camera.width_px();
   const int h = calibration.camera.height_px();
   for (int iy = 0; iy < cells_y; ++iy) {
@@ -109,6 +110,7 @@ UncertaintyMap ComputeUncertaintyMap(const IntrinsicCalibration& calibration, do
       if (!u.ok()) continue;
       map.worst_px[iy * cells_x + ix] = u->worst_px;
       map.worst_mm[iy * cells_x + ix] = u->worst_mm;
+      map.covariance_px2[iy * cells_x + ix] = u->covariance_px2;
     }
   }
   return map;

@@ -78,6 +78,11 @@ struct UncertaintyFigure {
   double worst_px = 0.0;
   double worst_mm = 0.0;  // projection_uncertainty.h: lateral, face on
   Eigen::Vector2d where_px = Eigen::Vector2d::Zero();  // cell centre of the worst
+  // Cells where it cannot be computed (the solved lens model does not
+  // unproject there: it folds back where no corner constrained it); they fail
+  // the rule. first_not_computable_px: the first such cell's centre.
+  int cells_not_computable = 0;
+  Eigen::Vector2d first_not_computable_px = Eigen::Vector2d::Zero();
 };
 
 struct CalibrationReport {
@@ -99,8 +104,11 @@ struct CalibrationReport {
   double max_tilt_about_vertical_deg = 0.0;
   double max_tilt_about_horizontal_deg = 0.0;
   // Worst figures at 1, 2 and 4 m and at uncertainty_range_m (last), and the
-  // map at uncertainty_range_m; empty when the calibration has no covariance.
+  // maps at the same ranges (uncertainty_map: the last); empty when the
+  // calibration has no covariance. report.json carries the 2x2 covariance
+  // of every map cell, which the commissioning report carries to the floor.
   std::vector<UncertaintyFigure> uncertainty;
+  std::vector<UncertaintyMap> uncertainty_maps;
   UncertaintyMap uncertainty_map;
   double observed_pixel_sigma_px = 0.0;
   std::vector<std::string> live_missing;  // as given

@@ -60,6 +60,7 @@ struct UncertaintyMap {
   int cells_y = 0;
   std::vector<double> worst_px;
   std::vector<double> worst_mm;
+  std::vector<Eigen::Matrix2d> covariance_px2;  // NaN where not computable
   // Centre of cell (ix, iy), px.
   Eigen::Vector2d CellCentre(int ix, int iy, int width_px, int height_px) const;
 };
