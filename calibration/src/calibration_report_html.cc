@@ -130,47 +130,67 @@ std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& 
   return s.str();
 }
 
-// The projection-uncertainty map: cells shaded from white (0) through
-// yellow (the limit) to dark red (3x the limit and beyond), with the value in
-// each cell; the rows above the floor part of the imager are hatched grey.
+// Colour of a projection uncertainty against its limit: light to mid green
+// up to the limit, then yellow through red to dark red at 30x the limit and
+// beyond, on a log scale (the values span two decades and more).
+std::string UncertaintyColour(double value_px, double limit_px) {
+  if (!std::isfinite(value_px)) return "#888888";
+  const auto mix = [](const int a[3], const int b[3], double t) {
+    char text[16];
+    std::snprintf(text, sizeof(text), "#%02x%02x%02x", static_cast<int>(a[0] + t * (b[0] - a[0])),
+                  static_cast<int>(a[1] + t * (b[1] - a[1])),
+                  static_cast<int>(a[2] + t * (b[2] - a[2])));
+    return std::string(text);
+  };
+  static constexpr int kPale[3] = {241, 248, 233}, kGreen[3] = {124, 179, 66};
+  static constexpr int kYellow[3] = {255, 235, 59}, kDarkRed[3] = {127, 0, 0};
+  const double ratio = value_px / limit_px;
+  if (ratio <= 1.0) return mix(kPale, kGreen, ratio);
+  return mix(kYellow, kDarkRed, std::min(1.0, std::log10(ratio) / std::log10(30.0)));
+}
+
+// The projection-uncertainty map: one cell per map cell, coloured by
+// UncertaintyColour, every fourth cell labelled with its value (px); the
+// rows above the floor part of the imager are shaded; a legend below.
 std::string UncertaintySvg(const CalibrationReport& r, const IntrinsicCalibration& c) {
   const UncertaintyMap& m = r.uncertainty_map;
   const double scale = kPlotWidth / c.camera.width_px();
   const double w = kPlotWidth, h = c.camera.height_px() * scale;
   const double limit = r.thresholds.max_projection_uncertainty_px;
+  const double cw = w / m.cells_x, ch = h / m.cells_y;
   std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h << "'>";
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h + 40 << "'>";
   for (int y = 0; y < m.cells_y; ++y) {
     for (int x = 0; x < m.cells_x; ++x) {
       const double v = m.worst_px[y * m.cells_x + x];
-      std::string colour = "#888";
-      if (std::isfinite(v)) {
-        const double t = std::min(1.0, v / (3.0 * limit));  // 1/3: the limit
-        const int red = t < 1.0 / 3 ? 255 : static_cast<int>(255 - 120 * (t - 1.0 / 3) * 1.5);
-        const int green = t < 1.0 / 3 ? static_cast<int>(255 - 40 * 3 * t)
-                                      : static_cast<int>(215 * (1.0 - (t - 1.0 / 3) * 1.5));
-        const int blue = t < 1.0 / 3 ? static_cast<int>(255 * (1.0 - 3 * t)) : 0;
-        char text[16];
-        std::snprintf(text, sizeof(text), "#%02x%02x%02x", std::clamp(red, 0, 255),
-                      std::clamp(green, 0, 255), std::clamp(blue, 0, 255));
-        colour = text;
-      }
-      const double cx = x * w / m.cells_x, cy = y * h / m.cells_y;
-      s << "<rect x='" << Fmt("%.1f", cx) << "' y='" << Fmt("%.1f", cy) << "' width='"
-        << Fmt("%.2f", w / m.cells_x) << "' height='" << Fmt("%.2f", h / m.cells_y) << "' fill='"
-        << colour << "'><title>" << Fmt("%.3f px", v) << "</title></rect>";
-      if (x % 2 == 0 && y % 2 == 0 && std::isfinite(v)) {
-        s << "<text x='" << Fmt("%.1f", cx + w / m.cells_x) << "' y='"
-          << Fmt("%.1f", cy + h / m.cells_y + 4) << "' font-size='9' text-anchor='middle'>"
-          << Fmt(v < 10 ? "%.2f" : "%.0f", v) << "</text>";
-      }
+      s << "<rect x='" << Fmt("%.1f", x * cw) << "' y='" << Fmt("%.1f", y * ch) << "' width='"
+        << Fmt("%.2f", cw + 0.3) << "' height='" << Fmt("%.2f", ch + 0.3) << "' fill='"
+        << UncertaintyColour(v, limit) << "'><title>" << Fmt("%.3f px", v) << "</title></rect>";
+    }
+  }
+  for (int y = 1; y < m.cells_y; y += 4) {
+    for (int x = 1; x < m.cells_x; x += 4) {
+      const double v = m.worst_px[y * m.cells_x + x];
+      s << "<text x='" << Fmt("%.1f", (x + 0.5) * cw) << "' y='" << Fmt("%.1f", (y + 0.5) * ch + 4)
+        << "' font-size='12' text-anchor='middle' stroke='#fff' stroke-width='3' "
+           "paint-order='stroke'>"
+        << (std::isfinite(v) ? Fmt(v < 10 ? "%.2f" : "%.0f", v) : std::string("?")) << "</text>";
     }
   }
   if (r.thresholds.floor_top_fraction > 0.0) {
     s << "<rect width='" << w << "' height='" << r.thresholds.floor_top_fraction * h
       << "' fill='#000' fill-opacity='0.35'><title>not floor</title></rect>";
   }
-  s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
+  s << "<rect width='" << w << "' height='" << h << "' fill='none' stroke='#888'/>";
+  const double legend[6] = {0.0, 0.5, 1.0, 3.0, 10.0, 30.0};  // x the limit
+  for (int i = 0; i < 6; ++i) {
+    const double x = 10 + i * 105;
+    s << "<rect x='" << x << "' y='" << h + 12 << "' width='22' height='16' fill='"
+      << UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit)
+      << "' stroke='#888'/><text x='" << x + 28 << "' y='" << h + 25 << "' font-size='12'>"
+      << Fmt("%.3g px", legend[i] * limit) << "</text>";
+  }
+  s << "</svg>";
   return s.str();
 }
 
@@ -203,7 +223,7 @@ std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibr
     << Fmt("%.3f px", judged.worst_px) << ", limit "
     << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px)
     << ". Map at " << Fmt("%.1f m", r.uncertainty_map.range_m)
-    << " (px; white 0, yellow = the limit, dark red 3x the limit or more):</p>"
+    << " (px, 1 sigma; green: within the limit, yellow to dark red: above it, up to 30x):</p>"
     << UncertaintySvg(r, c);
   return h.str();
 }
