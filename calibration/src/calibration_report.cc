@@ -127,6 +127,15 @@ std::string CalibrationReportJson(const CalibrationReport& report,
         "worst-direction error over the floor rows of the imager; mm are lateral, on a plane "
         "facing the camera at that range";
     u["observed_pixel_sigma_px"] = report.observed_pixel_sigma_px;
+    // 1-sigma of each intrinsic parameter (same order as "intrinsics"). The
+    // parameters are correlated; the projection figures are the ones to judge.
+    std::vector<double> sigma;
+    const CalibrationCovariance& cov = *calibration.covariance;
+    for (std::size_t k = 0; k < calibration.camera.intrinsics().size(); ++k) {
+      const int i = cov.state_index_intrinsics + static_cast<int>(k);
+      sigma.push_back(std::sqrt(std::max(0.0, cov.covariance(i, i))));
+    }
+    j["intrinsics_sigma"] = sigma;
     json ranges = json::array();
     for (const UncertaintyFigure& f : report.uncertainty) {
       ranges.push_back({{"range_m", f.range_m},

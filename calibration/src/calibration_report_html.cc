@@ -285,6 +285,14 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
   }
   h << "<h2>Intrinsics</h2><p style='font-family:monospace'>";
   for (double v : c.camera.intrinsics()) h << Fmt("%.6g", v) << " ";
+  if (c.covariance) {
+    h << "</p><p>1&sigma; of each (correlated: judge the projection uncertainty below, not "
+         "these):</p><p style='font-family:monospace'>";
+    for (std::size_t k = 0; k < c.camera.intrinsics().size(); ++k) {
+      const int i = c.covariance->state_index_intrinsics + static_cast<int>(k);
+      h << Fmt("%.3g", std::sqrt(std::max(0.0, c.covariance->covariance(i, i)))) << " ";
+    }
+  }
   h << "</p><p>OpenCV calibrateCamera seed (5 terms): RMS " << Fmt("%.4f px", c.opencv_seed.rms_px)
     << ", fx fy cx cy = ";
   for (int i = 0; i < 4; ++i) h << Fmt("%.3f ", c.opencv_seed.intrinsics[i]);
