@@ -55,10 +55,10 @@ void AddIntrinsicsToBev(const CameraModel& camera, const IntrinsicsReportSummary
     Eigen::Matrix2d J_floor_pixel;
     if (q.ok() && camera.InImage(*q) && floor.FloorPointOfPixel(*q, &J_floor_pixel).ok()) {
       b.pixel = *q;
-      b.range_m = (floor.T_base_cam().inverse() * Eigen::Vector3d(point.x(), point.y(), 0.0)).norm();
-      const Eigen::Matrix2d var_q =
-          CovarianceAt(intrinsics.covariance_maps, *q, b.range_m, camera.width_px(),
-                       camera.height_px());
+      b.range_m =
+          (floor.T_base_cam().inverse() * Eigen::Vector3d(point.x(), point.y(), 0.0)).norm();
+      const Eigen::Matrix2d var_q = CovarianceAt(intrinsics.covariance_maps, *q, b.range_m,
+                                                 camera.width_px(), camera.height_px());
       if (var_q.allFinite() && std::isfinite(e.rms_mm)) {
         const Eigen::Matrix2d intr = J_floor_pixel * var_q * J_floor_pixel.transpose();
         const Eigen::Matrix2d total = intr + e.cov_floor_m2;

@@ -33,11 +33,11 @@ core::Result<CalibrationCovariance> ComputeCalibrationCovariance(const MrcalProb
   for (int i = 0; i < n_views; ++i) observations[i] = {{0, -1}, i};
   const mrcal_problem_selections_t& sel = p.selections;
   const int n_state = mrcal_num_states(1, 0, n_views, 0, 0, n_views, sel, &p.lensmodel);
-  const int n_meas = mrcal_num_measurements(n_views, 0, grid.width_n, grid.height_n, 1, 0,
-                                            n_views, 0, 0, sel, &p.lensmodel);
+  const int n_meas = mrcal_num_measurements(n_views, 0, grid.width_n, grid.height_n, 1, 0, n_views,
+                                            0, 0, sel, &p.lensmodel);
   const int n_obs = mrcal_num_measurements_boards(n_views, grid.width_n, grid.height_n);
-  const int nnz = _mrcal_num_j_nonzero(n_views, 0, grid.width_n, grid.height_n, 1, 0, n_views, 0,
-                                       0, observations.data(), nullptr, sel, &p.lensmodel);
+  const int nnz = _mrcal_num_j_nonzero(n_views, 0, grid.width_n, grid.height_n, 1, 0, n_views, 0, 0,
+                                       observations.data(), nullptr, sel, &p.lensmodel);
   std::vector<double> b_packed(n_state), x(n_meas), jx(nnz);
   std::vector<int> jp(n_meas + 1), ji(nnz);
   cholmod_sparse Jt{};
@@ -54,12 +54,12 @@ core::Result<CalibrationCovariance> ComputeCalibrationCovariance(const MrcalProb
   Jt.sorted = 1;
   Jt.packed = 1;
   const mrcal_problem_constants_t constants = {-1.0, -1.0};
-  if (!mrcal_optimizer_callback(
-          b_packed.data(), n_state * static_cast<int>(sizeof(double)), x.data(),
-          n_meas * static_cast<int>(sizeof(double)), &Jt, p.intrinsics.data(), nullptr,
-          p.frames.data(), nullptr, &p.warp, 1, 0, n_views, 0, 0, observations.data(), nullptr,
-          n_views, 0, p.pool.data(), &p.lensmodel, p.imagersize, sel, &constants, grid.pitch_m,
-          grid.width_n, grid.height_n, false)) {
+  if (!mrcal_optimizer_callback(b_packed.data(), n_state * static_cast<int>(sizeof(double)),
+                                x.data(), n_meas * static_cast<int>(sizeof(double)), &Jt,
+                                p.intrinsics.data(), nullptr, p.frames.data(), nullptr, &p.warp, 1,
+                                0, n_views, 0, 0, observations.data(), nullptr, n_views, 0,
+                                p.pool.data(), &p.lensmodel, p.imagersize, sel, &constants,
+                                grid.pitch_m, grid.width_n, grid.height_n, false)) {
     return core::Status::Error("mrcal could not evaluate the solved problem's Jacobian");
   }
   // J (n_meas x n_state, packed state) from the columns of J'.

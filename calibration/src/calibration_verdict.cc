@@ -26,8 +26,8 @@ std::string Px(double value) { return Fixed(value, 3, "px"); }
 
 // Where a pixel is, in the words of the advice.
 std::string RegionName(const Eigen::Vector2d& q, int w, int h) {
-  static constexpr const char* kNames[9] = {"top-left", "top",    "top-right",
-                                            "left",     "centre", "right",
+  static constexpr const char* kNames[9] = {"top-left",    "top",    "top-right",
+                                            "left",        "centre", "right",
                                             "bottom-left", "bottom", "bottom-right"};
   const int col = std::clamp(static_cast<int>(3.0 * (q.x() + 0.5) / w), 0, 2);
   const int row = std::clamp(static_cast<int>(3.0 * (q.y() + 0.5) / h), 0, 2);
@@ -44,7 +44,8 @@ void CountCorners(const IntrinsicCalibration& calibration, const ReportThreshold
     for (std::size_t j = 0; j < v.observed_px.size(); ++j) {
       if (v.outlier[j]) continue;
       const Eigen::Vector2d& q = v.observed_px[j];
-      ++report->quadrant_corners[(q.x() >= 0.5 * (w - 1) ? 1 : 0) + (q.y() >= 0.5 * (h - 1) ? 2 : 0)];
+      ++report
+            ->quadrant_corners[(q.x() >= 0.5 * (w - 1) ? 1 : 0) + (q.y() >= 0.5 * (h - 1) ? 2 : 0)];
       const int cx = std::clamp(static_cast<int>((q.x() + 0.5) / w * kCx), 0, kCx - 1);
       const int cy = std::clamp(static_cast<int>((q.y() + 0.5) / h * kCy), 0, kCy - 1);
       ++report->coverage[cy * kCx + cx];
@@ -58,8 +59,8 @@ void CountCorners(const IntrinsicCalibration& calibration, const ReportThreshold
                                             : Eigen::Matrix3d::Identity())
                                   .col(2);
     constexpr double kDeg = 180.0 / 3.14159265358979323846;
-    report->max_tilt_about_vertical_deg =
-        std::max(report->max_tilt_about_vertical_deg, std::atan2(std::abs(n.x()), std::abs(n.z())) * kDeg);
+    report->max_tilt_about_vertical_deg = std::max(
+        report->max_tilt_about_vertical_deg, std::atan2(std::abs(n.x()), std::abs(n.z())) * kDeg);
     report->max_tilt_about_horizontal_deg = std::max(
         report->max_tilt_about_horizontal_deg, std::atan2(std::abs(n.y()), std::abs(n.z())) * kDeg);
   }
@@ -162,8 +163,8 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
   if (t.require_all_quadrants) {
     for (int q = 0; q < 4; ++q) {
       if (report.quadrant_corners[q] >= t.min_corners_per_quadrant) continue;
-      fail(std::string(kQuadrantNames[q]) + " quadrant: " +
-               std::to_string(report.quadrant_corners[q]) + " corners < " +
+      fail(std::string(kQuadrantNames[q]) +
+               " quadrant: " + std::to_string(report.quadrant_corners[q]) + " corners < " +
                std::to_string(t.min_corners_per_quadrant),
            std::string("take more views with the board in the ") + kQuadrantNames[q] +
                " of the image, close to its corner and edges");
@@ -207,8 +208,8 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
     const UncertaintyFigure& judged = report.uncertainty.back();
     if (judged.cells_not_computable > 0) {
       const Eigen::Vector2d& q = judged.first_not_computable_px;
-      fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") + " cannot be computed in " +
-               std::to_string(judged.cells_not_computable) + " of " +
+      fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") +
+               " cannot be computed in " + std::to_string(judged.cells_not_computable) + " of " +
                std::to_string(report.uncertainty_map.cells_x * report.uncertainty_map.cells_y) +
                " map cells, first at pixel " + std::to_string(static_cast<int>(q.x())) + "," +
                std::to_string(static_cast<int>(q.y())) +
@@ -222,8 +223,7 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
                std::to_string(static_cast<int>(judged.where_px.x())) + "," +
                std::to_string(static_cast<int>(judged.where_px.y())) + ") > " +
                Px(t.max_projection_uncertainty_px),
-           "capture more views with the board in the image's " +
-               RegionName(judged.where_px, w, h) +
+           "capture more views with the board in the image's " + RegionName(judged.where_px, w, h) +
                " (where the camera is least certain), some of them nearer the working "
                "distance");
     }

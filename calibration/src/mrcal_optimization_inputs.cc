@@ -85,10 +85,10 @@ std::string Zip(const std::vector<std::pair<std::string, std::string>>& members)
     const std::uint32_t crc = Crc32(data);
     const std::uint32_t offset = static_cast<std::uint32_t>(out.size());
     const auto common = [&](std::string* s) {
-      PutU16(s, 20);  // version needed: 2.0
-      PutU16(s, 0);   // flags
-      PutU16(s, 0);   // method: stored
-      PutU16(s, 0);   // time
+      PutU16(s, 20);    // version needed: 2.0
+      PutU16(s, 0);     // flags
+      PutU16(s, 0);     // method: stored
+      PutU16(s, 0);     // time
       PutU16(s, 0x21);  // date: 1980-01-01
       PutU32(s, crc);
       PutU32(s, static_cast<std::uint32_t>(data.size()));
@@ -169,7 +169,8 @@ std::string MrcalOptimizationInputsBase85(const IntrinsicCalibration& cal) {
   for (int i = 0; i < n_views; ++i) {
     const ViewResult& v = cal.views[i];
     frames.insert(frames.end(), v.rt_cam_board.begin(), v.rt_cam_board.end());
-    for (int g = 0; g < n_grid; ++g) observations[(static_cast<std::size_t>(i) * n_grid + g) * 3 + 2] = -1.0;
+    for (int g = 0; g < n_grid; ++g)
+      observations[(static_cast<std::size_t>(i) * n_grid + g) * 3 + 2] = -1.0;
     for (std::size_t j = 0; j < v.grid_index.size(); ++j) {
       double* o = &observations[(static_cast<std::size_t>(i) * n_grid + v.grid_index[j]) * 3];
       o[0] = v.observed_px[j].x();
@@ -193,11 +194,10 @@ std::string MrcalOptimizationInputsBase85(const IntrinsicCalibration& cal) {
       {"indices_point_camintrinsics_camextrinsics", NpyNone()},
       {"lensmodel", NpyStrings({cal.camera.lens_model()}, true)},
       {"imagersizes", NpyInts({cal.camera.width_px(), cal.camera.height_px()}, {1, 2})},
-      {"calobject_warp", cal.summary.board_warp_m
-                             ? NpyDoubles({(*cal.summary.board_warp_m)[0],
-                                           (*cal.summary.board_warp_m)[1]},
-                                          {2})
-                             : NpyNone()},
+      {"calobject_warp",
+       cal.summary.board_warp_m
+           ? NpyDoubles({(*cal.summary.board_warp_m)[0], (*cal.summary.board_warp_m)[1]}, {2})
+           : NpyNone()},
       {"do_optimize_intrinsics_core", NpyBool(true)},
       {"do_optimize_intrinsics_distortions", NpyBool(has_distortion)},
       {"do_optimize_extrinsics", NpyBool(true)},

@@ -80,8 +80,7 @@ core::Result<ProjectionUncertainty> ProjectionUncertaintyOfPoint(
 
 core::Result<ProjectionUncertainty> ProjectionUncertaintyOfPixel(
     const IntrinsicCalibration& calibration, const Eigen::Vector2d& q, double range_m) {
-  core::Result<Eigen::Vector3d> ray =
-      calibration.camera.Unproject(q, RayNormalization::kUnitNorm);
+  core::Result<Eigen::Vector3d> ray = calibration.camera.Unproject(q, RayNormalization::kUnitNorm);
   if (!ray.ok()) return ray.status();
   return ProjectionUncertaintyOfPoint(calibration, range_m * ray->normalized());
 }

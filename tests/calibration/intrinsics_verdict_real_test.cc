@@ -57,8 +57,8 @@ TEST(IntrinsicsVerdictReal, ThirteenViewsStateTheUncertaintyAndFailForTheEmptyOu
   EXPECT_EQ(report.failures[0], "13 views < 20");
   // OpenCV's 13 views never reach the outer ring's corners.
   for (int zone : {0, 2, 5, 7}) EXPECT_EQ(report.border_corners[zone], 0) << zone;
-  EXPECT_TRUE(HasLineStartingWith(report.failures,
-                                  "image bottom-right corner (outer 10%): 0 corners < 5"));
+  EXPECT_TRUE(
+      HasLineStartingWith(report.failures, "image bottom-right corner (outer 10%): 0 corners < 5"));
   // Tilt is fine on these views (the solved boards turn 35-40 deg).
   EXPECT_GT(report.max_tilt_about_vertical_deg, 30.0);
   EXPECT_GT(report.max_tilt_about_horizontal_deg, 30.0);
