@@ -159,9 +159,10 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
         std::printf("  BEV error %.0f m ahead: intrinsics part not known\n", b.distance_m);
         continue;
       }
-      std::printf("  BEV error %.0f m ahead (1 sigma): mount %.2f mm, intrinsics %.2f mm, both "
-                  "%.2f mm\n",
-                  b.distance_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm, b.total_rms_mm);
+      std::printf(
+          "  BEV error %.0f m ahead (1 sigma): mount %.2f mm, intrinsics %.2f mm, both "
+          "%.2f mm\n",
+          b.distance_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm, b.total_rms_mm);
     }
     std::printf("intrinsics (%s): %s\ncommissioning: %s\n", intrinsics->source.c_str(),
                 intrinsics->pass ? "PASS" : "FAIL",

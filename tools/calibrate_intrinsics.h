@@ -26,7 +26,7 @@ struct IntrinsicsFlags {
   bool no_board_warp = false;
   bool no_outlier_rejection = false;
   // Live only.
-  int min_views = 0;  // 0: the report's min_views (one rule for guidance and verdict)
+  int min_views = 0;        // 0: the report's min_views (one rule for guidance and verdict)
   int max_views = 0;        // 0: no limit
   double duration_s = 0.0;  // 0: no limit
   double timeout_s = 5.0;   // wait for one frame

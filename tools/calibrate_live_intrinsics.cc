@@ -142,9 +142,10 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
   std::vector<std::string> missing;
   if (coverage && !coverage->Complete()) {
     missing = coverage->Missing();
-    std::printf("  coverage incomplete (%s), solving anyway (the report will FAIL); still "
-                "missing:\n",
-                coverage->StatusLine().c_str());
+    std::printf(
+        "  coverage incomplete (%s), solving anyway (the report will FAIL); still "
+        "missing:\n",
+        coverage->StatusLine().c_str());
     for (const std::string& m : missing) std::printf("    %s\n", m.c_str());
   }
   if (views.size() < 3) {

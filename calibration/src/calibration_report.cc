@@ -44,22 +44,20 @@ core::Status ReportThresholds::Validate() const {
 
 core::Result<ReportThresholds> ReadReportThresholds(const std::filesystem::path& path) {
   ReportThresholds t;
-  if (core::Status s =
-          internal::ReadConfigSection(path, "intrinsics_report",
-                                      {{"min_views", &t.min_views},
-                                       {"max_rms_px", &t.max_rms_px},
-                                       {"max_worst_px", &t.max_worst_px},
-                                       {"require_all_quadrants", &t.require_all_quadrants},
-                                       {"min_corners_per_quadrant", &t.min_corners_per_quadrant},
-                                       {"require_border_coverage", &t.require_border_coverage},
-                                       {"border_fraction", &t.border_fraction},
-                                       {"min_corners_per_border_zone",
-                                        &t.min_corners_per_border_zone},
-                                       {"min_tilt_deg", &t.min_tilt_deg},
-                                       {"max_projection_uncertainty_px",
-                                        &t.max_projection_uncertainty_px},
-                                       {"uncertainty_range_m", &t.uncertainty_range_m},
-                                       {"floor_top_fraction", &t.floor_top_fraction}});
+  if (core::Status s = internal::ReadConfigSection(
+          path, "intrinsics_report",
+          {{"min_views", &t.min_views},
+           {"max_rms_px", &t.max_rms_px},
+           {"max_worst_px", &t.max_worst_px},
+           {"require_all_quadrants", &t.require_all_quadrants},
+           {"min_corners_per_quadrant", &t.min_corners_per_quadrant},
+           {"require_border_coverage", &t.require_border_coverage},
+           {"border_fraction", &t.border_fraction},
+           {"min_corners_per_border_zone", &t.min_corners_per_border_zone},
+           {"min_tilt_deg", &t.min_tilt_deg},
+           {"max_projection_uncertainty_px", &t.max_projection_uncertainty_px},
+           {"uncertainty_range_m", &t.uncertainty_range_m},
+           {"floor_top_fraction", &t.floor_top_fraction}});
       !s.ok()) {
     return s;
   }
@@ -108,14 +106,11 @@ std::string CalibrationReportJson(const CalibrationReport& report,
                      {"floor_top_fraction", t.floor_top_fraction}};
   j["camera_fingerprint"] = report.camera_fingerprint;
   j["views_count"] = calibration.views.size();
-  j["border_corners"] = {{"top_left", report.border_corners[0]},
-                         {"top", report.border_corners[1]},
-                         {"top_right", report.border_corners[2]},
-                         {"left", report.border_corners[3]},
-                         {"right", report.border_corners[4]},
-                         {"bottom_left", report.border_corners[5]},
-                         {"bottom", report.border_corners[6]},
-                         {"bottom_right", report.border_corners[7]}};
+  j["border_corners"] = {
+      {"top_left", report.border_corners[0]},  {"top", report.border_corners[1]},
+      {"top_right", report.border_corners[2]}, {"left", report.border_corners[3]},
+      {"right", report.border_corners[4]},     {"bottom_left", report.border_corners[5]},
+      {"bottom", report.border_corners[6]},    {"bottom_right", report.border_corners[7]}};
   j["max_tilt_deg"] = {{"about_vertical", report.max_tilt_about_vertical_deg},
                        {"about_horizontal", report.max_tilt_about_horizontal_deg}};
   j["live_missing"] = report.live_missing;
@@ -148,7 +143,9 @@ std::string CalibrationReportJson(const CalibrationReport& report,
     const UncertaintyMap& m = report.uncertainty_map;
     json map_px = json::array();
     for (double v : m.worst_px) map_px.push_back(std::isfinite(v) ? json(v) : json(nullptr));
-    u["map"] = {{"range_m", m.range_m}, {"cells_x", m.cells_x}, {"cells_y", m.cells_y},
+    u["map"] = {{"range_m", m.range_m},
+                {"cells_x", m.cells_x},
+                {"cells_y", m.cells_y},
                 {"worst_px", map_px}};
     // Var(q) of every cell (xx, xy, yy; px^2, null where not computable) at
     // 1, 2 and 4 m: what the floor report needs to carry the intrinsics'

@@ -116,8 +116,8 @@ std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& 
   }
   // The outer ring the border rule counts, with each zone's count.
   const double bx = r.thresholds.border_fraction * w, by = r.thresholds.border_fraction * h;
-  s << "<rect x='" << bx << "' y='" << by << "' width='" << w - 2 * bx << "' height='"
-    << h - 2 * by << "' fill='none' stroke='#555' stroke-dasharray='6 4'/>";
+  s << "<rect x='" << bx << "' y='" << by << "' width='" << w - 2 * bx << "' height='" << h - 2 * by
+    << "' fill='none' stroke='#555' stroke-dasharray='6 4'/>";
   const double zx[8] = {bx / 2, w / 2, w - bx / 2, bx / 2, w - bx / 2, bx / 2, w / 2, w - bx / 2};
   const double zy[8] = {by / 2, by / 2, by / 2, h / 2, h / 2, h - by / 2, h - by / 2, h - by / 2};
   for (int z = 0; z < 8; ++z) {
@@ -186,9 +186,9 @@ std::string UncertaintySvg(const CalibrationReport& r, const IntrinsicCalibratio
   for (int i = 0; i < 6; ++i) {
     const double x = 10 + i * 105;
     s << "<rect x='" << x << "' y='" << h + 12 << "' width='22' height='16' fill='"
-      << UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit)
-      << "' stroke='#888'/><text x='" << x + 28 << "' y='" << h + 25 << "' font-size='12'>"
-      << Fmt("%.3g px", legend[i] * limit) << "</text>";
+      << UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit) << "' stroke='#888'/><text x='"
+      << x + 28 << "' y='" << h + 25 << "' font-size='12'>" << Fmt("%.3g px", legend[i] * limit)
+      << "</text>";
   }
   s << "</svg>";
   return s.str();
@@ -221,8 +221,8 @@ std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibr
   }
   h << "</table><p>Judged at " << Fmt("%.1f m", judged.range_m) << ": worst "
     << Fmt("%.3f px", judged.worst_px) << ", limit "
-    << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px)
-    << ". Map at " << Fmt("%.1f m", r.uncertainty_map.range_m)
+    << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px) << ". Map at "
+    << Fmt("%.1f m", r.uncertainty_map.range_m)
     << " (px, 1 sigma; green: within the limit, yellow to dark red: above it, up to 30x):</p>"
     << UncertaintySvg(r, c);
   return h.str();
@@ -269,8 +269,8 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
     << Fmt("%.0f deg", r.thresholds.min_tilt_deg) << "</td></tr>";
   if (!r.uncertainty.empty()) {
     const UncertaintyFigure& f = r.uncertainty.back();
-    h << "<tr><td style='text-align:left'>projection uncertainty at "
-      << Fmt("%.1f m", f.range_m) << " (worst, floor part)</td><td"
+    h << "<tr><td style='text-align:left'>projection uncertainty at " << Fmt("%.1f m", f.range_m)
+      << " (worst, floor part)</td><td"
       << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
       << Fmt("%.3f px", f.worst_px) << "</td><td>"
       << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px) << "</td></tr>";

@@ -93,9 +93,9 @@ TEST(CalibrationReport, TooFewViewsFailAndSayHowManyMoreToCapture) {
 
 TEST(CalibrationReport, WhatTheLiveGuidanceStillMissedIsAFailure) {
   const IntrinsicCalibration cal = Calibrate(false);
-  const CalibrationReport report = BuildCalibrationReport(
-      cal, "grid", {}, ReportThresholds{},
-      {"hold the board in the image's top-left (1 of 10 corners)"});
+  const CalibrationReport report =
+      BuildCalibrationReport(cal, "grid", {}, ReportThresholds{},
+                             {"hold the board in the image's top-left (1 of 10 corners)"});
   EXPECT_FALSE(report.pass);
   ASSERT_EQ(report.failures.size(), 1u);
   EXPECT_EQ(report.failures[0],
@@ -188,13 +188,15 @@ TEST(CalibrationReport, TheCombinedReportRefusesAnotherCamerasIntrinsics) {
   const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
   const std::filesystem::path dir = groundline::testing::ScratchDir("same_camera");
   ASSERT_TRUE(WriteCalibrationOutputs(dir, report, cal).ok());
-  const core::Result<IntrinsicsReportSummary> summary = ReadIntrinsicsReportSummary(dir / "report.json");
+  const core::Result<IntrinsicsReportSummary> summary =
+      ReadIntrinsicsReportSummary(dir / "report.json");
   ASSERT_TRUE(summary.ok()) << summary.message();
   const core::Result<MrcalCameraModelFile> own = ReadMrcalCameraModel(dir / "camera.cameramodel");
   ASSERT_TRUE(own.ok());
   EXPECT_TRUE(CheckSameCamera(*summary, own->camera, "camera.cameramodel").ok());
 
-  const CameraModel big = *CameraModel::Create("LENSMODEL_OPENCV8", cal.camera.intrinsics(), 1280, 1024);
+  const CameraModel big =
+      *CameraModel::Create("LENSMODEL_OPENCV8", cal.camera.intrinsics(), 1280, 1024);
   const core::Status size = CheckSameCamera(*summary, big, "scene/camera.cameramodel");
   ASSERT_FALSE(size.ok());
   EXPECT_NE(size.message().find("is for a 640x480 px imager, the camera model is 1280x1024 px"),
@@ -203,8 +205,9 @@ TEST(CalibrationReport, TheCombinedReportRefusesAnotherCamerasIntrinsics) {
   EXPECT_NE(size.message().find("scene/camera.cameramodel"), std::string::npos);
 
   const CameraModel opencv5 = *CameraModel::Create(
-      "LENSMODEL_OPENCV5", std::vector<double>(cal.camera.intrinsics().begin(),
-                                               cal.camera.intrinsics().begin() + 9), 640, 480);
+      "LENSMODEL_OPENCV5",
+      std::vector<double>(cal.camera.intrinsics().begin(), cal.camera.intrinsics().begin() + 9),
+      640, 480);
   const core::Status lens = CheckSameCamera(*summary, opencv5, "b.cameramodel");
   ASSERT_FALSE(lens.ok());
   EXPECT_NE(lens.message().find("lens model LENSMODEL_OPENCV8 in the report"), std::string::npos)

@@ -319,19 +319,22 @@ TEST(BevErrorBudget, IntrinsicsUncertaintyIsCarriedToTheFloorThroughTheMount) {
     EXPECT_NEAR((b.pixel - q).norm(), 0.0, 1e-9);
     double sum_sq = 0.0;
     for (const Eigen::Vector2d& step : {Eigen::Vector2d(0.5, 0), Eigen::Vector2d(0, 0.5)}) {
-      sum_sq += (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
-                    .squaredNorm();
+      sum_sq +=
+          (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
+              .squaredNorm();
     }
     const double expected_mm = 1000.0 * kSigmaPx * std::sqrt(sum_sq);
     EXPECT_NEAR(b.intrinsics_rms_mm, expected_mm, 0.01 * expected_mm) << b.distance_m;
-    EXPECT_NEAR(b.total_rms_mm * b.total_rms_mm,
-                b.intrinsics_rms_mm * b.intrinsics_rms_mm + b.extrinsics_rms_mm * b.extrinsics_rms_mm,
-                1e-9 * b.total_rms_mm * b.total_rms_mm);
+    EXPECT_NEAR(
+        b.total_rms_mm * b.total_rms_mm,
+        b.intrinsics_rms_mm * b.intrinsics_rms_mm + b.extrinsics_rms_mm * b.extrinsics_rms_mm,
+        1e-9 * b.total_rms_mm * b.total_rms_mm);
     EXPECT_GT(b.intrinsics_rms_mm, 0.0);
-    std::printf("BEV %.0f m ahead: pixel %.0f,%.0f range %.2f m, mount %.3f mm, intrinsics "
-                "(0.5 px) %.3f mm, both %.3f mm\n",
-                b.distance_m, b.pixel.x(), b.pixel.y(), b.range_m, b.extrinsics_rms_mm,
-                b.intrinsics_rms_mm, b.total_rms_mm);
+    std::printf(
+        "BEV %.0f m ahead: pixel %.0f,%.0f range %.2f m, mount %.3f mm, intrinsics "
+        "(0.5 px) %.3f mm, both %.3f mm\n",
+        b.distance_m, b.pixel.x(), b.pixel.y(), b.range_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm,
+        b.total_rms_mm);
   }
   // Between the maps' ranges the variance is linear in range; a cell without
   // a covariance leaves the point unknown.
@@ -342,8 +345,9 @@ TEST(BevErrorBudget, IntrinsicsUncertaintyIsCarriedToTheFloorThroughTheMount) {
     const Eigen::Vector2d q = b.pixel;
     double sum_sq = 0.0;
     for (const Eigen::Vector2d& step : {Eigen::Vector2d(0.5, 0), Eigen::Vector2d(0, 0.5)}) {
-      sum_sq += (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
-                    .squaredNorm();
+      sum_sq +=
+          (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
+              .squaredNorm();
     }
     const double var = (b.range_m - 0.5) / 99.5;
     EXPECT_NEAR(b.intrinsics_rms_mm, 1000.0 * std::sqrt(var * sum_sq),

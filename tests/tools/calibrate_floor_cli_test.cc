@@ -126,12 +126,13 @@ TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRecti
     return std::string(R"({"format": "groundline-intrinsics-report", "verdict": "FAIL",)") +
            R"( "failures": ["bottom-left quadrant: 3 corners < 10"],)"
            R"( "advice": ["take more views with the board in the bottom-left of the image"],)"
-           R"( "target": "grid", "lens_model": ")" + scene_camera.lens_model() +
+           R"( "target": "grid", "lens_model": ")" +
+           scene_camera.lens_model() +
            R"(", "rms_px": 0.21, "worst_px": 1.1, "views": [{}, {}],)"
            R"( "quadrant_corners": {"top_left": 40, "top_right": 41, "bottom_left": 3,)"
-           R"( "bottom_right": 44}, "imager_size_px": [)" + std::to_string(width) + ", " +
-           std::to_string(height) + R"(], "intrinsics": [1, 2, 3, 4], "camera_fingerprint": ")" +
-           fingerprint + "\"}";
+           R"( "bottom_right": 44}, "imager_size_px": [)" +
+           std::to_string(width) + ", " + std::to_string(height) +
+           R"(], "intrinsics": [1, 2, 3, 4], "camera_fingerprint": ")" + fingerprint + "\"}";
   };
   std::ofstream(dir / "intrinsics.json")
       << intrinsics_json(scene_camera.width_px(), scene_camera.height_px(),

@@ -76,7 +76,7 @@ struct RejectedImage {
 struct UncertaintyFigure {
   double range_m = 0.0;
   double worst_px = 0.0;
-  double worst_mm = 0.0;  // projection_uncertainty.h: lateral, face on
+  double worst_mm = 0.0;                               // projection_uncertainty.h: lateral, face on
   Eigen::Vector2d where_px = Eigen::Vector2d::Zero();  // cell centre of the worst
   // Cells where it cannot be computed (the solved lens model does not
   // unproject there: it folds back where no corner constrained it); they fail

@@ -90,7 +90,7 @@ struct BevErrorBudget {
   double intrinsics_rms_mm = 0.0;
   double total_rms_mm = 0.0;
   double total_sigma3_mm = 0.0;  // 3 sqrt(largest eigenvalue) of the sum
-  bool known = false;  // false: the point is off the image or its Var(q) is unknown
+  bool known = false;            // false: the point is off the image or its Var(q) is unknown
 };
 
 struct FloorCalibration {

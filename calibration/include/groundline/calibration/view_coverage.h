@@ -52,8 +52,8 @@ namespace groundline::calibration {
 struct ViewCoverageOptions {
   int min_views = 12;
   int min_corners_per_region = 10;
-  double border_fraction = 0.1;          // as ReportThresholds
-  int min_corners_per_border_zone = 5;   // as ReportThresholds; 0: off
+  double border_fraction = 0.1;         // as ReportThresholds
+  int min_corners_per_border_zone = 5;  // as ReportThresholds; 0: off
   double min_tilt_deg = 20.0;
   double min_distance_ratio = 1.3;
   double duplicate_motion_fraction = 0.02;
