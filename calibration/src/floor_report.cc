@@ -89,8 +89,13 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
       }
     }
   } catch (const nlohmann::json::exception& e) {
-    return core::Status::Error(where + ": field '" + field + "': missing or malformed (" +
-                               e.what() + ")");
+    const std::string f = field;
+    const bool newer = f == "imager_size_px" || f == "intrinsics";
+    return core::Status::Error(where + ": field '" + f + "': missing or malformed (" + e.what() +
+                               ")" +
+                               (newer ? "; the camera check needs it: rerun `groundline calibrate "
+                                        "intrinsics` to write a current report"
+                                      : ""));
   }
   return s;
 }
