@@ -223,7 +223,12 @@ std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOpt
         {"failures", intrinsics->failures}, {"advice", intrinsics->advice},
         {"target", intrinsics->target},     {"lens_model", intrinsics->lens_model},
         {"rms_px", intrinsics->rms_px},     {"worst_px", intrinsics->worst_px},
-        {"views", intrinsics->views}};
+        {"views", intrinsics->views},       {"camera_fingerprint", intrinsics->camera_fingerprint}};
+    json uncertainty = json::array();
+    for (const std::array<double, 3>& u : intrinsics->projection_uncertainty) {
+      uncertainty.push_back({{"range_m", u[0]}, {"worst_px", u[1]}, {"worst_mm", u[2]}});
+    }
+    report["intrinsics"]["projection_uncertainty"] = uncertainty;
     report["overall_verdict"] = c.pass && intrinsics->pass ? "PASS" : "FAIL";
     json budget = json::array();
     for (const BevErrorBudget& b : c.bev_budget) {

@@ -51,7 +51,14 @@ void IntrinsicsSection(const IntrinsicsReportSummary& s, std::ostringstream& h) 
     << Fixed(s.rms_px, 4) << " px</td></tr><tr><td class='l'>worst residual</td><td>"
     << Fixed(s.worst_px, 4) << " px</td></tr><tr><td class='l'>corners per image quadrant "
     << "(TL TR BL BR)</td><td>" << s.quadrant_corners[0] << " " << s.quadrant_corners[1] << " "
-    << s.quadrant_corners[2] << " " << s.quadrant_corners[3] << "</td></tr></table>\n";
+    << s.quadrant_corners[2] << " " << s.quadrant_corners[3] << "</td></tr>";
+  for (const std::array<double, 3>& u : s.projection_uncertainty) {
+    h << "<tr><td class='l'>projection uncertainty at " << Fixed(u[0], 0)
+      << " m (worst, 1&sigma;)</td><td>" << Fixed(u[1], 3) << " px, " << Fixed(u[2], 2)
+      << " mm face on</td></tr>";
+  }
+  h << "</table><p>Camera fingerprint " << XmlEscape(s.camera_fingerprint)
+    << " (the same as --camera's).</p>\n";
   FailuresAndAdvice(s.failures, s.advice, h);
 }
 
