@@ -46,6 +46,8 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
                                                    int n, double noise_px, unsigned seed,
                                                    bool top_left_only = false,
                                                    bool reach_borders = false) {
+  // Positions for a 640 x 480 imager, scaled to the camera's.
+  const double sx = camera.width_px() / 640.0, sy = camera.height_px() / 480.0;
   const double border_u[8] = {40, 320, 600, 40, 600, 40, 320, 600};
   const double border_v[8] = {30, 30, 30, 240, 240, 450, 450, 450};
   int border_slot = reach_borders ? 0 : 8, slot_tries = 0;
@@ -56,13 +58,13 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
   std::vector<CalibrationView> views;
   for (int v = 0; views.size() < static_cast<std::size_t>(n) && v < 50 * n; ++v) {
     double z = 0.45 + 0.15 * u(rng);
-    Eigen::Vector2d centre_px(320 + 200 * u(rng), 240 + 150 * u(rng));
+    Eigen::Vector2d centre_px(sx * (320 + 200 * u(rng)), sy * (240 + 150 * u(rng)));
     if (top_left_only) {  // a small board image (~190 px wide) kept in the top-left
       z = 1.0 + 0.05 * u(rng);
-      centre_px = {130 + 40 * u(rng), 95 + 30 * u(rng)};
+      centre_px = {sx * (130 + 40 * u(rng)), sy * (95 + 30 * u(rng))};
     } else if (border_slot < 8) {  // farther: a smaller board image fits the corner
       z = 0.7 + 0.1 * u(rng);
-      centre_px = {border_u[border_slot], border_v[border_slot]};
+      centre_px = {sx * border_u[border_slot], sy * border_v[border_slot]};
       if (++slot_tries > 30) ++border_slot, slot_tries = 0;  // give this slot up
     }
     const Eigen::Vector3d centre = *camera.Unproject(centre_px, RayNormalization::kZEqualsOne) * z;
