@@ -43,7 +43,9 @@ under `floor_report:` (docs/calibration.md), the flags override it.
 intrinsics result in: one commissioning report with both verdicts, and the
 exit code is 0 only when both pass. It is refused (exit 1) when the report is
 for another camera than --camera: another imager size, lens model or model
-fingerprint.
+fingerprint. With it the report also states the BEV error budget 1, 2 and
+4 m ahead: the floor error from the mount, from the intrinsics (the report's
+projection-uncertainty map carried to the floor) and from both.
 Exit code 0 on PASS, 1 on FAIL or a data error (malformed layout, unreadable
 image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
