@@ -41,7 +41,11 @@ image's corner RMS <= --max-rms (default 0.5 px), every tag's corner RMS
 under `floor_report:` (docs/calibration.md), the flags override it.
 --intrinsics-report DIR/report.json (from `calibrate intrinsics`) folds the
 intrinsics result in: one commissioning report with both verdicts, and the
-exit code is 0 only when both pass.
+exit code is 0 only when both pass. It is refused (exit 1) when the report is
+for another camera than --camera: another imager size, lens model or model
+fingerprint. With it the report also states the BEV error budget 1, 2 and
+4 m ahead: the floor error from the mount, from the intrinsics (the report's
+projection-uncertainty map carried to the floor) and from both.
 Exit code 0 on PASS, 1 on FAIL or a data error (malformed layout, unreadable
 image, no tags), 2 on usage errors.
 Images without any layout tag are skipped with a warning; tags never seen warn.
@@ -84,6 +88,10 @@ int RunCalibrateFloor(const CalibrateFloorFlags& flags) {
   if (!flags.intrinsics_report.empty()) {  // fail before a live session, not after it
     const auto read = calibration::ReadIntrinsicsReportSummary(flags.intrinsics_report);
     if (!read.ok()) return fail(read.message());
+    if (core::Status same = calibration::CheckSameCamera(*read, *camera, flags.camera);
+        !same.ok()) {
+      return fail(same.message());
+    }
   }
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline calibrate floor: %s\n", s.message().c_str());
@@ -114,6 +122,7 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
   core::Result<calibration::FloorCalibration> result =
       calibration::CalibrateFloor(camera, layout, image_dir, options);
   if (!result.ok()) return fail(result.message());
+  if (intrinsics) calibration::AddIntrinsicsToBev(camera, *intrinsics, &*result);
   for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   const std::filesystem::path out(flags.out);
@@ -147,6 +156,16 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
       result->bev[2].rms_mm, result->verdict.c_str());
   for (const std::string& a : result->advice) std::printf("  to do: %s\n", a.c_str());
   if (intrinsics) {
+    for (const calibration::BevErrorBudget& b : result->bev_budget) {
+      if (!b.known) {
+        std::printf("  BEV error %.0f m ahead: intrinsics part not known\n", b.distance_m);
+        continue;
+      }
+      std::printf(
+          "  BEV error %.0f m ahead (1 sigma): mount %.2f mm, intrinsics %.2f mm, both "
+          "%.2f mm\n",
+          b.distance_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm, b.total_rms_mm);
+    }
     std::printf("intrinsics (%s): %s\ncommissioning: %s\n", intrinsics->source.c_str(),
                 intrinsics->pass ? "PASS" : "FAIL",
                 result->pass && intrinsics->pass ? "PASS" : "FAIL");

@@ -26,7 +26,7 @@ struct IntrinsicsFlags {
   bool no_board_warp = false;
   bool no_outlier_rejection = false;
   // Live only.
-  int min_views = 12;
+  int min_views = 0;        // 0: the report's min_views (one rule for guidance and verdict)
   int max_views = 0;        // 0: no limit
   double duration_s = 0.0;  // 0: no limit
   double timeout_s = 5.0;   // wait for one frame
@@ -45,10 +45,12 @@ struct IntrinsicsSetup {
 int PrepareIntrinsics(const IntrinsicsFlags& flags, IntrinsicsSetup* setup);
 
 // Solves, writes the outputs into --out and prints the verdict; the exit code
-// (0 PASS, 1 FAIL or unusable data).
+// (0 PASS, 1 FAIL or unusable data). live_missing: what the live guidance
+// still asked for when the session stopped (each becomes a FAIL reason).
 int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup& setup,
                              const std::vector<calibration::CalibrationView>& views,
-                             std::vector<calibration::RejectedImage> rejected, cv::Size size);
+                             std::vector<calibration::RejectedImage> rejected, cv::Size size,
+                             std::vector<std::string> live_missing = {});
 
 // The live flow: frames from flags.live until the coverage is complete (or a
 // limit), then SolveAndReportIntrinsics.

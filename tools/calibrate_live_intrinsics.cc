@@ -41,7 +41,12 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
   IntrinsicsSetup setup;
   if (const int code = PrepareIntrinsics(flags, &setup); code != 0) return code;
   ViewCoverageOptions coverage_options;
-  coverage_options.min_views = flags.min_views;
+  // The guidance asks for what the report's verdict needs.
+  coverage_options.min_views = flags.min_views > 0 ? flags.min_views : setup.thresholds.min_views;
+  coverage_options.min_tilt_deg = setup.thresholds.min_tilt_deg;
+  coverage_options.border_fraction = setup.thresholds.border_fraction;
+  coverage_options.min_corners_per_border_zone =
+      setup.thresholds.require_border_coverage ? setup.thresholds.min_corners_per_border_zone : 0;
   if (core::Status s = coverage_options.Validate(); !s.ok()) {
     std::fprintf(stderr, "%s: --min-views: %s\n", kName, s.message().c_str());
     return 2;
@@ -134,17 +139,22 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
   for (const std::string& r : frames.stats().skipped_reasons) {
     std::fprintf(stderr, "  %s\n", r.c_str());
   }
+  std::vector<std::string> missing;
   if (coverage && !coverage->Complete()) {
-    std::printf("  coverage incomplete (%s), solving anyway; still missing:\n",
-                coverage->StatusLine().c_str());
-    for (const std::string& m : coverage->Missing()) std::printf("    %s\n", m.c_str());
+    missing = coverage->Missing();
+    std::printf(
+        "  coverage incomplete (%s), solving anyway (the report will FAIL); still "
+        "missing:\n",
+        coverage->StatusLine().c_str());
+    for (const std::string& m : missing) std::printf("    %s\n", m.c_str());
   }
   if (views.size() < 3) {
     std::fprintf(stderr, "%s: %zu views kept; at least 3 are needed to solve\n", kName,
                  views.size());
     return 1;
   }
-  return SolveAndReportIntrinsics(flags, setup, views, std::move(rejected), size);
+  return SolveAndReportIntrinsics(flags, setup, views, std::move(rejected), size,
+                                  std::move(missing));
 }
 
 }  // namespace groundline::tools

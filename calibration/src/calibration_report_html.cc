@@ -114,8 +114,118 @@ std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& 
     s << "<text x='" << qx[q] << "' y='" << qy[q] << "' font-size='20' text-anchor='middle' fill='"
       << (ok ? "#000" : "#d00") << "'>" << r.quadrant_corners[q] << "</text>";
   }
+  // The outer ring the border rule counts, with each zone's count.
+  const double bx = r.thresholds.border_fraction * w, by = r.thresholds.border_fraction * h;
+  s << "<rect x='" << bx << "' y='" << by << "' width='" << w - 2 * bx << "' height='" << h - 2 * by
+    << "' fill='none' stroke='#555' stroke-dasharray='6 4'/>";
+  const double zx[8] = {bx / 2, w / 2, w - bx / 2, bx / 2, w - bx / 2, bx / 2, w / 2, w - bx / 2};
+  const double zy[8] = {by / 2, by / 2, by / 2, h / 2, h / 2, h - by / 2, h - by / 2, h - by / 2};
+  for (int z = 0; z < 8; ++z) {
+    const bool ok = r.border_corners[z] >= r.thresholds.min_corners_per_border_zone;
+    s << "<text x='" << zx[z] << "' y='" << zy[z] + 5
+      << "' font-size='13' text-anchor='middle' font-style='italic' fill='"
+      << (ok ? "#000" : "#d00") << "'>" << r.border_corners[z] << "</text>";
+  }
   s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
   return s.str();
+}
+
+// Colour of a projection uncertainty against its limit: light to mid green
+// up to the limit, then yellow through red to dark red at 30x the limit and
+// beyond, on a log scale (the values span two decades and more).
+std::string UncertaintyColour(double value_px, double limit_px) {
+  if (!std::isfinite(value_px)) return "#888888";
+  const auto mix = [](const int a[3], const int b[3], double t) {
+    char text[16];
+    std::snprintf(text, sizeof(text), "#%02x%02x%02x", static_cast<int>(a[0] + t * (b[0] - a[0])),
+                  static_cast<int>(a[1] + t * (b[1] - a[1])),
+                  static_cast<int>(a[2] + t * (b[2] - a[2])));
+    return std::string(text);
+  };
+  static constexpr int kPale[3] = {241, 248, 233}, kGreen[3] = {124, 179, 66};
+  static constexpr int kYellow[3] = {255, 235, 59}, kDarkRed[3] = {127, 0, 0};
+  const double ratio = value_px / limit_px;
+  if (ratio <= 1.0) return mix(kPale, kGreen, ratio);
+  return mix(kYellow, kDarkRed, std::min(1.0, std::log10(ratio) / std::log10(30.0)));
+}
+
+// The projection-uncertainty map: one cell per map cell, coloured by
+// UncertaintyColour, every fourth cell labelled with its value (px); the
+// rows above the floor part of the imager are shaded; a legend below.
+std::string UncertaintySvg(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  const UncertaintyMap& m = r.uncertainty_map;
+  const double scale = kPlotWidth / c.camera.width_px();
+  const double w = kPlotWidth, h = c.camera.height_px() * scale;
+  const double limit = r.thresholds.max_projection_uncertainty_px;
+  const double cw = w / m.cells_x, ch = h / m.cells_y;
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << h + 40 << "'>";
+  for (int y = 0; y < m.cells_y; ++y) {
+    for (int x = 0; x < m.cells_x; ++x) {
+      const double v = m.worst_px[y * m.cells_x + x];
+      s << "<rect x='" << Fmt("%.1f", x * cw) << "' y='" << Fmt("%.1f", y * ch) << "' width='"
+        << Fmt("%.2f", cw + 0.3) << "' height='" << Fmt("%.2f", ch + 0.3) << "' fill='"
+        << UncertaintyColour(v, limit) << "'><title>" << Fmt("%.3f px", v) << "</title></rect>";
+    }
+  }
+  for (int y = 1; y < m.cells_y; y += 4) {
+    for (int x = 1; x < m.cells_x; x += 4) {
+      const double v = m.worst_px[y * m.cells_x + x];
+      s << "<text x='" << Fmt("%.1f", (x + 0.5) * cw) << "' y='" << Fmt("%.1f", (y + 0.5) * ch + 4)
+        << "' font-size='12' text-anchor='middle' stroke='#fff' stroke-width='3' "
+           "paint-order='stroke'>"
+        << (std::isfinite(v) ? Fmt(v < 10 ? "%.2f" : "%.0f", v) : std::string("?")) << "</text>";
+    }
+  }
+  if (r.thresholds.floor_top_fraction > 0.0) {
+    s << "<rect width='" << w << "' height='" << r.thresholds.floor_top_fraction * h
+      << "' fill='#000' fill-opacity='0.35'><title>not floor</title></rect>";
+  }
+  s << "<rect width='" << w << "' height='" << h << "' fill='none' stroke='#888'/>";
+  const double legend[6] = {0.0, 0.5, 1.0, 3.0, 10.0, 30.0};  // x the limit
+  for (int i = 0; i < 6; ++i) {
+    const double x = 10 + i * 105;
+    s << "<rect x='" << x << "' y='" << h + 12 << "' width='22' height='16' fill='"
+      << UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit) << "' stroke='#888'/><text x='"
+      << x + 28 << "' y='" << h + 25 << "' font-size='12'>" << Fmt("%.3g px", legend[i] * limit)
+      << "</text>";
+  }
+  s << "</svg>";
+  return s.str();
+}
+
+std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibration& c) {
+  std::ostringstream h;
+  h << "<h2>Projection uncertainty</h2>";
+  if (r.uncertainty.empty()) {
+    h << "<p class='bad'>Not computed: " << internal::XmlEscape(c.covariance_error) << "</p>";
+    return h.str();
+  }
+  const UncertaintyFigure& judged = r.uncertainty.back();
+  h << "<p>How far a point's pixel may be off because the calibration itself is uncertain "
+       "(mrcal's method: the covariance of the solve propagated to the projection of a point "
+       "at the given range, through the intrinsics and the board poses, mean over the views). "
+       "1 sigma, worst direction; corner noise sigma "
+    << Fmt("%.3f px", r.observed_pixel_sigma_px)
+    << " (from the residuals). mm: the same error on a surface facing the camera at that "
+       "range.</p><table><tr><th>range</th><th>worst px</th><th>worst mm</th><th>at pixel</th>"
+       "<th>cells not computable</th></tr>";
+  for (std::size_t i = 0; i + 1 < r.uncertainty.size(); ++i) {
+    const UncertaintyFigure& f = r.uncertainty[i];
+    h << "<tr><td style='text-align:left'>" << Fmt("%.0f m", f.range_m) << "</td><td"
+      << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
+      << Fmt("%.3f", f.worst_px) << "</td><td>" << Fmt("%.2f", f.worst_mm) << "</td><td>"
+      << Fmt("%.0f", f.where_px.x()) << ", " << Fmt("%.0f", f.where_px.y()) << "</td><td"
+      << (f.cells_not_computable > 0 ? " class='bad'" : "") << ">" << f.cells_not_computable
+      << "</td></tr>";
+  }
+  h << "</table><p>Judged at " << Fmt("%.1f m", judged.range_m) << ": worst "
+    << Fmt("%.3f px", judged.worst_px) << ", limit "
+    << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px) << ". Map at "
+    << Fmt("%.1f m", r.uncertainty_map.range_m)
+    << " (px, 1 sigma; green: within the limit, yellow to dark red: above it, up to 30x):</p>"
+    << UncertaintySvg(r, c);
+  return h.str();
 }
 
 }  // namespace
@@ -145,7 +255,27 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
     << "</td></tr><tr><td style='text-align:left'>worst residual |r|</td><td"
     << (s.worst_px > r.thresholds.max_worst_px ? " class='bad'" : "") << ">"
     << Fmt("%.4f px", s.worst_px) << "</td><td>" << Fmt("%.2f px", r.thresholds.max_worst_px)
-    << "</td></tr></table>";
+    << "</td></tr><tr><td style='text-align:left'>views</td><td"
+    << (static_cast<int>(c.views.size()) < r.thresholds.min_views ? " class='bad'" : "") << ">"
+    << c.views.size() << "</td><td>&ge; " << r.thresholds.min_views
+    << "</td></tr><tr><td style='text-align:left'>most board tilt about the vertical / "
+       "horizontal axis</td><td"
+    << (std::min(r.max_tilt_about_vertical_deg, r.max_tilt_about_horizontal_deg) <
+                r.thresholds.min_tilt_deg
+            ? " class='bad'"
+            : "")
+    << ">" << Fmt("%.1f", r.max_tilt_about_vertical_deg) << " / "
+    << Fmt("%.1f deg", r.max_tilt_about_horizontal_deg) << "</td><td>&ge; "
+    << Fmt("%.0f deg", r.thresholds.min_tilt_deg) << "</td></tr>";
+  if (!r.uncertainty.empty()) {
+    const UncertaintyFigure& f = r.uncertainty.back();
+    h << "<tr><td style='text-align:left'>projection uncertainty at " << Fmt("%.1f m", f.range_m)
+      << " (worst, floor part)</td><td"
+      << (f.worst_px > r.thresholds.max_projection_uncertainty_px ? " class='bad'" : "") << ">"
+      << Fmt("%.3f px", f.worst_px) << "</td><td>"
+      << Fmt("%.3f px", r.thresholds.max_projection_uncertainty_px) << "</td></tr>";
+  }
+  h << "</table><p>Camera fingerprint " << r.camera_fingerprint << "</p>";
   if (!r.pass) {
     h << "<h2>What failed and what to do</h2><ul>";
     for (const std::string& f : r.failures)
@@ -155,6 +285,14 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
   }
   h << "<h2>Intrinsics</h2><p style='font-family:monospace'>";
   for (double v : c.camera.intrinsics()) h << Fmt("%.6g", v) << " ";
+  if (c.covariance) {
+    h << "</p><p>1&sigma; of each (correlated: judge the projection uncertainty below, not "
+         "these):</p><p style='font-family:monospace'>";
+    for (std::size_t k = 0; k < c.camera.intrinsics().size(); ++k) {
+      const int i = c.covariance->state_index_intrinsics + static_cast<int>(k);
+      h << Fmt("%.3g", std::sqrt(std::max(0.0, c.covariance->covariance(i, i)))) << " ";
+    }
+  }
   h << "</p><p>OpenCV calibrateCamera seed (5 terms): RMS " << Fmt("%.4f px", c.opencv_seed.rms_px)
     << ", fx fy cx cy = ";
   for (int i = 0; i < 4; ++i) h << Fmt("%.3f ", c.opencv_seed.intrinsics[i]);
@@ -163,8 +301,10 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
   h << "<h2>Residual histogram (|r|, inliers)</h2>" << HistogramSvg(c, r.thresholds.max_worst_px);
   h << "<h2>Corner coverage over the imager</h2><p>Inlier corners per cell; the numbers are the "
        "quadrant totals (red: fewer than "
-    << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner.</p>"
-    << CoverageSvg(r, c);
+    << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner"
+    << ". In italics: the corners in each zone of the outer ring (dashed; red: fewer than "
+    << r.thresholds.min_corners_per_border_zone << ").</p>" << CoverageSvg(r, c)
+    << UncertaintySection(r, c);
   h << "<h2>Per-image residuals (worst first)</h2><table><tr><th>image</th><th>corners</th>"
        "<th>inliers</th><th>RMS px</th><th>worst px</th></tr>";
   for (int i : r.views_by_rms) {

@@ -19,6 +19,8 @@ namespace groundline::calibration {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+constexpr double kMaxMountHeightM = 5.0;
+constexpr double kMaxMountOffsetM = 10.0;
 
 double DegToRad(double deg) {
   // Keeps +-180 deg at exactly +-pi so that it passes CameraMount::Validate().
@@ -127,8 +129,19 @@ core::Result<CameraMount> ParseCameraMountYaml(const std::string& yaml_text,
     values[i] = *value;
   }
   const auto& [height_m, pitch_deg, roll_deg, yaw_deg, forward_m, lateral_m] = values;
-  if (height_m <= 0.0) {
-    return RangeError(source_name, root["height_m"], "height_m", "a height above the floor > 0");
+  // A camera on a vehicle: a height or offset beyond these is a unit mistake
+  // (mm or cm written as m) or a typo, not a mount.
+  if (!(height_m > 0.0 && height_m <= kMaxMountHeightM)) {
+    return RangeError(source_name, root["height_m"], "height_m",
+                      "a height above the floor in (0, 5] m (metres, not mm or cm)");
+  }
+  if (std::abs(forward_m) > kMaxMountOffsetM) {
+    return RangeError(source_name, root["forward_m"], "forward_m",
+                      "an offset ahead of base_link in [-10, 10] m (metres, not mm or cm)");
+  }
+  if (std::abs(lateral_m) > kMaxMountOffsetM) {
+    return RangeError(source_name, root["lateral_m"], "lateral_m",
+                      "an offset left of base_link in [-10, 10] m (metres, not mm or cm)");
   }
   if (std::abs(pitch_deg) >= 90.0) {
     return RangeError(source_name, root["pitch_deg"], "pitch_deg", "|pitch| < 90");

@@ -1,9 +1,11 @@
 // floor_report.json and the intrinsics summary it folds in (floor_calibration.h).
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "floor_report_rows.h"
+#include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
 #include "text_util.h"
 
@@ -48,11 +50,90 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     const nlohmann::json& q = j.at(field);
     s.quadrant_corners = {q.at("top_left").get<int>(), q.at("top_right").get<int>(),
                           q.at("bottom_left").get<int>(), q.at("bottom_right").get<int>()};
+    field = "imager_size_px";
+    s.imager_size_px = j.at(field).get<std::array<int, 2>>();
+    field = "intrinsics";
+    s.intrinsics = j.at(field).get<std::vector<double>>();
+    field = "camera_fingerprint";
+    s.camera_fingerprint = j.value(field, "");
+    field = "projection_uncertainty";
+    if (j.contains(field) && j.at(field).contains("covariance_maps")) {
+      for (const nlohmann::json& m : j.at(field).at("covariance_maps")) {
+        IntrinsicsReportSummary::CovarianceMap map;
+        map.range_m = m.at("range_m").get<double>();
+        map.cells_x = m.at("cells_x").get<int>();
+        map.cells_y = m.at("cells_y").get<int>();
+        for (const nlohmann::json& c : m.at("covariance_px2")) {
+          Eigen::Matrix2d v = Eigen::Matrix2d::Constant(std::nan(""));
+          if (!c.is_null()) {
+            const std::array<double, 3> xy = c.get<std::array<double, 3>>();
+            v << xy[0], xy[1], xy[1], xy[2];
+          }
+          map.covariance_px2.push_back(v);
+        }
+        if (map.cells_x < 1 || map.cells_y < 1 ||
+            map.covariance_px2.size() != static_cast<std::size_t>(map.cells_x) * map.cells_y) {
+          throw nlohmann::json::other_error::create(501, "covariance map size mismatch", &m);
+        }
+        s.covariance_maps.push_back(std::move(map));
+      }
+      std::sort(s.covariance_maps.begin(), s.covariance_maps.end(),
+                [](const auto& a, const auto& b) { return a.range_m < b.range_m; });
+    }
+    if (j.contains(field) && j.at(field).contains("worst")) {
+      const nlohmann::json& worst = j.at(field).at("worst");
+      for (std::size_t i = 0; i + 1 < worst.size(); ++i) {
+        s.projection_uncertainty.push_back({worst[i].at("range_m").get<double>(),
+                                            worst[i].at("worst_px").get<double>(),
+                                            worst[i].at("worst_mm").get<double>()});
+      }
+    }
   } catch (const nlohmann::json::exception& e) {
-    return core::Status::Error(where + ": field '" + field + "': missing or malformed (" +
-                               e.what() + ")");
+    const std::string f = field;
+    const bool newer = f == "imager_size_px" || f == "intrinsics";
+    return core::Status::Error(where + ": field '" + f + "': missing or malformed (" + e.what() +
+                               ")" +
+                               (newer ? "; the camera check needs it: rerun `groundline calibrate "
+                                        "intrinsics` to write a current report"
+                                      : ""));
   }
   return s;
+}
+
+core::Status CheckSameCamera(const IntrinsicsReportSummary& report, const CameraModel& camera,
+                             const std::string& camera_source) {
+  const std::string head = "--intrinsics-report " + report.source + " and --camera " +
+                           camera_source + " are not the same camera: ";
+  const std::string todo =
+      "; pass the report.json written by `groundline calibrate intrinsics` together with the "
+      ".cameramodel it wrote (the commissioning report must judge the camera that is mounted)";
+  const std::array<int, 2> size = {camera.width_px(), camera.height_px()};
+  if (report.imager_size_px != size) {
+    return core::Status::Error(
+        head + "the report is for a " + std::to_string(report.imager_size_px[0]) + "x" +
+        std::to_string(report.imager_size_px[1]) + " px imager, the camera model is " +
+        std::to_string(size[0]) + "x" + std::to_string(size[1]) + " px" + todo);
+  }
+  if (report.lens_model != camera.lens_model()) {
+    return core::Status::Error(head + "lens model " + report.lens_model + " in the report, " +
+                               camera.lens_model() + " in the camera model" + todo);
+  }
+  if (!report.camera_fingerprint.empty()) {
+    const std::string fingerprint = CameraFingerprint(camera);
+    if (report.camera_fingerprint != fingerprint) {
+      return core::Status::Error(head + "model fingerprint " + report.camera_fingerprint +
+                                 " in the report, " + fingerprint +
+                                 " for the camera model (different intrinsics)" + todo);
+    }
+    return core::Status::Ok();
+  }
+  const std::vector<double>& q = camera.intrinsics();
+  bool same = report.intrinsics.size() == q.size();
+  for (std::size_t i = 0; same && i < q.size(); ++i) {
+    same = std::abs(report.intrinsics[i] - q[i]) <= 1e-9 * std::max(1.0, std::abs(q[i]));
+  }
+  if (!same) return core::Status::Error(head + "the intrinsics differ" + todo);
+  return core::Status::Ok();
 }
 
 std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOptions& options,
@@ -142,8 +223,25 @@ std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOpt
         {"failures", intrinsics->failures}, {"advice", intrinsics->advice},
         {"target", intrinsics->target},     {"lens_model", intrinsics->lens_model},
         {"rms_px", intrinsics->rms_px},     {"worst_px", intrinsics->worst_px},
-        {"views", intrinsics->views}};
+        {"views", intrinsics->views},       {"camera_fingerprint", intrinsics->camera_fingerprint}};
+    json uncertainty = json::array();
+    for (const std::array<double, 3>& u : intrinsics->projection_uncertainty) {
+      uncertainty.push_back({{"range_m", u[0]}, {"worst_px", u[1]}, {"worst_mm", u[2]}});
+    }
+    report["intrinsics"]["projection_uncertainty"] = uncertainty;
     report["overall_verdict"] = c.pass && intrinsics->pass ? "PASS" : "FAIL";
+    json budget = json::array();
+    for (const BevErrorBudget& b : c.bev_budget) {
+      budget.push_back({{"distance_m", b.distance_m},
+                        {"known", b.known},
+                        {"pixel", {b.pixel.x(), b.pixel.y()}},
+                        {"range_m", b.range_m},
+                        {"extrinsics_rms_mm", b.extrinsics_rms_mm},
+                        {"intrinsics_rms_mm", b.intrinsics_rms_mm},
+                        {"total_rms_mm", b.total_rms_mm},
+                        {"total_sigma3_mm", b.total_sigma3_mm}});
+    }
+    report["bev_error_budget"] = budget;
   }
   return report.dump(2) + "\n";
 }

@@ -51,7 +51,14 @@ void IntrinsicsSection(const IntrinsicsReportSummary& s, std::ostringstream& h) 
     << Fixed(s.rms_px, 4) << " px</td></tr><tr><td class='l'>worst residual</td><td>"
     << Fixed(s.worst_px, 4) << " px</td></tr><tr><td class='l'>corners per image quadrant "
     << "(TL TR BL BR)</td><td>" << s.quadrant_corners[0] << " " << s.quadrant_corners[1] << " "
-    << s.quadrant_corners[2] << " " << s.quadrant_corners[3] << "</td></tr></table>\n";
+    << s.quadrant_corners[2] << " " << s.quadrant_corners[3] << "</td></tr>";
+  for (const std::array<double, 3>& u : s.projection_uncertainty) {
+    h << "<tr><td class='l'>projection uncertainty at " << Fixed(u[0], 0)
+      << " m (worst, 1&sigma;)</td><td>" << Fixed(u[1], 3) << " px, " << Fixed(u[2], 2)
+      << " mm face on</td></tr>";
+  }
+  h << "</table><p>Camera fingerprint " << XmlEscape(s.camera_fingerprint)
+    << " (the same as --camera's).</p>\n";
   FailuresAndAdvice(s.failures, s.advice, h);
 }
 
@@ -230,6 +237,27 @@ std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
       << " mm</td><td>" << Fixed(e.sigma3_mm, 2) << " mm</td></tr>\n";
   }
   h << "</table>\n";
+  if (!c.bev_budget.empty()) {
+    h << "<h3>BEV error budget: mount and intrinsics</h3><p>The floor position error (1&sigma; "
+         "RMS) at each BEV point from the mount's covariance and from the intrinsics' projection "
+         "uncertainty (the intrinsics report's map, carried to the floor through this mount); "
+         "the two are independent and add.</p><table><tr><th>ahead</th><th>seen at pixel</th>"
+         "<th>range</th><th>mount</th><th>intrinsics</th><th>both</th><th>both, 3&sigma; worst "
+         "direction</th></tr>\n";
+    for (const BevErrorBudget& b : c.bev_budget) {
+      h << "<tr><td>" << Fixed(b.distance_m, 0) << " m</td>";
+      if (!b.known) {
+        h << "<td colspan='6' class='l'>not known (the point is off the image, or the "
+             "intrinsics report has no uncertainty there)</td></tr>\n";
+        continue;
+      }
+      h << "<td>" << Fixed(b.pixel.x(), 0) << ", " << Fixed(b.pixel.y(), 0) << "</td><td>"
+        << Fixed(b.range_m, 2) << " m</td><td>" << Fixed(b.extrinsics_rms_mm, 2) << " mm</td><td>"
+        << Fixed(b.intrinsics_rms_mm, 2) << " mm</td><td>" << Fixed(b.total_rms_mm, 2)
+        << " mm</td><td>" << Fixed(b.total_sigma3_mm, 2) << " mm</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
   if (!c.rectified.grey.empty()) RectifiedSection(c, layout, h);
   BackProjectedSection(c, layout, camera, h);
 

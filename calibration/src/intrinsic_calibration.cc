@@ -8,7 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <sstream>
 
-#include "mrcal_adapter.h"
+#include "mrcal_problem.h"
 #include "text_util.h"
 
 // libmrcal 2.2's mrcal_optimize leaks its libdogleg solver context (and the
@@ -92,32 +92,27 @@ core::Result<OpenCvSeedResult> OpenCvSeed(const std::vector<CalibrationView>& vi
   return seed;
 }
 
-struct MrcalProblem {
-  mrcal_lensmodel_t lensmodel{};
-  std::vector<double> intrinsics;
-  std::vector<mrcal_pose_t> frames;
-  std::vector<mrcal_point3_t> pool;  // Nviews * H * W
-  mrcal_calobject_warp_t warp{};
-  int imagersize[2] = {0, 0};
-};
+}  // namespace
 
-mrcal_stats_t Solve(MrcalProblem* p, const BoardGrid& grid, mrcal_problem_selections_t selections,
-                    std::vector<double>* x, bool verbose) {
+namespace internal {
+
+mrcal_stats_t SolveMrcalProblem(MrcalProblem* p, const BoardGrid& grid, std::vector<double>* x,
+                                bool verbose) {
   const int n_views = static_cast<int>(p->frames.size());
   std::vector<mrcal_observation_board_t> observations(n_views);
   for (int i = 0; i < n_views; ++i) observations[i] = {{0, -1}, i};
   const mrcal_problem_constants_t constants = {-1.0, -1.0};
   const int n_x = mrcal_num_measurements(n_views, 0, grid.width_n, grid.height_n, 1, 0, n_views, 0,
-                                         0, selections, &p->lensmodel);
+                                         0, p->selections, &p->lensmodel);
   x->assign(n_x, 0.0);
   return mrcal_optimize(nullptr, 0, x->data(), n_x * static_cast<int>(sizeof(double)),
                         p->intrinsics.data(), nullptr, p->frames.data(), nullptr, &p->warp, 1, 0,
                         n_views, 0, 0, observations.data(), nullptr, n_views, 0, p->pool.data(),
-                        &p->lensmodel, p->imagersize, selections, &constants, grid.pitch_m,
+                        &p->lensmodel, p->imagersize, p->selections, &constants, grid.pitch_m,
                         grid.width_n, grid.height_n, verbose, false);
 }
 
-}  // namespace
+}  // namespace internal
 
 core::Status IntrinsicCalibrationOptions::Validate() const {
   if (!SupportedLens(lens_model)) {
@@ -153,7 +148,7 @@ core::Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<Calibra
                  options.seed_fix_aspect_ratio, &rvecs, &tvecs);
   if (!seed.ok()) return seed.status();
 
-  MrcalProblem p;
+  internal::MrcalProblem p;
   if (!mrcal_lensmodel_from_name(&p.lensmodel, options.lens_model.c_str())) {
     return core::Status::Error("mrcal does not know lens model " + options.lens_model);
   }
@@ -180,16 +175,16 @@ core::Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<Calibra
 
   // Stage 1: everything but the board flex, no outlier rejection; stage 2:
   // the full problem from there.
-  mrcal_problem_selections_t selections{};
+  mrcal_problem_selections_t& selections = p.selections;
   selections.do_optimize_intrinsics_core = true;
   selections.do_optimize_intrinsics_distortions = lens.distortions > 0;
   selections.do_optimize_frames = true;
   selections.do_apply_regularization = options.regularization;
   std::vector<double> x;
-  Solve(&p, grid, selections, &x, options.verbose);
+  internal::SolveMrcalProblem(&p, grid, &x, options.verbose);
   selections.do_optimize_calobject_warp = options.optimize_board_warp;
   selections.do_apply_outlier_rejection = options.outlier_rejection;
-  const mrcal_stats_t stats = Solve(&p, grid, selections, &x, options.verbose);
+  const mrcal_stats_t stats = internal::SolveMrcalProblem(&p, grid, &x, options.verbose);
 
   core::Result<CameraModel> camera =
       CameraModel::Create(options.lens_model, p.intrinsics, width_px, height_px);
@@ -197,7 +192,13 @@ core::Result<IntrinsicCalibration> CalibrateIntrinsics(const std::vector<Calibra
     return core::Status::Error("the mrcal solve gave an invalid camera (" + camera.message() +
                                "); check the views and the target definition");
   }
-  IntrinsicCalibration result{*camera, {}, {}, std::move(seed).value()};
+  IntrinsicCalibration result{*camera, {}, {}, std::move(seed).value(), grid, options, {}, {}};
+  if (core::Result<CalibrationCovariance> cov = internal::ComputeCalibrationCovariance(p, grid);
+      cov.ok()) {
+    result.covariance = std::move(cov).value();
+  } else {
+    result.covariance_error = cov.message();
+  }
   IntrinsicCalibrationSummary& s = result.summary;
   if (options.optimize_board_warp) s.board_warp_m = std::array<double, 2>{p.warp.x2, p.warp.y2};
   s.mrcal_rms_px = stats.rms_reproj_error__pixels;

@@ -83,7 +83,8 @@ core::Result<MrcalCameraModelFile> ReadMrcalCameraModel(const std::filesystem::p
 }
 
 core::Result<std::string> MrcalCameraModelToText(const CameraModel& camera,
-                                                 const std::array<double, 6>& rt_cam_ref) {
+                                                 const std::array<double, 6>& rt_cam_ref,
+                                                 const std::string& optimization_inputs_base85) {
   const std::vector<double>& intrinsics = camera.intrinsics();
   std::ostringstream out;
   out << "# Written by groundline: every number is the shortest text that reads back to the\n"
@@ -94,8 +95,15 @@ core::Result<std::string> MrcalCameraModelToText(const CameraModel& camera,
       << "    'intrinsics': " << NumberList(intrinsics.data(), intrinsics.size()) << ",\n\n"
       << "    # extrinsics are rt_cam_ref: Rodrigues rotation, then translation\n"
       << "    'extrinsics': " << NumberList(rt_cam_ref.data(), rt_cam_ref.size()) << ",\n\n"
-      << "    'imagersize': [ " << camera.width_px() << ", " << camera.height_px() << " ],\n"
-      << "}\n";
+      << "    'imagersize': [ " << camera.width_px() << ", " << camera.height_px() << " ],\n";
+  if (!optimization_inputs_base85.empty()) {
+    out << "\n    'icam_intrinsics': 0,\n\n"
+        << "    # The optimization inputs (mrcal's format: a numpy .npz, base85) hold the\n"
+        << "    # board observations and the solved state, for mrcal's tools (e.g.\n"
+        << "    # mrcal-show-projection-uncertainty). Editing the intrinsics invalidates them.\n"
+        << "    'optimization_inputs': b'" << optimization_inputs_base85 << "',\n";
+  }
+  out << "}\n";
   std::string text = out.str();
 
   // Refuse to emit anything mrcal would not read back exactly.
@@ -117,13 +125,15 @@ core::Result<std::string> MrcalCameraModelToText(const CameraModel& camera,
 }
 
 core::Status WriteMrcalCameraModel(const std::filesystem::path& path, const CameraModel& camera,
-                                   const std::array<double, 6>& rt_cam_ref) {
+                                   const std::array<double, 6>& rt_cam_ref,
+                                   const std::string& optimization_inputs_base85) {
   for (double value : rt_cam_ref) {
     if (!std::isfinite(value)) {
       return core::Status::Error(path.string() + ": refusing to write non-finite extrinsics");
     }
   }
-  core::Result<std::string> text = MrcalCameraModelToText(camera, rt_cam_ref);
+  core::Result<std::string> text =
+      MrcalCameraModelToText(camera, rt_cam_ref, optimization_inputs_base85);
   if (!text.ok()) return text.status().WithContext(path.string());
   return core::WriteFileAtomically(path, *text);
 }

@@ -8,6 +8,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "imager_zones.h"
+
 namespace groundline::calibration {
 namespace {
 
@@ -43,7 +45,11 @@ double MeanSharedMotion(const BoardObservation& a, const BoardObservation& b) {
 
 core::Status ViewCoverageOptions::Validate() const {
   if (min_views < 3) return core::Status::Error("ViewCoverageOptions: min_views must be >= 3");
-  if (min_corners_per_region < 0 || novelty_cells_x < 1 || novelty_cells_y < 1) {
+  if (!(border_fraction > 0.0 && border_fraction < 0.5)) {
+    return core::Status::Error("ViewCoverageOptions: border_fraction must be in (0, 0.5)");
+  }
+  if (min_corners_per_region < 0 || min_corners_per_border_zone < 0 || novelty_cells_x < 1 ||
+      novelty_cells_y < 1) {
     return core::Status::Error("ViewCoverageOptions: counts must be >= 0 and cells >= 1");
   }
   if (!(min_tilt_deg >= 0.0 && min_tilt_deg < 80.0) || !(tilt_bin_deg > 0.0) ||
@@ -197,7 +203,11 @@ ViewVerdict ViewCoverage::Consider(const BoardObservation& observation, double s
   cells_.insert(cells.begin(), cells.end());
   tilt_bins_.insert(tilt_bin);
   distance_bins_.insert(distance_bin);
-  for (const Eigen::Vector2d& q : observation.corners_px) ++region_corners_[Region(q)];
+  for (const Eigen::Vector2d& q : observation.corners_px) {
+    ++region_corners_[Region(q)];
+    const int zone = internal::BorderZone(q, width_px_, height_px_, options_.border_fraction);
+    if (zone >= 0) ++border_corners_[zone];
+  }
   views_.push_back({observation, *pose, sharpness});
   std::snprintf(text, sizeof(text),
                 "kept: %d new image cells, tilt %+.0f/%+.0f deg (vertical/horizontal axis), "
@@ -219,6 +229,20 @@ std::vector<std::string> ViewCoverage::Missing() const {
     }
   }
   if (!regions.empty()) missing.push_back("hold the board in the image's " + regions);
+  std::string zones;
+  for (int z = 0; z < 8; ++z) {
+    if (border_corners_[z] < options_.min_corners_per_border_zone) {
+      std::snprintf(text, sizeof(text), "%s%s (%d of %d)", zones.empty() ? "" : ", ",
+                    internal::kBorderZoneNames[z], border_corners_[z],
+                    options_.min_corners_per_border_zone);
+      zones += text;
+    }
+  }
+  if (!zones.empty()) {
+    std::snprintf(text, sizeof(text), "push the board's corners to within %.0f%% of the image's ",
+                  100.0 * options_.border_fraction);
+    missing.push_back(text + zones);
+  }
   double max_vertical = 0.0, max_horizontal = 0.0;
   double near_m = std::numeric_limits<double>::infinity(), far_m = 0.0;
   for (const KeptView& v : views_) {

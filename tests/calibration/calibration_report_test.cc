@@ -17,11 +17,13 @@
 namespace groundline::calibration {
 namespace {
 
-IntrinsicCalibration Calibrate(bool top_left_only, unsigned seed = 7) {
+// 24 views: above the report's default min_views (20).
+IntrinsicCalibration Calibrate(bool top_left_only, unsigned seed = 7, int n_views = 24) {
   const CalibTarget target = testing::SyntheticAprilGrid();
   const BoardGrid grid = MakeBoardGrid(target);
   const std::vector<CalibrationView> views = testing::SyntheticViews(
-      testing::TrueOpencv8Camera(), target, grid, 12, 0.1, seed, top_left_only);
+      testing::TrueOpencv8Camera(), target, grid, n_views, 0.1, seed, top_left_only,
+      /*reach_borders=*/!top_left_only);
   core::Result<IntrinsicCalibration> cal =
       CalibrateIntrinsics(views, grid, 640, 480, IntrinsicCalibrationOptions{});
   EXPECT_TRUE(cal.ok()) << cal.message();
@@ -39,7 +41,10 @@ TEST(CalibrationReport, AGoodCalibrationPassesWithEveryQuadrantCovered) {
   const IntrinsicCalibration cal = Calibrate(false);
   const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
   EXPECT_TRUE(report.pass);
-  EXPECT_TRUE(report.failures.empty());
+  for (const std::string& f : report.failures) ADD_FAILURE() << f;
+  for (int n : report.border_corners) EXPECT_GE(n, 5);
+  ASSERT_EQ(report.uncertainty.size(), 4u);
+  EXPECT_LE(report.uncertainty.back().worst_px, 0.25);
   int total = 0;
   for (int n : report.quadrant_corners) {
     EXPECT_GE(n, 10);
@@ -61,9 +66,42 @@ TEST(CalibrationReport, UncoveredQuadrantsFailAndSayWhereToTakeViews) {
     advised = advised || a.find("bottom-right of the image") != std::string::npos;
   }
   EXPECT_TRUE(advised);
+  // Without the coverage rules, what is left is the projection uncertainty
+  // far from the board: the views in one corner leave the rest of the imager
+  // unknown, and the report says so.
   ReportThresholds lenient;
   lenient.require_all_quadrants = false;
-  EXPECT_TRUE(BuildCalibrationReport(cal, "grid", {}, lenient).pass);
+  lenient.require_border_coverage = false;
+  const CalibrationReport uncovered = BuildCalibrationReport(cal, "grid", {}, lenient);
+  EXPECT_FALSE(uncovered.pass);
+  ASSERT_FALSE(uncovered.uncertainty.empty());
+  EXPECT_GT(uncovered.uncertainty.back().worst_px, lenient.max_projection_uncertainty_px);
+  lenient.max_projection_uncertainty_px = 1e6;
+  lenient.min_tilt_deg = 0.0;
+  EXPECT_TRUE(BuildCalibrationReport(cal, "grid", {}, lenient).pass)
+      << BuildCalibrationReport(cal, "grid", {}, lenient).failures.front();
+}
+
+TEST(CalibrationReport, TooFewViewsFailAndSayHowManyMoreToCapture) {
+  const IntrinsicCalibration cal = Calibrate(false, 7, 12);
+  const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
+  EXPECT_FALSE(report.pass);
+  ASSERT_FALSE(report.failures.empty());
+  EXPECT_EQ(report.failures[0], "12 views < 20");
+  EXPECT_NE(report.advice[0].find("capture 8 more view(s)"), std::string::npos) << report.advice[0];
+}
+
+TEST(CalibrationReport, WhatTheLiveGuidanceStillMissedIsAFailure) {
+  const IntrinsicCalibration cal = Calibrate(false);
+  const CalibrationReport report =
+      BuildCalibrationReport(cal, "grid", {}, ReportThresholds{},
+                             {"hold the board in the image's top-left (1 of 10 corners)"});
+  EXPECT_FALSE(report.pass);
+  ASSERT_EQ(report.failures.size(), 1u);
+  EXPECT_EQ(report.failures[0],
+            "live guidance: coverage incomplete: hold the board in the image's top-left (1 of 10 "
+            "corners)");
+  EXPECT_EQ(report.advice[0], "hold the board in the image's top-left (1 of 10 corners)");
 }
 
 TEST(CalibrationReport, ABadImageFailsTheRmsAndIsNamedForDropping) {
@@ -128,12 +166,59 @@ TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
        at = html.find("<svg", at + 1)) {
     ++svgs;
   }
-  EXPECT_EQ(svgs, 3u);  // residual field, histogram, coverage
+  EXPECT_EQ(svgs, 4u);  // residual field, histogram, coverage, projection uncertainty
+  EXPECT_NE(html.find("Projection uncertainty"), std::string::npos);
+  // mrcal's optimization_inputs travel with the model; mrcal's parser reads it.
+  const std::string model = ReadFile(dir / "out/camera.cameramodel");
+  EXPECT_NE(model.find("'optimization_inputs': b'"), std::string::npos);
+  EXPECT_NE(model.find("'icam_intrinsics': 0,"), std::string::npos);
+  EXPECT_EQ(json["camera_fingerprint"], CameraFingerprint(cal.camera));
+  EXPECT_EQ(summary->camera_fingerprint, CameraFingerprint(mrcal->camera));
   EXPECT_NE(html.find("blurry.png"), std::string::npos);
   // No temporary file is left behind.
   for (const auto& entry : std::filesystem::directory_iterator(dir / "out")) {
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
   }
+}
+
+// A commissioning report folds in only the intrinsics of the camera the floor
+// calibration used: another imager size, lens model or model is refused.
+TEST(CalibrationReport, TheCombinedReportRefusesAnotherCamerasIntrinsics) {
+  const IntrinsicCalibration cal = Calibrate(false);
+  const CalibrationReport report = BuildCalibrationReport(cal, "grid", {}, ReportThresholds{});
+  const std::filesystem::path dir = groundline::testing::ScratchDir("same_camera");
+  ASSERT_TRUE(WriteCalibrationOutputs(dir, report, cal).ok());
+  const core::Result<IntrinsicsReportSummary> summary =
+      ReadIntrinsicsReportSummary(dir / "report.json");
+  ASSERT_TRUE(summary.ok()) << summary.message();
+  const core::Result<MrcalCameraModelFile> own = ReadMrcalCameraModel(dir / "camera.cameramodel");
+  ASSERT_TRUE(own.ok());
+  EXPECT_TRUE(CheckSameCamera(*summary, own->camera, "camera.cameramodel").ok());
+
+  const CameraModel big =
+      *CameraModel::Create("LENSMODEL_OPENCV8", cal.camera.intrinsics(), 1280, 1024);
+  const core::Status size = CheckSameCamera(*summary, big, "scene/camera.cameramodel");
+  ASSERT_FALSE(size.ok());
+  EXPECT_NE(size.message().find("is for a 640x480 px imager, the camera model is 1280x1024 px"),
+            std::string::npos)
+      << size.message();
+  EXPECT_NE(size.message().find("scene/camera.cameramodel"), std::string::npos);
+
+  const CameraModel opencv5 = *CameraModel::Create(
+      "LENSMODEL_OPENCV5",
+      std::vector<double>(cal.camera.intrinsics().begin(), cal.camera.intrinsics().begin() + 9),
+      640, 480);
+  const core::Status lens = CheckSameCamera(*summary, opencv5, "b.cameramodel");
+  ASSERT_FALSE(lens.ok());
+  EXPECT_NE(lens.message().find("lens model LENSMODEL_OPENCV8 in the report"), std::string::npos)
+      << lens.message();
+
+  std::vector<double> q = cal.camera.intrinsics();
+  q[2] += 5.0;  // cx moved by 5 px: another calibration of the same imager
+  const CameraModel moved = *CameraModel::Create("LENSMODEL_OPENCV8", q, 640, 480);
+  const core::Status hash = CheckSameCamera(*summary, moved, "c.cameramodel");
+  ASSERT_FALSE(hash.ok());
+  EXPECT_NE(hash.message().find("model fingerprint"), std::string::npos) << hash.message();
 }
 
 TEST(CalibrationReport, ThresholdsAreReadFromAConfigAndCheckedWithNamedErrors) {
@@ -145,6 +230,22 @@ TEST(CalibrationReport, ThresholdsAreReadFromAConfigAndCheckedWithNamedErrors) {
   EXPECT_DOUBLE_EQ(t->max_rms_px, 0.3);
   EXPECT_DOUBLE_EQ(t->max_worst_px, 2.0);
   EXPECT_FALSE(t->require_all_quadrants);
+  std::ofstream(dir / "rules.yaml") << "intrinsics_report:\n  min_views: 30\n"
+                                       "  min_corners_per_border_zone: 8\n"
+                                       "  max_projection_uncertainty_px: 0.1\n"
+                                       "  uncertainty_range_m: 1.5\n  floor_top_fraction: 0.3\n";
+  t = ReadReportThresholds(dir / "rules.yaml");
+  ASSERT_TRUE(t.ok()) << t.message();
+  EXPECT_EQ(t->min_views, 30);
+  EXPECT_EQ(t->min_corners_per_border_zone, 8);
+  EXPECT_DOUBLE_EQ(t->max_projection_uncertainty_px, 0.1);
+  EXPECT_DOUBLE_EQ(t->uncertainty_range_m, 1.5);
+  EXPECT_DOUBLE_EQ(t->floor_top_fraction, 0.3);
+  std::ofstream(dir / "bad_fraction.yaml") << "intrinsics_report:\n  border_fraction: 0.7\n";
+  t = ReadReportThresholds(dir / "bad_fraction.yaml");
+  ASSERT_FALSE(t.ok());
+  EXPECT_NE(t.message().find("border_fraction must be in (0, 0.5)"), std::string::npos)
+      << t.message();
   std::ofstream(dir / "bad.yaml") << "intrinsics_report:\n  max_worst_px: -1\n";
   t = ReadReportThresholds(dir / "bad.yaml");
   ASSERT_FALSE(t.ok());

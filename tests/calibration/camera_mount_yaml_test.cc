@@ -121,6 +121,23 @@ TEST(CameraMountYaml, OutOfRangeValuesAreRejected) {
   ExpectError(ExampleWith("yaw_deg", "yaw_deg: 181"), "key 'yaw_deg'");
 }
 
+// A height of 58 (0.58 m written in the wrong unit) or a non-finite value is
+// refused with the field, the range expected and the value given.
+TEST(CameraMountYaml, AbsurdOrNonFiniteLengthsNameTheFieldAndTheRange) {
+  ExpectError(ExampleWith("height_m", "height_m: 58"),
+              "mount.yaml:3: key 'height_m': expected a height above the floor in (0, 5] m "
+              "(metres, not mm or cm), got 58");
+  ExpectError(ExampleWith("height_m", "height_m: .inf"),
+              "mount.yaml:3: key 'height_m': expected a finite number, got '.inf'");
+  ExpectError(ExampleWith("forward_m", "forward_m: 420"),
+              "key 'forward_m': expected an offset ahead of base_link in [-10, 10] m");
+  ExpectError(ExampleWith("lateral_m", "lateral_m: -11"),
+              "key 'lateral_m': expected an offset left of base_link in [-10, 10] m");
+  // The limits themselves are mounts.
+  EXPECT_TRUE(ParseCameraMountYaml(ExampleWith("height_m", "height_m: 5"), "m.yaml").ok());
+  EXPECT_TRUE(ParseCameraMountYaml(ExampleWith("forward_m", "forward_m: -10"), "m.yaml").ok());
+}
+
 TEST(CameraMountYaml, WrongFormatVersionAndUnknownKeysAreRejected) {
   ExpectError(ExampleWith("format", "format: opencv"), "key 'format'");
   ExpectError(ExampleWith("version", "version: 2"), "key 'version': expected 1, got '2'");

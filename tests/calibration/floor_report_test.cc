@@ -13,6 +13,7 @@
 
 #include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
+#include "groundline/calibration/floor_projection.h"
 #include "groundline/calibration/floor_rectification.h"
 #include "groundline/calibration/tag_detection.h"
 #include "groundline/sim/commissioning_scene.h"
@@ -283,6 +284,80 @@ TEST(FloorExtrinsicsCovariance, SurveyErrorWidensTheBoundsToHoldTheTruth) {
   const FloorExtrinsicsResult r = SolveFloorExtrinsics(scene.camera, exact, {}).value();
   EXPECT_LT(r.a_posteriori_sigma_px, 1e-6);
   EXPECT_DOUBLE_EQ(r.sigma_px, 0.3);
+}
+
+// The intrinsics' projection uncertainty reaches the floor through the
+// solved mount: a constant Var(q) = sigma^2 I gives sigma times the floor
+// displacement of a one-pixel step in u and in v (central differences of
+// FloorPointOfPixel), and it adds to the mount's part.
+TEST(BevErrorBudget, IntrinsicsUncertaintyIsCarriedToTheFloorThroughTheMount) {
+  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  std::mt19937_64 rng(3);
+  FloorCalibration c = Solved(scene, Corners(scene, 0.0, rng));
+  const auto constant_map = [](double range_m, double var_px2) {
+    IntrinsicsReportSummary::CovarianceMap m;
+    m.range_m = range_m;
+    m.cells_x = 32;
+    m.cells_y = 24;
+    m.covariance_px2.assign(32 * 24, var_px2 * Eigen::Matrix2d::Identity());
+    return m;
+  };
+  IntrinsicsReportSummary intrinsics;
+  constexpr double kSigmaPx = 0.5;
+  intrinsics.covariance_maps = {constant_map(1.0, kSigmaPx * kSigmaPx),
+                                constant_map(4.0, kSigmaPx * kSigmaPx)};
+  AddIntrinsicsToBev(scene.camera, intrinsics, &c);
+  ASSERT_EQ(c.bev_budget.size(), 3u);
+  const FloorProjection floor(scene.camera, c.solution.mount);
+  // The small scene's camera sees 1 m ahead; 2 and 4 m are above its image.
+  ASSERT_TRUE(c.bev_budget[0].known);
+  for (const BevErrorBudget& b : c.bev_budget) {
+    EXPECT_EQ(b.known, floor.PixelOfFloorPoint({b.distance_m, 0.0}).ok() &&
+                           scene.camera.InImage(*floor.PixelOfFloorPoint({b.distance_m, 0.0})));
+    if (!b.known) continue;
+    const Eigen::Vector2d q = floor.PixelOfFloorPoint({b.distance_m, 0.0}).value();
+    EXPECT_NEAR((b.pixel - q).norm(), 0.0, 1e-9);
+    double sum_sq = 0.0;
+    for (const Eigen::Vector2d& step : {Eigen::Vector2d(0.5, 0), Eigen::Vector2d(0, 0.5)}) {
+      sum_sq +=
+          (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
+              .squaredNorm();
+    }
+    const double expected_mm = 1000.0 * kSigmaPx * std::sqrt(sum_sq);
+    EXPECT_NEAR(b.intrinsics_rms_mm, expected_mm, 0.01 * expected_mm) << b.distance_m;
+    EXPECT_NEAR(
+        b.total_rms_mm * b.total_rms_mm,
+        b.intrinsics_rms_mm * b.intrinsics_rms_mm + b.extrinsics_rms_mm * b.extrinsics_rms_mm,
+        1e-9 * b.total_rms_mm * b.total_rms_mm);
+    EXPECT_GT(b.intrinsics_rms_mm, 0.0);
+    std::printf(
+        "BEV %.0f m ahead: pixel %.0f,%.0f range %.2f m, mount %.3f mm, intrinsics "
+        "(0.5 px) %.3f mm, both %.3f mm\n",
+        b.distance_m, b.pixel.x(), b.pixel.y(), b.range_m, b.extrinsics_rms_mm, b.intrinsics_rms_mm,
+        b.total_rms_mm);
+  }
+  // Between the maps' ranges the variance is linear in range; a cell without
+  // a covariance leaves the point unknown.
+  intrinsics.covariance_maps = {constant_map(0.5, 0.0), constant_map(100.0, 1.0)};
+  AddIntrinsicsToBev(scene.camera, intrinsics, &c);
+  for (const BevErrorBudget& b : c.bev_budget) {
+    if (!b.known) continue;
+    const Eigen::Vector2d q = b.pixel;
+    double sum_sq = 0.0;
+    for (const Eigen::Vector2d& step : {Eigen::Vector2d(0.5, 0), Eigen::Vector2d(0, 0.5)}) {
+      sum_sq +=
+          (floor.FloorPointOfPixel(q + step).value() - floor.FloorPointOfPixel(q - step).value())
+              .squaredNorm();
+    }
+    const double var = (b.range_m - 0.5) / 99.5;
+    EXPECT_NEAR(b.intrinsics_rms_mm, 1000.0 * std::sqrt(var * sum_sq),
+                0.01 * b.intrinsics_rms_mm + 1e-9);
+  }
+  for (auto& m : intrinsics.covariance_maps) {
+    m.covariance_px2.assign(m.covariance_px2.size(), Eigen::Matrix2d::Constant(std::nan("")));
+  }
+  AddIntrinsicsToBev(scene.camera, intrinsics, &c);
+  for (const BevErrorBudget& b : c.bev_budget) EXPECT_FALSE(b.known);
 }
 
 }  // namespace

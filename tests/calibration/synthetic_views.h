@@ -38,11 +38,19 @@ inline CalibTarget SyntheticAprilGrid() {
 }
 
 // `n` views; top_left_only keeps the whole board in the image's top-left
-// quadrant (for coverage-failure tests).
+// quadrant (for coverage-failure tests); reach_borders centres the first 8
+// kept views on the image's corners and edge middles, so that the corners
+// reach every zone of the imager's outer ring (what the report asks for).
 inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
                                                    const CalibTarget& target, const BoardGrid& grid,
                                                    int n, double noise_px, unsigned seed,
-                                                   bool top_left_only = false) {
+                                                   bool top_left_only = false,
+                                                   bool reach_borders = false) {
+  // Positions for a 640 x 480 imager, scaled to the camera's.
+  const double sx = camera.width_px() / 640.0, sy = camera.height_px() / 480.0;
+  const double border_u[8] = {40, 320, 600, 40, 600, 40, 320, 600};
+  const double border_v[8] = {30, 30, 30, 240, 240, 450, 450, 450};
+  int border_slot = reach_borders ? 0 : 8, slot_tries = 0;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> noise(0.0, noise_px);
@@ -50,10 +58,14 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
   std::vector<CalibrationView> views;
   for (int v = 0; views.size() < static_cast<std::size_t>(n) && v < 50 * n; ++v) {
     double z = 0.45 + 0.15 * u(rng);
-    Eigen::Vector2d centre_px(320 + 200 * u(rng), 240 + 150 * u(rng));
+    Eigen::Vector2d centre_px(sx * (320 + 200 * u(rng)), sy * (240 + 150 * u(rng)));
     if (top_left_only) {  // a small board image (~190 px wide) kept in the top-left
       z = 1.0 + 0.05 * u(rng);
-      centre_px = {130 + 40 * u(rng), 95 + 30 * u(rng)};
+      centre_px = {sx * (130 + 40 * u(rng)), sy * (95 + 30 * u(rng))};
+    } else if (border_slot < 8) {  // farther: a smaller board image fits the corner
+      z = 0.7 + 0.1 * u(rng);
+      centre_px = {sx * border_u[border_slot], sy * border_v[border_slot]};
+      if (++slot_tries > 30) ++border_slot, slot_tries = 0;  // give this slot up
     }
     const Eigen::Vector3d centre = *camera.Unproject(centre_px, RayNormalization::kZEqualsOne) * z;
     const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitX()) *
@@ -78,7 +90,10 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
         view.observation.corners_px.push_back(q[k] + Eigen::Vector2d(noise(rng), noise(rng)));
       }
     }
-    if (view.observation.grid_index.size() >= 4 * 8) views.push_back(std::move(view));
+    if (view.observation.grid_index.size() >= 4 * 8) {
+      views.push_back(std::move(view));
+      if (border_slot < 8 && slot_tries > 0) ++border_slot, slot_tries = 0;
+    }
   }
   return views;
 }

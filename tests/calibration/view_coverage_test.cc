@@ -141,7 +141,28 @@ TEST(ViewCoverage, PlannedSessionOverEveryRegionWithTiltsAndDistancesCompletes) 
   }
   EXPECT_EQ(coverage.views(), 12);
   for (int r = 0; r < 9; ++r) EXPECT_GE(coverage.region_corners()[r], 10) << "region " << r;
-  EXPECT_TRUE(coverage.Complete()) << coverage.StatusLine();
+  // Regions, tilts and distances are there, but no corner reached the
+  // image's outer ring yet (what the report's border rule needs).
+  ASSERT_FALSE(coverage.Complete());
+  ASSERT_EQ(coverage.Missing().size(), 1u);
+  EXPECT_EQ(coverage.Missing()[0].rfind(
+                "push the board's corners to within 10% of the image's top-left corner (", 0),
+            0u)
+      << coverage.Missing()[0];
+  // One view into each zone, each with a tilt bin of its own (so that it is new).
+  const double tilt_v[8] = {-12, -22, 12, 22, -12, -22, 12, 22};
+  int k = 0;
+  for (double v : {62.0, 240.0, 418.0}) {
+    for (double u : {90.0, 320.0, 550.0}) {
+      if (u == 320.0 && v == 240.0) continue;
+      const ViewVerdict verdict =
+          coverage.Consider(ViewAt(grid, u, v, 0.65, tilt_v[k], k < 4 ? 8 : -8), 0.5);
+      EXPECT_EQ(verdict.decision, ViewDecision::kKept) << verdict.reason;
+      ++k;
+    }
+  }
+  EXPECT_EQ(coverage.views(), 20);
+  EXPECT_TRUE(coverage.Complete()) << coverage.StatusLine() << " " << coverage.Missing()[0];
   EXPECT_NE(coverage.StatusLine().find("coverage complete"), std::string::npos);
 }
 

@@ -10,7 +10,9 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/mrcal_cameramodel_io.h"
 #include "groundline/calibration/tag_layout.h"
 #include "test_data.h"
 
@@ -116,18 +118,51 @@ TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRecti
       << out;
   std::ofstream(dir / "config.yaml") << "floor_report:\n  max_tag_rms_px: 0.9\n"
                                         "  max_bev_error_2m_mm: 4\n";
+  // An intrinsics report of the scene's own camera (it must be: the
+  // commissioning report refuses another camera's).
+  const calibration::CameraModel scene_camera =
+      calibration::ReadMrcalCameraModel(scene / "camera.cameramodel")->camera;
+  const auto intrinsics_json = [&](int width, int height, const std::string& fingerprint) {
+    return std::string(R"({"format": "groundline-intrinsics-report", "verdict": "FAIL",)") +
+           R"( "failures": ["bottom-left quadrant: 3 corners < 10"],)"
+           R"( "advice": ["take more views with the board in the bottom-left of the image"],)"
+           R"( "target": "grid", "lens_model": ")" +
+           scene_camera.lens_model() +
+           R"(", "rms_px": 0.21, "worst_px": 1.1, "views": [{}, {}],)"
+           R"( "quadrant_corners": {"top_left": 40, "top_right": 41, "bottom_left": 3,)"
+           R"( "bottom_right": 44}, "imager_size_px": [)" +
+           std::to_string(width) + ", " + std::to_string(height) +
+           R"(], "intrinsics": [1, 2, 3, 4], "camera_fingerprint": ")" + fingerprint + "\"}";
+  };
   std::ofstream(dir / "intrinsics.json")
-      << R"({"format": "groundline-intrinsics-report", "verdict": "FAIL",)"
-         R"( "failures": ["bottom-left quadrant: 3 corners < 10"],)"
-         R"( "advice": ["take more views with the board in the bottom-left of the image"],)"
-         R"( "target": "grid", "lens_model": "LENSMODEL_OPENCV8", "rms_px": 0.21,)"
-         R"( "worst_px": 1.1, "views": [{}, {}],)"
-         R"( "quadrant_corners": {"top_left": 40, "top_right": 41, "bottom_left": 3,)"
-         R"( "bottom_right": 44}})";
+      << intrinsics_json(scene_camera.width_px(), scene_camera.height_px(),
+                         calibration::CameraFingerprint(scene_camera));
+  std::ofstream(dir / "intrinsics_640.json") << intrinsics_json(640, 480, "0123456789abcdef");
+  std::ofstream(dir / "intrinsics_other.json")
+      << intrinsics_json(scene_camera.width_px(), scene_camera.height_px(), "0123456789abcdef");
   const std::string calibrate = "calibrate floor --images " + Quoted(scene / "images") +
                                 " --camera " + Quoted(scene / "camera.cameramodel") + " --config " +
                                 Quoted(dir / "config.yaml") + " --layout ";
   const std::string layout = Quoted(scene / "tag_layout.yaml");
+  // Another camera's intrinsics: refused before anything is solved (exit 1).
+  ASSERT_EQ(RunGroundline(calibrate + layout + " --intrinsics-report " +
+                              Quoted(dir / "intrinsics_640.json") + " --out " + Quoted(dir / "x"),
+                          dir, &out),
+            1)
+      << out;
+  EXPECT_NE(out.find("are not the same camera: the report is for a 640x480 px imager, the "
+                     "camera model is " +
+                     std::to_string(scene_camera.width_px()) + "x" +
+                     std::to_string(scene_camera.height_px()) + " px"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("commissioning: PASS"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x" / "floor_report.json"));
+  ASSERT_EQ(RunGroundline(calibrate + layout + " --intrinsics-report " +
+                              Quoted(dir / "intrinsics_other.json") + " --out " + Quoted(dir / "y"),
+                          dir, &out),
+            1);
+  EXPECT_NE(out.find("model fingerprint 0123456789abcdef in the report"), std::string::npos) << out;
   // Floor PASS, intrinsics FAIL: the commissioning fails (exit 1).
   ASSERT_EQ(RunGroundline(calibrate + layout + " --intrinsics-report " +
                               Quoted(dir / "intrinsics.json") + " --out " + Quoted(dir / "a"),

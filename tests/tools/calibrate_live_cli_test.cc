@@ -34,27 +34,41 @@ TEST(CalibrateLiveCli, IntrinsicsFromRecordedFramesGuidesKeepsAndSolvesLikeTheFo
                               "' --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "cal") +
                               " --save-frames " + Quoted(dir / "kept"),
                           dir, &output),
-            0)
+            1)
       << output;
   // Guidance after each kept view, in the technician's words.
   EXPECT_NE(output.find("[view 1] left01.png kept"), std::string::npos) << output;
-  EXPECT_NE(output.find("1 of 12 views; image regions covered"), std::string::npos) << output;
+  EXPECT_NE(output.find("1 of 20 views; image regions covered"), std::string::npos) << output;
+  EXPECT_NE(output.find("still missing: push the board's corners to within 10% of the image's "
+                        "top-left corner"),
+            std::string::npos)
+      << output;
   EXPECT_NE(output.find("still missing: hold the board in the image's top-left"), std::string::npos)
       << output;
   EXPECT_NE(output.find("tilt the board about its vertical axis"), std::string::npos) << output;
   EXPECT_NE(output.find("stopped: end of folder"), std::string::npos) << output;
-  EXPECT_NE(output.find("PASS: LENSMODEL_OPENCV8, 13 views"), std::string::npos) << output;
+  // One verdict: the guidance ended incomplete, so the report FAILs and
+  // carries each line the guidance still asked for.
+  EXPECT_NE(output.find("coverage incomplete"), std::string::npos) << output;
+  EXPECT_NE(output.find("FAIL: LENSMODEL_OPENCV8, 13 views"), std::string::npos) << output;
+  EXPECT_EQ(output.find("PASS"), std::string::npos) << output;
   EXPECT_TRUE(std::filesystem::exists(dir / "cal/camera.cameramodel"));
   const nlohmann::json report = nlohmann::json::parse(ReadText(dir / "cal/report.json"));
-  EXPECT_EQ(report["verdict"], "PASS");
+  EXPECT_EQ(report["verdict"], "FAIL");
   EXPECT_LT(report["rms_px"].get<double>(), 0.3);
+  ASSERT_FALSE(report["live_missing"].empty());
+  bool carried = false;
+  for (const auto& f : report["failures"]) {
+    carried = carried || f.get<std::string>().rfind("live guidance: coverage incomplete: ", 0) == 0;
+  }
+  EXPECT_TRUE(carried) << report["failures"];
 
   // The kept frames reproduce the run from a folder: the same model.
   ASSERT_TRUE(std::filesystem::exists(dir / "kept/left01.png"));
   ASSERT_EQ(RunGroundline("calibrate intrinsics --images " + Quoted(dir / "kept") +
                               " --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "again"),
                           dir, &output),
-            0)
+            1)
       << output;
   EXPECT_EQ(ReadText(dir / "again/camera.cameramodel"), ReadText(dir / "cal/camera.cameramodel"));
 }

@@ -75,10 +75,31 @@ struct TagResidual {
   double rms_px = 0.0;
 };
 
+// The floor position error at one BEV point from both calibrations: the
+// mount's covariance (BevError) and the intrinsics' projection uncertainty
+// (the intrinsics report's Var(q) maps, projection_uncertainty.h) carried to
+// the floor through the floor projection's Jacobian at that pixel,
+//   Sigma_intrinsics = J_floor_pixel Var(q) J_floor_pixel',
+// the two independent (they come from different data), so they add.
+// rms = 1000 sqrt(trace Sigma) mm, the expected error.
+struct BevErrorBudget {
+  double distance_m = 0.0;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // where the point is seen
+  double range_m = 0.0;                             // camera to the point
+  double extrinsics_rms_mm = 0.0;
+  double intrinsics_rms_mm = 0.0;
+  double total_rms_mm = 0.0;
+  double total_sigma3_mm = 0.0;  // 3 sqrt(largest eigenvalue) of the sum
+  bool known = false;            // false: the point is off the image or its Var(q) is unknown
+};
+
 struct FloorCalibration {
   FloorExtrinsicsResult solution;
   std::vector<FloorImage> images;  // the images used (with tags), solver order
   std::array<BevError, 3> bev;     // at 1, 2 and 4 m ahead on the centre line
+  // bev with the intrinsics' part added (AddIntrinsicsToBev); empty without
+  // an intrinsics report.
+  std::vector<BevErrorBudget> bev_budget;
   std::vector<TagResidual> tags;   // every tag seen, worst RMS first
   // Per image, the corner RMS over the tags that pass their check (the value
   // max_image_rms_px judges; solution.image_rms_px counts every corner).
@@ -124,10 +145,39 @@ struct IntrinsicsReportSummary {
   double worst_px = 0.0;
   int views = 0;
   std::array<int, 4> quadrant_corners{};
+  std::array<int, 2> imager_size_px{};
+  std::vector<double> intrinsics;
+  std::string camera_fingerprint;  // CameraFingerprint; empty in older reports
+  // Worst projection uncertainty (1 sigma) at 1, 2 and 4 m: {range_m, px, mm};
+  // empty when the report has none.
+  std::vector<std::array<double, 3>> projection_uncertainty;
+  // Var(q) over the imager at each range (calibration_report.h), row-major
+  // cells from the top-left; NaN cells where it is not known.
+  struct CovarianceMap {
+    double range_m = 0.0;
+    int cells_x = 0, cells_y = 0;
+    std::vector<Eigen::Matrix2d> covariance_px2;
+  };
+  std::vector<CovarianceMap> covariance_maps;  // ascending range
 };
 // Errors name the file and the missing or malformed field.
 core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     const std::filesystem::path& report_json);
+
+// Whether the intrinsics report belongs to `camera` (the --camera of the floor
+// calibration): same imager size, same lens model, and the same model
+// (CameraFingerprint; for a report without one, the same intrinsics to 1e-9
+// relative). The error names both files and what differs, and says what to do.
+core::Status CheckSameCamera(const IntrinsicsReportSummary& report, const CameraModel& camera,
+                             const std::string& camera_source);
+
+// Fills calibration->bev_budget at the distances of calibration->bev: the
+// BEV point's pixel and range through the solved mount, its Var(q) from the
+// report's map cell at that pixel (linear in range between the maps' ranges,
+// the nearest map outside them), carried to the floor. camera: the one the
+// floor calibration used (CheckSameCamera passed).
+void AddIntrinsicsToBev(const CameraModel& camera, const IntrinsicsReportSummary& intrinsics,
+                        FloorCalibration* calibration);
 
 // floor_report.json: verdict, failures with advice, mount values in mm and
 // degrees with 3-sigma bounds, BEV error at 1/2/4 m, per-image and per-tag

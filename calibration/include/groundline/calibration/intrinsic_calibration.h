@@ -96,11 +96,38 @@ struct IntrinsicCalibrationSummary {
   double solve_time_s = 0.0;
 };
 
+// The covariance of the solved state, as mrcal's uncertainty propagation
+// defines it (http://mrcal.secretsauce.net/uncertainty.html; mrcal 2.2
+// model_analysis.py, _propagate_calibration_uncertainty): with J the
+// Jacobian of the measurement vector (board residuals, then mrcal's
+// regularization terms) at the optimum and J_obs its board-residual rows,
+//   Var(b) = sigma^2 inv(J'J) J_obs' J_obs inv(J'J),
+// sigma = the standard deviation of the inlier residual coordinates (mrcal's
+// default observed_pixel_uncertainty: np.std of residuals_chessboard).
+// b is mrcal's state vector in its own units (not the solver's scaled,
+// "packed" form): intrinsics (px, unitless distortion), then each view's
+// board pose rt_cam_board (rad, m), then the board flex (m).
+struct CalibrationCovariance {
+  Eigen::MatrixXd covariance;  // Nstate x Nstate
+  int state_index_intrinsics = 0;
+  int state_index_frames = 0;  // view i's pose at state_index_frames + 6 i
+  int state_index_warp = -1;   // -1: the board flex was not solved
+  double observed_pixel_sigma_px = 0.0;
+};
+
 struct IntrinsicCalibration {
   CameraModel camera;
   std::vector<ViewResult> views;
   IntrinsicCalibrationSummary summary;
   OpenCvSeedResult opencv_seed;
+  // The problem as solved, for the covariance's users and mrcal's
+  // optimization_inputs (mrcal_optimization_inputs.h).
+  BoardGrid grid;
+  IntrinsicCalibrationOptions options;
+  // Empty when J'J was singular (the views do not constrain every
+  // parameter): the report then says so and fails.
+  std::optional<CalibrationCovariance> covariance;
+  std::string covariance_error;  // why covariance is empty
 };
 
 // Fails, saying what to do, with fewer than min_views views, a view with fewer

@@ -47,13 +47,18 @@ core::Result<MrcalCameraModelFile> ParseMrcalCameraModel(const std::string& text
 core::Result<MrcalCameraModelFile> ReadMrcalCameraModel(const std::filesystem::path& path);
 
 // The .cameramodel text of a camera (full precision, see the file comment).
-// Fails only if mrcal's parser would not read the text back exactly.
-core::Result<std::string> MrcalCameraModelToText(const CameraModel& camera,
-                                                 const std::array<double, 6>& rt_cam_ref = {});
+// optimization_inputs_base85, when not empty, is written as mrcal's
+// 'optimization_inputs' (with 'icam_intrinsics': 0;
+// mrcal_optimization_inputs.h). Fails only if mrcal's parser would not read
+// the text back exactly.
+core::Result<std::string> MrcalCameraModelToText(
+    const CameraModel& camera, const std::array<double, 6>& rt_cam_ref = {},
+    const std::string& optimization_inputs_base85 = "");
 
 // Writes atomically (PATH.tmp.<pid>, then renamed over PATH).
 core::Status WriteMrcalCameraModel(const std::filesystem::path& path, const CameraModel& camera,
-                                   const std::array<double, 6>& rt_cam_ref = {});
+                                   const std::array<double, 6>& rt_cam_ref = {},
+                                   const std::string& optimization_inputs_base85 = "");
 
 }  // namespace groundline::calibration
 

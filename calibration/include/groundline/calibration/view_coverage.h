@@ -18,6 +18,10 @@
 //   - each of the 3 x 3 image regions (top-left ... bottom-right) holds at
 //     least min_corners_per_region corners of the kept views (the corners
 //     near the border constrain the distortion: mrcal's and OpenCV's advice);
+//   - each of the 8 zones of the imager's outer ring (border_fraction deep:
+//     4 corners, 4 edges) holds at least min_corners_per_border_zone corners
+//     (0: no such rule); the intrinsics report's border rule, with the same
+//     zones, so that the guidance asks for what the verdict needs;
 //   - some view is tilted >= min_tilt_deg about the board's vertical axis and
 //     some about its horizontal axis (tilt separates focal length from
 //     distance);
@@ -48,6 +52,8 @@ namespace groundline::calibration {
 struct ViewCoverageOptions {
   int min_views = 12;
   int min_corners_per_region = 10;
+  double border_fraction = 0.1;         // as ReportThresholds
+  int min_corners_per_border_zone = 5;  // as ReportThresholds; 0: off
   double min_tilt_deg = 20.0;
   double min_distance_ratio = 1.3;
   double duplicate_motion_fraction = 0.02;
@@ -125,6 +131,7 @@ class ViewCoverage {
   ViewCoverageOptions options_;
   std::vector<KeptView> views_;
   std::array<int, 9> region_corners_{};
+  std::array<int, 8> border_corners_{};
   std::set<int> cells_;
   std::set<std::pair<int, int>> tilt_bins_;
   std::set<int> distance_bins_;
