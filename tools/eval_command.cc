@@ -43,6 +43,9 @@ struct EvalFlags {
   std::string dataset_dir;
   std::string zone;
   std::string floor_map_path;
+  // Only the estimate poses with stamps in [from, to) (a window after a fault).
+  std::optional<double> from_s;
+  std::optional<double> to_s;
 };
 
 constexpr char kHelp[] =
@@ -270,6 +273,16 @@ int RunEval(EvalFlags flags) {
         return 1;
       }
     }
+    if (flags.from_s || flags.to_s) {
+      std::erase_if(*estimate, [&flags](const core::StampedPose& p) {
+        return (flags.from_s && p.stamp_s < *flags.from_s) || (flags.to_s && p.stamp_s >= *flags.to_s);
+      });
+      if (estimate->empty()) {
+        std::fprintf(stderr, "groundline eval: %s: no pose in the --from-s/--to-s window\n",
+                     path.c_str());
+        return 1;
+      }
+    }
     if (reference) {
       core::Result<core::TrajectoryErrorSummary> summary =
           core::ComputeTrajectoryErrors(*estimate, *reference, options);
@@ -353,6 +366,10 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--max-dt-s", flags->max_dt_s,
                   "largest time offset for a match [s] (also for relation stamps)")
       ->capture_default_str();
+  cmd->add_option("--from-s", flags->from_s,
+                  "score only the estimate poses stamped at or after this time [s] "
+                  "(e.g. the minute after a sensor came back)");
+  cmd->add_option("--to-s", flags->to_s, "score only the estimate poses stamped before this time [s]");
   CLI::Option* rpe_m = cmd->add_option("--rpe-m", flags->rpe_m,
                                        "also report RPE over this reference path length [m]");
   cmd->add_option("--rpe-frames", flags->rpe_frames,

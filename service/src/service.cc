@@ -5,12 +5,14 @@
 #include <cmath>
 #include <ctime>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <thread>
+#include <unistd.h>
 
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
@@ -49,7 +51,18 @@ struct FrameJob {
   double stamp_s = 0.0;
   fs::path path;
   Clock::time_point arrived;
+  // Injected faults (InjectedFault): a black frame, or one that does not decode.
+  bool black = false;
+  bool corrupt = false;
 };
+
+// Resident set size [MB] (/proc/self/statm).
+double ResidentMb() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
+}
 struct Observed {
   loc::ConvertedObservations observations;
   Clock::time_point arrived;
@@ -100,6 +113,17 @@ struct Service::Impl {
   std::vector<std::uint8_t> bev_png;
   std::string atlas_json;
   std::vector<double> latency_ms;
+  // (data time since the first reading [s], RSS [MB]) every 600 s of data.
+  std::vector<std::pair<double, double>> rss_samples;
+  std::optional<double> first_reading_s;
+  // Data time of the replay's first event, and per injected fault: whether a
+  // keyframe reported the degradation, and when the mode was "full" again.
+  double replay_first_s = 0.0;
+  struct FaultTrack {
+    bool degraded_seen = false;
+    std::optional<double> recovered_at_s;
+  };
+  std::vector<FaultTrack> fault_tracks;
   double cpu_replay_s = 0.0, cpu_camera_s = 0.0, cpu_estimator_s = 0.0;
   long odometry_out = 0;
 
@@ -232,7 +256,12 @@ void Service::Impl::CameraStage() {
   while (!frames->closed_and_empty()) {
     std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
     if (!job) continue;
-    const cv::Mat grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    cv::Mat grey;
+    if (job->black && camera) {
+      grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
+    } else if (!job->corrupt) {
+      grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    }
     // A camera delivers decoded frames: the latency counts from here.
     job->arrived = Clock::now();
     cv::Mat bev;
@@ -272,6 +301,11 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
     std::optional<loc::KeyframeOutput> k = localizer->AddWheelReading(r);
     std::lock_guard<std::mutex> lock(status_mutex);
+    if (!first_reading_s) first_reading_s = r.stamp_s;
+    const double data_s = r.stamp_s - *first_reading_s;
+    if (rss_samples.empty() || data_s >= rss_samples.back().first + 600.0) {
+      rss_samples.emplace_back(data_s, ResidentMb());
+    }
     if (localizer->started() && localizer->Current().stamp_s != before_s) {
       pose = localizer->Current();
       odometry << core::FormatTumLine({pose.stamp_s, pose.T_map_base, std::nullopt});
@@ -283,6 +317,14 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
         latency_ms.push_back(
             1e3 * std::chrono::duration<double>(Clock::now() - *last_frame_arrival).count());
         line["latency_ms"] = latency_ms.back();
+      }
+      const double t = k->stamp_s - replay_first_s;
+      for (std::size_t i = 0; i < config.faults.size(); ++i) {
+        const InjectedFault& f = config.faults[i];
+        FaultTrack& track = fault_tracks[i];
+        const bool full = k->sensors.degraded_mode == "full";
+        if (t >= f.from_s && t < f.to_s + 5.0 && !full) track.degraded_seen = true;
+        if (t >= f.to_s && full && !track.recovered_at_s) track.recovered_at_s = t;
       }
       health << line.dump() << "\n";
       health.flush();
@@ -333,38 +375,71 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     return core::Status::Error(out.string() + ": cannot write the run outputs");
   }
   const Clock::time_point wall_start = Clock::now();
+  const double first_s = std::min(m.dataset.wheel_encoders.front().stamp_s,
+                                  m.dataset.images.empty() ? 1e300 : m.dataset.images.front().stamp_s);
+  // One pass lasts from the first event to one reading period after the last.
+  const double period_s = m.dataset.wheel_encoders.back().stamp_s - first_s +
+                          (m.dataset.wheel_encoders.size() > 1
+                               ? m.dataset.wheel_encoders[1].stamp_s - m.dataset.wheel_encoders[0].stamp_s
+                               : 0.01);
+  m.replay_first_s = first_s;
+  m.fault_tracks.assign(m.config.faults.size(), {});
   std::thread camera_thread([&m] { m.CameraStage(); });
   std::thread estimator_thread([&] { m.EstimatorStage(keyframes, odometry, health); });
 
-  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(m.config.replay_dataset, m.dataset);
-  core::Status replayed = streams.status();
+  core::Status replayed = core::Status::Ok();
   const double cpu_start_s = ThreadCpuSeconds();
-  if (streams.ok()) {
+  const auto faulty = [&m, first_s](InjectedFault::Sensor sensor, double stamp_s) -> const InjectedFault* {
+    for (const InjectedFault& f : m.config.faults) {
+      if (f.sensor == sensor && stamp_s - first_s >= f.from_s && stamp_s - first_s < f.to_s) return &f;
+    }
+    return nullptr;
+  };
+  for (int pass = 0; pass < m.config.replay_loops && replayed.ok() && !stop.load(); ++pass) {
+    core::Result<core::DatasetStreams> streams =
+        core::DatasetStreams::Open(m.config.replay_dataset, m.dataset);
+    if (!streams.ok()) {
+      replayed = streams.status();
+      break;
+    }
+    const double shift_s = pass * period_s;
     ReplayOptions options;
     options.speed = m.config.replay_speed;
-    options.start_after_s = m.resume_after_s;
+    options.start_after_s = m.resume_after_s - shift_s;
     options.stop = [&stop] { return stop.load(); };
-    core::Result<ReplayStats> stats = ReplayEvents(*streams, options, [&m](core::DatasetEvent& e) {
+    core::Result<ReplayStats> stats = ReplayEvents(*streams, options, [&](core::DatasetEvent& e) {
       switch (e.kind) {
         case core::DatasetEvent::Kind::kWheel: {
           EstimatorEvent event;
           event.wheel = e.wheel;
+          event.wheel.stamp_s += shift_s;
+          if (const InjectedFault* f = faulty(InjectedFault::Sensor::kOdometry, e.stamp_s)) {
+            const double value = f->kind == "nan" ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+            event.wheel.left_delta_rad = event.wheel.right_delta_rad = value;
+          }
           m.events.Push(std::move(event));
           break;
         }
         case core::DatasetEvent::Kind::kScan: {
+          if (faulty(InjectedFault::Sensor::kLidar, e.stamp_s)) break;
           EstimatorEvent event;
           event.kind = EstimatorEvent::Kind::kScan;
           event.scan = std::move(e.scan);
+          event.scan.stamp_s += shift_s;
           m.events.Push(std::move(event));
           break;
         }
         case core::DatasetEvent::Kind::kFrame: {
+          const InjectedFault* f = faulty(InjectedFault::Sensor::kCamera, e.stamp_s);
+          if (f && f->kind == "silent") break;
+          FrameJob job{e.stamp_s + shift_s, e.image_path, Clock::now()};
+          job.black = f && f->kind == "blackout";
+          job.corrupt = f && f->kind == "corrupt";
           {
             std::lock_guard<std::mutex> lock(m.pending_mutex);
-            m.pending_frames.insert(e.stamp_s);
+            m.pending_frames.insert(job.stamp_s);
           }
-          if (std::optional<FrameJob> dropped = m.frames->Push({e.stamp_s, e.image_path, Clock::now()})) {
+          if (std::optional<FrameJob> dropped = m.frames->Push(std::move(job))) {
             ++m.camera_dropped;
             m.ReleasePending(dropped->stamp_s);
           }
@@ -425,6 +500,24 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
                      {"median", Percentile(m.latency_ms, 0.5)},
                      {"p99", Percentile(m.latency_ms, 0.99)}};
   j["cpu_s"] = {{"replay", m.cpu_replay_s}, {"camera", m.cpu_camera_s}, {"estimator", m.cpu_estimator_s}};
+  j["faults"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < m.config.faults.size() && i < m.fault_tracks.size(); ++i) {
+    const InjectedFault& f = m.config.faults[i];
+    const Impl::FaultTrack& t = m.fault_tracks[i];
+    const char* sensor = f.sensor == InjectedFault::Sensor::kCamera  ? "camera"
+                         : f.sensor == InjectedFault::Sensor::kLidar ? "lidar"
+                                                                     : "odometry";
+    j["faults"].push_back({{"sensor", sensor},
+                           {"kind", f.kind},
+                           {"from_s", f.from_s},
+                           {"to_s", f.to_s},
+                           {"from_stamp_s", m.replay_first_s + f.from_s},
+                           {"to_stamp_s", m.replay_first_s + f.to_s},
+                           {"degraded_reported", t.degraded_seen},
+                           {"recovered_after_s", t.recovered_at_s ? *t.recovered_at_s - f.to_s : -1.0}});
+  }
+  j["rss_mb"] = nlohmann::ordered_json::array();
+  for (const auto& [data_s, mb] : m.rss_samples) j["rss_mb"].push_back({data_s, mb});
   j["last_keyframe"] = m.last_keyframe;
   return j;
 }

@@ -14,6 +14,26 @@ core::Status ServiceConfig::Validate() const {
     return core::Status::Error("inputs.replay.speed: expected 0 (as fast as possible) or a factor "
                                "in (0, 1000], got " + std::to_string(replay_speed));
   }
+  if (replay_loops < 1 || replay_loops > 100000) {
+    return core::Status::Error("inputs.replay.loops: expected 1..100000, got " +
+                               std::to_string(replay_loops));
+  }
+  for (std::size_t i = 0; i < faults.size(); ++i) {
+    const InjectedFault& f = faults[i];
+    const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
+    const bool known =
+        f.sensor == InjectedFault::Sensor::kCamera
+            ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
+        : f.sensor == InjectedFault::Sensor::kLidar ? f.kind == "silent"
+                                                    : (f.kind == "nan" || f.kind == "frozen");
+    if (!known) {
+      return core::Status::Error(at + ".kind: expected camera silent|blackout|corrupt, lidar "
+                                 "silent, odometry nan|frozen, got '" + f.kind + "'");
+    }
+    if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 && f.to_s > f.from_s)) {
+      return core::Status::Error(at + ": expected 0 <= from_s < to_s");
+    }
+  }
   if (preset != "fusion" && preset != "lines" && preset != "odometry" && preset != "lidar") {
     return core::Status::Error("localizer.preset: expected fusion, lines, odometry or lidar, got '" +
                                preset + "'");
@@ -57,9 +77,32 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
     y.CheckKeys(inputs, "inputs", {"replay"});
     const YAML::Node replay = y.Child(inputs, "inputs", "replay");
     if (replay && y.ExpectMap(replay, "inputs.replay")) {
-      y.CheckKeys(replay, "inputs.replay", {"dataset", "speed"});
+      y.CheckKeys(replay, "inputs.replay", {"dataset", "speed", "loops", "faults"});
       c.replay_dataset = y.Text(replay, "inputs.replay", "dataset");
       if (replay["speed"]) c.replay_speed = y.Number(replay, "inputs.replay", "speed");
+      if (replay["loops"]) c.replay_loops = static_cast<int>(y.Integer(replay, "inputs.replay", "loops"));
+      if (const YAML::Node faults = replay["faults"]; faults && y.ExpectSequence(faults, "inputs.replay.faults")) {
+        for (std::size_t i = 0; i < faults.size() && y.ok(); ++i) {
+          const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
+          if (!y.ExpectMap(faults[i], at)) break;
+          y.CheckKeys(faults[i], at, {"sensor", "kind", "from_s", "to_s"});
+          InjectedFault f;
+          const std::string sensor = y.Text(faults[i], at, "sensor");
+          if (sensor == "camera") {
+            f.sensor = InjectedFault::Sensor::kCamera;
+          } else if (sensor == "lidar") {
+            f.sensor = InjectedFault::Sensor::kLidar;
+          } else if (sensor == "odometry") {
+            f.sensor = InjectedFault::Sensor::kOdometry;
+          } else if (y.ok()) {
+            y.Fail(faults[i]["sensor"], at + ".sensor", "camera, lidar or odometry", sensor);
+          }
+          f.kind = y.Text(faults[i], at, "kind");
+          f.from_s = y.Number(faults[i], at, "from_s");
+          f.to_s = y.Number(faults[i], at, "to_s");
+          c.faults.push_back(f);
+        }
+      }
     }
   }
   if (const YAML::Node n = y.Child(root, "", "localizer", false); n && y.ExpectMap(n, "localizer")) {

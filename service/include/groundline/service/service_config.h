@@ -8,15 +8,33 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "groundline/core/status.h"
 
 namespace groundline::service {
 
+// A sensor fault injected into the replay (tests and the fault table; a
+// vehicle's config has none): over [from_s, to_s) of data time after the
+// replay's first event.
+struct InjectedFault {
+  enum class Sensor { kCamera, kLidar, kOdometry } sensor = Sensor::kCamera;
+  // camera: silent (unplugged: no frames), blackout (black frames), corrupt
+  // (undecodable frames); lidar: silent; odometry: nan (non-finite
+  // increments), frozen (zero increments while the vehicle moves).
+  std::string kind;
+  double from_s = 0.0;
+  double to_s = 0.0;
+};
+
 struct ServiceConfig {
   // inputs.replay: a dataset replayed with its timestamps honoured.
   std::string replay_dataset;  // required (the live inputs come through DDS)
   double replay_speed = 1.0;   // 1: real time; N: N times faster; 0: as fast as possible
+  // Replays the dataset this many times, each pass shifted in time to follow
+  // the previous one (a closed-loop drive as a long shift).
+  int replay_loops = 1;
+  std::vector<InjectedFault> faults;  // inputs.replay.faults
   // localizer
   std::string preset = "fusion";  // fusion | lines | odometry | lidar
   std::string atlas;              // empty: the dataset's floor map
