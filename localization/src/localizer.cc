@@ -84,6 +84,9 @@ PoseEstimate Localizer::Current() const { return impl_->current; }
 std::optional<PoseEstimate> Localizer::PoseAt(double stamp_s) const {
   return impl_->PoseAt(stamp_s);
 }
+RelativeMotion Localizer::SinceKeyframe() const {
+  return impl_->odometry ? impl_->odometry->SinceKeyframe() : RelativeMotion();
+}
 Atlas Localizer::CurrentAtlas() const {
   return impl_->smoother ? impl_->smoother->CurrentAtlas() : impl_->setup.atlas;
 }

@@ -32,6 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace loc = localization;
+using localization::KeyframeSelector;
 using Clock = std::chrono::steady_clock;
 using internal::BoundedQueue;
 
@@ -99,11 +100,18 @@ struct Service::Impl {
   bool relocalize = false;
 
   std::unique_ptr<BoundedQueue<FrameJob>> frames;
-  BoundedQueue<EstimatorEvent> events{1 << 20};
+  BoundedQueue<EstimatorEvent> events{4096};
   // Stamps of the frames in the camera stage (queued or being processed).
   std::mutex pending_mutex;
   std::multiset<double> pending_frames;
   std::atomic<long> camera_dropped{0}, camera_unreadable{0}, camera_processed{0};
+  std::atomic<long> camera_not_due{0};
+  // The estimator's odometry since its last keyframe, for the camera stage:
+  // a frame taken while the vehicle is far from the next keyframe is not
+  // extracted (it would be skipped), which keeps a 30 fps camera cheap.
+  std::atomic<double> since_keyframe_m{1e9}, since_keyframe_rad{1e9};
+  std::atomic<double> since_stamp_s{0.0}, speed_mps{0.0}, yaw_rate_radps{0.0};
+  double not_due_fraction = 0.8;
 
   // Shared with the HTTP thread.
   mutable std::mutex status_mutex;
@@ -256,6 +264,17 @@ void Service::Impl::CameraStage() {
   while (!frames->closed_and_empty()) {
     std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
     if (!job) continue;
+    // The motion since the last keyframe extrapolated to the frame's time.
+    const KeyframeSelector::Options& due = localizer->options().keyframes;
+    const double ahead_s = std::max(0.0, job->stamp_s - since_stamp_s.load());
+    if (since_keyframe_m.load() + speed_mps.load() * ahead_s <
+            not_due_fraction * due.min_translation_m &&
+        since_keyframe_rad.load() + yaw_rate_radps.load() * ahead_s <
+            not_due_fraction * due.min_rotation_rad) {
+      ++camera_not_due;
+      ReleasePending(job->stamp_s);
+      continue;
+    }
     cv::Mat grey;
     if (job->black && camera) {
       grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
@@ -279,7 +298,7 @@ void Service::Impl::CameraStage() {
       EstimatorEvent event;
       event.kind = EstimatorEvent::Kind::kObserved;
       event.observed = Observed{std::move(seen).value(), job->arrived};
-      events.Push(std::move(event));
+      events.PushWait(std::move(event));
     } else {
       ++camera_unreadable;
     }
@@ -333,6 +352,21 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       last_keyframe = std::move(line);
     }
     counters = localizer->counters();
+    const loc::RelativeMotion since = localizer->SinceKeyframe();
+    since_keyframe_m.store(since.T_start_end.translation().norm());
+    since_keyframe_rad.store(std::abs(since.T_start_end.yaw()));
+    if (localizer->started()) {
+      const loc::PoseEstimate now = localizer->Current();
+      if (const std::optional<loc::PoseEstimate> before = localizer->PoseAt(now.stamp_s - 0.1)) {
+        const double dt = now.stamp_s - before->stamp_s;
+        if (dt > 0.0) {
+          const core::SE2 d = before->T_map_base.Between(now.T_map_base);
+          speed_mps.store(d.translation().norm() / dt);
+          yaw_rate_radps.store(std::abs(d.yaw()) / dt);
+        }
+      }
+      since_stamp_s.store(now.stamp_s);
+    }
   };
   while (!events.closed_and_empty() || !held.empty()) {
     std::optional<EstimatorEvent> event = events.Pop(std::chrono::milliseconds(2));
@@ -417,7 +451,7 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
             const double value = f->kind == "nan" ? std::numeric_limits<double>::quiet_NaN() : 0.0;
             event.wheel.left_delta_rad = event.wheel.right_delta_rad = value;
           }
-          m.events.Push(std::move(event));
+          m.events.PushWait(std::move(event));
           break;
         }
         case core::DatasetEvent::Kind::kScan: {
@@ -426,7 +460,7 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
           event.kind = EstimatorEvent::Kind::kScan;
           event.scan = std::move(e.scan);
           event.scan.stamp_s += shift_s;
-          m.events.Push(std::move(event));
+          m.events.PushWait(std::move(event));
           break;
         }
         case core::DatasetEvent::Kind::kFrame: {
@@ -439,7 +473,9 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
             std::lock_guard<std::mutex> lock(m.pending_mutex);
             m.pending_frames.insert(job.stamp_s);
           }
-          if (std::optional<FrameJob> dropped = m.frames->Push(std::move(job))) {
+          if (m.config.replay_speed == 0.0) {
+            m.frames->PushWait(std::move(job));  // as fast as possible: no frame is lost
+          } else if (std::optional<FrameJob> dropped = m.frames->Push(std::move(job))) {
             ++m.camera_dropped;
             m.ReleasePending(dropped->stamp_s);
           }
@@ -493,6 +529,7 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   j["started"] = m.localizer->started();
   j["counters"] = loc::CountersJson(m.counters);
   j["camera_stage"] = {{"processed", m.camera_processed.load()},
+                       {"skipped_not_due", m.camera_not_due.load()},
                        {"dropped_queue_full", m.camera_dropped.load()},
                        {"unreadable", m.camera_unreadable.load()}};
   j["odometry_poses_out"] = m.odometry_out;

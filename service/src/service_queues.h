@@ -29,6 +29,16 @@ class BoundedQueue {
     ready_.notify_one();
     return dropped;
   }
+  // Appends, waiting while the queue is full (backpressure for an input that
+  // can wait, such as a replay as fast as possible).
+  void PushWait(T value) {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      space_.wait(lock, [this] { return items_.size() < capacity_ || closed_; });
+      items_.push_back(std::move(value));
+    }
+    ready_.notify_one();
+  }
   // The oldest entry, waiting up to `timeout`; nullopt on time-out or when
   // closed and empty.
   std::optional<T> Pop(std::chrono::milliseconds timeout) {
@@ -37,6 +47,8 @@ class BoundedQueue {
     if (items_.empty()) return std::nullopt;
     T value = std::move(items_.front());
     items_.pop_front();
+    lock.unlock();
+    space_.notify_one();
     return value;
   }
   void Close() {
@@ -45,6 +57,7 @@ class BoundedQueue {
       closed_ = true;
     }
     ready_.notify_all();
+    space_.notify_all();
   }
   bool closed_and_empty() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -55,6 +68,7 @@ class BoundedQueue {
   const std::size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable ready_;
+  std::condition_variable space_;
   std::deque<T> items_;
   bool closed_ = false;
 };

@@ -228,6 +228,9 @@ class Localizer {
   // The pose at stamp_s within the odometry history (interpolated between
   // readings), nullopt outside it or before the start.
   std::optional<PoseEstimate> PoseAt(double stamp_s) const;
+  // The odometry since the last keyframe (zero before the start): how far a
+  // camera stage is from a frame that a keyframe would use.
+  RelativeMotion SinceKeyframe() const;
   // The atlas with the current landmark estimates.
   Atlas CurrentAtlas() const;
   const LocalizerCounters& counters() const;
