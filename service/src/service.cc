@@ -18,6 +18,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
 #include "groundline/core/trajectory_io.h"
+#include "groundline/io/frame_source.h"
 #include "groundline/localization/localizer_json.h"
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
@@ -51,6 +52,7 @@ double Percentile(std::vector<double> v, double q) {
 struct FrameJob {
   double stamp_s = 0.0;
   fs::path path;
+  cv::Mat grey;  // a camera's decoded frame (else decoded from path)
   Clock::time_point arrived;
   // Injected faults (InjectedFault): a black frame, or one that does not decode.
   bool black = false;
@@ -69,10 +71,9 @@ struct Observed {
   Clock::time_point arrived;
 };
 struct EstimatorEvent {
-  enum class Kind { kWheel, kScan, kObserved } kind = Kind::kWheel;
+  enum class Kind { kWheel, kScan } kind = Kind::kWheel;
   core::WheelEncoderReading wheel;
   core::LaserScan scan;
-  Observed observed;
 };
 
 loc::LocalizerOptions PresetOptions(const std::string& preset) {
@@ -101,6 +102,7 @@ struct Service::Impl {
 
   std::unique_ptr<BoundedQueue<FrameJob>> frames;
   BoundedQueue<EstimatorEvent> events{4096};
+  BoundedQueue<Observed> observed{64};
   // Stamps of the frames in the camera stage (queued or being processed).
   std::mutex pending_mutex;
   std::multiset<double> pending_frames;
@@ -134,6 +136,17 @@ struct Service::Impl {
   std::vector<FaultTrack> fault_tracks;
   double cpu_replay_s = 0.0, cpu_camera_s = 0.0, cpu_estimator_s = 0.0;
   long odometry_out = 0;
+
+  // inputs.camera: frames from a FrameSource on their own thread.
+  std::atomic<double> replay_now_s{-1e300};
+  // The newest frame handed to the camera stage (stamp, wall time) and the
+  // frame period seen: a reading at or past the next frame's expected time
+  // waits (max_frame_wait_s) for it, unless the camera has stalled.
+  std::atomic<double> frame_watermark_s{-1e300}, frame_period_s{0.0};
+  std::atomic<Clock::rep> frame_wall_ticks{0};
+  std::atomic<long> camera_source_errors{0}, camera_reopens{0};
+  void CameraInput(const std::atomic<bool>& done);
+  void PushFrame(FrameJob job);
 
   httplib::Server http;
   int port = 0;
@@ -258,6 +271,59 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 
+void Service::Impl::PushFrame(FrameJob job) {
+  const double previous_s = frame_watermark_s.exchange(job.stamp_s);
+  if (previous_s > -1e299 && job.stamp_s > previous_s) {
+    const double dt = job.stamp_s - previous_s;
+    const double period = frame_period_s.load();
+    frame_period_s.store(period > 0.0 ? 0.9 * period + 0.1 * dt : dt);
+  }
+  frame_wall_ticks.store(Clock::now().time_since_epoch().count());
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    pending_frames.insert(job.stamp_s);
+  }
+  if (config.replay_speed == 0.0) {
+    frames->PushWait(std::move(job));  // as fast as possible: no frame is lost
+  } else if (std::optional<FrameJob> dropped = frames->Push(std::move(job))) {
+    ++camera_dropped;
+    ReleasePending(dropped->stamp_s);
+  }
+}
+
+void Service::Impl::CameraInput(const std::atomic<bool>& done) {
+  std::unique_ptr<io::FrameSource> source;
+  // A live camera stops with the inputs; a recorded folder plays to its end.
+  while (!done.load() || (source && !source->IsLive())) {
+    if (!source) {
+      core::Result<std::unique_ptr<io::FrameSource>> opened = io::OpenFrameSource(config.camera_uri);
+      if (!opened.ok()) {
+        ++camera_source_errors;  // unplugged: try again in a second
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+        continue;
+      }
+      source = std::move(opened).value();
+      ++camera_reopens;
+    }
+    core::Result<std::optional<io::Frame>> frame = source->Next(1.0);
+    if (!frame.ok()) {
+      ++camera_source_errors;
+      source.reset();
+      continue;
+    }
+    if (!*frame) break;  // a folder's last frame
+    // A recorded folder follows the replay's clock; a live camera is its own.
+    while (!source->IsLive() && !done.load() && replay_now_s.load() < (*frame)->stamp_s) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    FrameJob job;
+    job.stamp_s = (*frame)->stamp_s;
+    job.grey = std::move((*frame)->grey);
+    job.arrived = Clock::now();
+    PushFrame(std::move(job));
+  }
+}
+
 void Service::Impl::CameraStage() {
   const double cpu_start_s = ThreadCpuSeconds();
   Clock::time_point last_bev = Clock::now() - std::chrono::seconds(1);
@@ -278,6 +344,8 @@ void Service::Impl::CameraStage() {
     cv::Mat grey;
     if (job->black && camera) {
       grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
+    } else if (!job->grey.empty()) {
+      grey = job->grey;
     } else if (!job->corrupt) {
       grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
     }
@@ -295,14 +363,13 @@ void Service::Impl::CameraStage() {
         std::lock_guard<std::mutex> lock(status_mutex);
         bev_png = std::move(png);
       }
-      EstimatorEvent event;
-      event.kind = EstimatorEvent::Kind::kObserved;
-      event.observed = Observed{std::move(seen).value(), job->arrived};
-      events.PushWait(std::move(event));
+      // Its own queue, ahead of any backlog of readings; the frame stays
+      // pending until the estimator has taken it.
+      observed.PushWait(Observed{std::move(seen).value(), job->arrived});
     } else {
       ++camera_unreadable;
+      ReleasePending(job->stamp_s);
     }
-    ReleasePending(job->stamp_s);
   }
   std::lock_guard<std::mutex> lock(status_mutex);
   cpu_camera_s = ThreadCpuSeconds() - cpu_start_s;
@@ -313,8 +380,11 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
   const double cpu_start_s = ThreadCpuSeconds();
   std::deque<std::pair<core::WheelEncoderReading, Clock::time_point>> held;
   std::optional<Clock::time_point> last_frame_arrival;
-  const auto wait = std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(config.max_frame_wait_s));
+  // As fast as possible there is no deadline: a reading waits for its frame.
+  const auto wait = config.replay_speed == 0.0
+                        ? Clock::duration::max()
+                        : std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(config.max_frame_wait_s));
   const loc::LocalizerMode mode = localizer->options().mode;
   auto apply = [&](const core::WheelEncoderReading& r) {
     const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
@@ -332,7 +402,7 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     }
     if (k) {
       nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
-      if (k->frame_stamp_s && last_frame_arrival) {
+      if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(
             1e3 * std::chrono::duration<double>(Clock::now() - *last_frame_arrival).count());
         line["latency_ms"] = latency_ms.back();
@@ -368,7 +438,22 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       since_stamp_s.store(now.stamp_s);
     }
   };
-  while (!events.closed_and_empty() || !held.empty()) {
+  std::deque<Observed> taken;  // observations in stamp order, waiting for their reading
+  const auto frame_expected = [&](double stamp_s) {
+    const double period = frame_period_s.load();
+    if (period <= 0.0) return false;
+    const Clock::duration since_frame =
+        Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
+    const bool stalled = since_frame > std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
+    return !stalled && stamp_s + 1e-9 >= frame_watermark_s.load() + 0.9 * period;
+  };
+  while (!events.closed_and_empty() || !observed.closed_and_empty() || !held.empty()) {
+    while (std::optional<Observed> o = observed.Pop(std::chrono::milliseconds(0))) {
+      const double stamp_s = o->observations.observations.stamp_s;
+      taken.push_back(std::move(*o));
+      ReleasePending(stamp_s);
+    }
     std::optional<EstimatorEvent> event = events.Pop(std::chrono::milliseconds(2));
     if (event) {
       switch (event->kind) {
@@ -378,16 +463,21 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
         case EstimatorEvent::Kind::kScan:
           localizer->AddScan(std::move(event->scan));
           break;
-        case EstimatorEvent::Kind::kObserved:
-          last_frame_arrival = event->observed.arrived;
-          localizer->AddFloorObservations(std::move(event->observed.observations));
-          break;
       }
     }
-    // Apply the held readings whose frames are in (or that waited long enough).
+    // Apply the held readings whose frames are in (or that waited long
+    // enough), each after the observations of its time.
+    const bool closing = events.closed_and_empty();
     while (!held.empty()) {
       const auto& [reading, since] = held.front();
-      if (FramePendingAtOrBefore(reading.stamp_s) && Clock::now() - since < wait) break;
+      const bool waiting = FramePendingAtOrBefore(reading.stamp_s) ||
+                           (!closing && frame_expected(reading.stamp_s));
+      if (waiting && Clock::now() - since < wait) break;
+      while (!taken.empty() && taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
+        last_frame_arrival = taken.front().arrived;
+        localizer->AddFloorObservations(std::move(taken.front().observations));
+        taken.pop_front();
+      }
       apply(reading);
       held.pop_front();
     }
@@ -419,6 +509,9 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   m.replay_first_s = first_s;
   m.fault_tracks.assign(m.config.faults.size(), {});
   std::thread camera_thread([&m] { m.CameraStage(); });
+  std::atomic<bool> inputs_done{false};
+  std::thread camera_input;
+  if (!m.config.camera_uri.empty()) camera_input = std::thread([&] { m.CameraInput(inputs_done); });
   std::thread estimator_thread([&] { m.EstimatorStage(keyframes, odometry, health); });
 
   core::Status replayed = core::Status::Ok();
@@ -442,6 +535,8 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     options.start_after_s = m.resume_after_s - shift_s;
     options.stop = [&stop] { return stop.load(); };
     core::Result<ReplayStats> stats = ReplayEvents(*streams, options, [&](core::DatasetEvent& e) {
+      m.replay_now_s.store(e.stamp_s + shift_s);
+      if (e.kind == core::DatasetEvent::Kind::kFrame && !m.config.camera_uri.empty()) return;
       switch (e.kind) {
         case core::DatasetEvent::Kind::kWheel: {
           EstimatorEvent event;
@@ -466,19 +561,13 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
         case core::DatasetEvent::Kind::kFrame: {
           const InjectedFault* f = faulty(InjectedFault::Sensor::kCamera, e.stamp_s);
           if (f && f->kind == "silent") break;
-          FrameJob job{e.stamp_s + shift_s, e.image_path, Clock::now()};
+          FrameJob job;
+          job.stamp_s = e.stamp_s + shift_s;
+          job.path = e.image_path;
+          job.arrived = Clock::now();
           job.black = f && f->kind == "blackout";
           job.corrupt = f && f->kind == "corrupt";
-          {
-            std::lock_guard<std::mutex> lock(m.pending_mutex);
-            m.pending_frames.insert(job.stamp_s);
-          }
-          if (m.config.replay_speed == 0.0) {
-            m.frames->PushWait(std::move(job));  // as fast as possible: no frame is lost
-          } else if (std::optional<FrameJob> dropped = m.frames->Push(std::move(job))) {
-            ++m.camera_dropped;
-            m.ReleasePending(dropped->stamp_s);
-          }
+          m.PushFrame(std::move(job));
           break;
         }
       }
@@ -486,8 +575,11 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     replayed = stats.status();
   }
   const double cpu_replay_s = ThreadCpuSeconds() - cpu_start_s;
+  inputs_done.store(true);
+  if (camera_input.joinable()) camera_input.join();
   m.frames->Close();
   camera_thread.join();
+  m.observed.Close();
   m.events.Close();
   estimator_thread.join();
   const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
@@ -531,7 +623,9 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   j["camera_stage"] = {{"processed", m.camera_processed.load()},
                        {"skipped_not_due", m.camera_not_due.load()},
                        {"dropped_queue_full", m.camera_dropped.load()},
-                       {"unreadable", m.camera_unreadable.load()}};
+                       {"unreadable", m.camera_unreadable.load()},
+                       {"source_errors", m.camera_source_errors.load()},
+                       {"source_opened", m.camera_reopens.load()}};
   j["odometry_poses_out"] = m.odometry_out;
   j["latency_ms"] = {{"n", m.latency_ms.size()},
                      {"median", Percentile(m.latency_ms, 0.5)},

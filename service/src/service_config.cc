@@ -34,6 +34,11 @@ core::Status ServiceConfig::Validate() const {
       return core::Status::Error(at + ": expected 0 <= from_s < to_s");
     }
   }
+  if (!camera_uri.empty() && replay_speed == 0.0) {
+    return core::Status::Error(
+        "inputs.camera.uri: a camera delivers frames at its own pace: set inputs.replay.speed "
+        "> 0 (the replay's odometry and scans then follow the wall clock too)");
+  }
   if (preset != "fusion" && preset != "lines" && preset != "odometry" && preset != "lidar") {
     return core::Status::Error("localizer.preset: expected fusion, lines, odometry or lidar, got '" +
                                preset + "'");
@@ -74,7 +79,11 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   y.CheckKeys(root, "", {"inputs", "localizer", "start", "output", "http", "queues"});
   const YAML::Node inputs = y.Child(root, "", "inputs");
   if (inputs && y.ExpectMap(inputs, "inputs")) {
-    y.CheckKeys(inputs, "inputs", {"replay"});
+    y.CheckKeys(inputs, "inputs", {"replay", "camera"});
+    if (const YAML::Node camera = inputs["camera"]; camera && y.ExpectMap(camera, "inputs.camera")) {
+      y.CheckKeys(camera, "inputs.camera", {"uri"});
+      c.camera_uri = y.Text(camera, "inputs.camera", "uri");
+    }
     const YAML::Node replay = y.Child(inputs, "inputs", "replay");
     if (replay && y.ExpectMap(replay, "inputs.replay")) {
       y.CheckKeys(replay, "inputs.replay", {"dataset", "speed", "loops", "faults"});

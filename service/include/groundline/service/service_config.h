@@ -35,6 +35,10 @@ struct ServiceConfig {
   // the previous one (a closed-loop drive as a long shift).
   int replay_loops = 1;
   std::vector<InjectedFault> faults;  // inputs.replay.faults
+  // inputs.camera.uri: the frames from a camera (io/frame_source.h: v4l2:,
+  // libcamera:, folder:) instead of the replay's own; a folder is paced to
+  // the replay's clock by its index stamps. Empty: the replay's frames.
+  std::string camera_uri;
   // localizer
   std::string preset = "fusion";  // fusion | lines | odometry | lidar
   std::string atlas;              // empty: the dataset's floor map
