@@ -1,0 +1,172 @@
+// The state and stages of a Service (service.h). Private to the service library.
+#ifndef GROUNDLINE_SERVICE_SRC_SERVICE_IMPL_H_
+#define GROUNDLINE_SERVICE_SRC_SERVICE_IMPL_H_
+
+#include "groundline/service/service.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+#include <thread>
+#include <unistd.h>
+
+#include "groundline/core/atomic_file.h"
+#include "groundline/core/dataset.h"
+#include "groundline/core/dataset_streams.h"
+#include "groundline/core/trajectory_io.h"
+#include "groundline/io/frame_source.h"
+#include "groundline/localization/localizer_json.h"
+#include "groundline/service/dataset_localizer.h"
+#include "groundline/service/replay.h"
+#include "service_queues.h"
+#include "status_page.h"
+
+// Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
+#include <httplib.h>
+
+namespace groundline::service {
+
+// Names shared by service.cc and service_stages.cc.
+
+namespace fs = std::filesystem;
+namespace loc = localization;
+using localization::KeyframeSelector;
+using Clock = std::chrono::steady_clock;
+using internal::BoundedQueue;
+
+inline double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+inline double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+}
+
+struct FrameJob {
+  double stamp_s = 0.0;
+  fs::path path;
+  cv::Mat grey;  // a camera's decoded frame (else decoded from path)
+  Clock::time_point arrived;
+  // Injected faults (InjectedFault): a black frame, or one that does not decode.
+  bool black = false;
+  bool corrupt = false;
+};
+
+// Resident set size [MB] (/proc/self/statm).
+inline double ResidentMb() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0;
+}
+struct Observed {
+  loc::ConvertedObservations observations;
+  Clock::time_point arrived;
+};
+struct EstimatorEvent {
+  enum class Kind { kWheel, kScan } kind = Kind::kWheel;
+  core::WheelEncoderReading wheel;
+  core::LaserScan scan;
+};
+
+inline loc::LocalizerOptions PresetOptions(const std::string& preset) {
+  if (preset == "fusion") return loc::LocalizerOptions::ForFusion();
+  if (preset == "lines") {
+    loc::LocalizerOptions o = loc::LocalizerOptions::ForFusion();
+    o.use_lidar = false;
+    return o;
+  }
+  loc::LocalizerOptions o;
+  o.mode = preset == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
+  return o;
+}
+
+struct Service::Impl {
+  ServiceConfig config;
+  core::Dataset dataset;
+  std::unique_ptr<loc::Localizer> localizer;
+  std::shared_ptr<const loc::FloorFrontEnd> camera;
+  loc::Atlas atlas;
+  std::optional<loc::PoseEstimate> start;
+  double resume_after_s = -std::numeric_limits<double>::infinity();
+  bool relocalize = false;
+
+  std::unique_ptr<BoundedQueue<FrameJob>> frames;
+  BoundedQueue<EstimatorEvent> events{4096};
+  BoundedQueue<Observed> observed{64};
+  // Stamps of the frames in the camera stage (queued or being processed).
+  std::mutex pending_mutex;
+  std::multiset<double> pending_frames;
+  std::atomic<long> camera_dropped{0}, camera_unreadable{0}, camera_processed{0};
+  std::atomic<long> camera_not_due{0};
+  // The estimator's odometry since its last keyframe, for the camera stage:
+  // a frame taken while the vehicle is far from the next keyframe is not
+  // extracted (it would be skipped), which keeps a 30 fps camera cheap.
+  std::atomic<double> since_keyframe_m{1e9}, since_keyframe_rad{1e9};
+  std::atomic<double> since_stamp_s{0.0}, speed_mps{0.0}, yaw_rate_radps{0.0};
+  double not_due_fraction = 0.8;
+
+  // Shared with the HTTP thread.
+  mutable std::mutex status_mutex;
+  nlohmann::ordered_json last_keyframe;
+  loc::PoseEstimate pose;
+  loc::LocalizerCounters counters;
+  std::vector<std::uint8_t> bev_png;
+  std::string atlas_json;
+  std::vector<double> latency_ms;
+  // (data time since the first reading [s], RSS [MB]) every 600 s of data.
+  std::vector<std::pair<double, double>> rss_samples;
+  std::optional<double> first_reading_s;
+  // Data time of the replay's first event, and per injected fault: whether a
+  // keyframe reported the degradation, and when the mode was "full" again.
+  double replay_first_s = 0.0;
+  struct FaultTrack {
+    bool degraded_seen = false;
+    std::optional<double> recovered_at_s;
+  };
+  std::vector<FaultTrack> fault_tracks;
+  double cpu_replay_s = 0.0, cpu_camera_s = 0.0, cpu_estimator_s = 0.0;
+  long odometry_out = 0;
+
+  // inputs.camera: frames from a FrameSource on their own thread.
+  std::atomic<double> replay_now_s{-1e300};
+  // The newest frame handed to the camera stage (stamp, wall time) and the
+  // frame period seen: a reading at or past the next frame's expected time
+  // waits (max_frame_wait_s) for it, unless the camera has stalled.
+  std::atomic<double> frame_watermark_s{-1e300}, frame_period_s{0.0};
+  std::atomic<Clock::rep> frame_wall_ticks{0};
+  std::atomic<long> camera_source_errors{0}, camera_reopens{0};
+  void CameraInput(const std::atomic<bool>& done);
+  void PushFrame(FrameJob job);
+
+  httplib::Server http;
+  int port = 0;
+  std::thread http_thread;
+
+  void CameraStage();
+  void EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry, std::ofstream& health);
+  void ReleasePending(double stamp_s) {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    if (auto it = pending_frames.find(stamp_s); it != pending_frames.end()) pending_frames.erase(it);
+  }
+  bool FramePendingAtOrBefore(double stamp_s) {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    return !pending_frames.empty() && *pending_frames.begin() <= stamp_s + 1e-9;
+  }
+};
+
+}  // namespace groundline::service
+
+#endif  // GROUNDLINE_SERVICE_SRC_SERVICE_IMPL_H_

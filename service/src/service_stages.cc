@@ -1,0 +1,222 @@
+// The service's threads: the camera input, the camera stage and the estimator.
+#include "service_impl.h"
+
+namespace groundline::service {
+
+void Service::Impl::PushFrame(FrameJob job) {
+  const double previous_s = frame_watermark_s.exchange(job.stamp_s);
+  if (previous_s > -1e299 && job.stamp_s > previous_s) {
+    const double dt = job.stamp_s - previous_s;
+    const double period = frame_period_s.load();
+    frame_period_s.store(period > 0.0 ? 0.9 * period + 0.1 * dt : dt);
+  }
+  frame_wall_ticks.store(Clock::now().time_since_epoch().count());
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex);
+    pending_frames.insert(job.stamp_s);
+  }
+  if (config.replay_speed == 0.0) {
+    frames->PushWait(std::move(job));  // as fast as possible: no frame is lost
+  } else if (std::optional<FrameJob> dropped = frames->Push(std::move(job))) {
+    ++camera_dropped;
+    ReleasePending(dropped->stamp_s);
+  }
+}
+
+void Service::Impl::CameraInput(const std::atomic<bool>& done) {
+  std::unique_ptr<io::FrameSource> source;
+  // A live camera stops with the inputs; a recorded folder plays to its end.
+  while (!done.load() || (source && !source->IsLive())) {
+    if (!source) {
+      core::Result<std::unique_ptr<io::FrameSource>> opened = io::OpenFrameSource(config.camera_uri);
+      if (!opened.ok()) {
+        ++camera_source_errors;  // unplugged: try again in a second
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+        continue;
+      }
+      source = std::move(opened).value();
+      ++camera_reopens;
+    }
+    core::Result<std::optional<io::Frame>> frame = source->Next(1.0);
+    if (!frame.ok()) {
+      ++camera_source_errors;
+      source.reset();
+      continue;
+    }
+    if (!*frame) break;  // a folder's last frame
+    // A recorded folder follows the replay's clock; a live camera is its own.
+    while (!source->IsLive() && !done.load() && replay_now_s.load() < (*frame)->stamp_s) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    FrameJob job;
+    job.stamp_s = (*frame)->stamp_s;
+    job.grey = std::move((*frame)->grey);
+    job.arrived = Clock::now();
+    PushFrame(std::move(job));
+  }
+}
+
+void Service::Impl::CameraStage() {
+  const double cpu_start_s = ThreadCpuSeconds();
+  Clock::time_point last_bev = Clock::now() - std::chrono::seconds(1);
+  while (!frames->closed_and_empty()) {
+    std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
+    if (!job) continue;
+    // The motion since the last keyframe extrapolated to the frame's time.
+    const KeyframeSelector::Options& due = localizer->options().keyframes;
+    const double ahead_s = std::max(0.0, job->stamp_s - since_stamp_s.load());
+    if (since_keyframe_m.load() + speed_mps.load() * ahead_s <
+            not_due_fraction * due.min_translation_m &&
+        since_keyframe_rad.load() + yaw_rate_radps.load() * ahead_s <
+            not_due_fraction * due.min_rotation_rad) {
+      ++camera_not_due;
+      ReleasePending(job->stamp_s);
+      continue;
+    }
+    cv::Mat grey;
+    if (job->black && camera) {
+      grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
+    } else if (!job->grey.empty()) {
+      grey = job->grey;
+    } else if (!job->corrupt) {
+      grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    }
+    // A camera delivers decoded frames: the latency counts from here.
+    job->arrived = Clock::now();
+    cv::Mat bev;
+    core::Result<loc::ConvertedObservations> seen =
+        grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())
+                                : camera->Observe(grey, job->stamp_s, &bev);
+    if (seen.ok()) {
+      ++camera_processed;
+      if (Clock::now() - last_bev > std::chrono::milliseconds(500)) {
+        last_bev = Clock::now();
+        std::vector<std::uint8_t> png = DrawBevPng(bev, *camera, seen->observations);
+        std::lock_guard<std::mutex> lock(status_mutex);
+        bev_png = std::move(png);
+      }
+      // Its own queue, ahead of any backlog of readings; the frame stays
+      // pending until the estimator has taken it.
+      observed.PushWait(Observed{std::move(seen).value(), job->arrived});
+    } else {
+      ++camera_unreadable;
+      ReleasePending(job->stamp_s);
+    }
+  }
+  std::lock_guard<std::mutex> lock(status_mutex);
+  cpu_camera_s = ThreadCpuSeconds() - cpu_start_s;
+}
+
+void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry,
+                                   std::ofstream& health) {
+  const double cpu_start_s = ThreadCpuSeconds();
+  std::deque<std::pair<core::WheelEncoderReading, Clock::time_point>> held;
+  std::optional<Clock::time_point> last_frame_arrival;
+  // As fast as possible there is no deadline: a reading waits for its frame.
+  const auto wait = config.replay_speed == 0.0
+                        ? Clock::duration::max()
+                        : std::chrono::duration_cast<Clock::duration>(
+                              std::chrono::duration<double>(config.max_frame_wait_s));
+  const loc::LocalizerMode mode = localizer->options().mode;
+  auto apply = [&](const core::WheelEncoderReading& r) {
+    const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
+    std::optional<loc::KeyframeOutput> k = localizer->AddWheelReading(r);
+    std::lock_guard<std::mutex> lock(status_mutex);
+    if (!first_reading_s) first_reading_s = r.stamp_s;
+    const double data_s = r.stamp_s - *first_reading_s;
+    if (rss_samples.empty() || data_s >= rss_samples.back().first + 600.0) {
+      rss_samples.emplace_back(data_s, ResidentMb());
+    }
+    if (localizer->started() && localizer->Current().stamp_s != before_s) {
+      pose = localizer->Current();
+      odometry << core::FormatTumLine({pose.stamp_s, pose.T_map_base, std::nullopt});
+      ++odometry_out;
+    }
+    if (k) {
+      nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
+      if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
+        latency_ms.push_back(
+            1e3 * std::chrono::duration<double>(Clock::now() - *last_frame_arrival).count());
+        line["latency_ms"] = latency_ms.back();
+      }
+      const double t = k->stamp_s - replay_first_s;
+      for (std::size_t i = 0; i < config.faults.size(); ++i) {
+        const InjectedFault& f = config.faults[i];
+        FaultTrack& track = fault_tracks[i];
+        const bool full = k->sensors.degraded_mode == "full";
+        if (t >= f.from_s && t < f.to_s + 5.0 && !full) track.degraded_seen = true;
+        if (t >= f.to_s && full && !track.recovered_at_s) track.recovered_at_s = t;
+      }
+      health << line.dump() << "\n";
+      health.flush();
+      keyframes << core::FormatTumLine({k->pose.stamp_s, k->pose.T_map_base, std::nullopt});
+      keyframes.flush();
+      last_keyframe = std::move(line);
+    }
+    counters = localizer->counters();
+    const loc::RelativeMotion since = localizer->SinceKeyframe();
+    since_keyframe_m.store(since.T_start_end.translation().norm());
+    since_keyframe_rad.store(std::abs(since.T_start_end.yaw()));
+    if (localizer->started()) {
+      const loc::PoseEstimate now = localizer->Current();
+      if (const std::optional<loc::PoseEstimate> before = localizer->PoseAt(now.stamp_s - 0.1)) {
+        const double dt = now.stamp_s - before->stamp_s;
+        if (dt > 0.0) {
+          const core::SE2 d = before->T_map_base.Between(now.T_map_base);
+          speed_mps.store(d.translation().norm() / dt);
+          yaw_rate_radps.store(std::abs(d.yaw()) / dt);
+        }
+      }
+      since_stamp_s.store(now.stamp_s);
+    }
+  };
+  std::deque<Observed> taken;  // observations in stamp order, waiting for their reading
+  const auto frame_expected = [&](double stamp_s) {
+    const double period = frame_period_s.load();
+    if (period <= 0.0) return false;
+    const Clock::duration since_frame =
+        Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
+    const bool stalled = since_frame > std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
+    return !stalled && stamp_s + 1e-9 >= frame_watermark_s.load() + 0.9 * period;
+  };
+  while (!events.closed_and_empty() || !observed.closed_and_empty() || !held.empty()) {
+    while (std::optional<Observed> o = observed.Pop(std::chrono::milliseconds(0))) {
+      const double stamp_s = o->observations.observations.stamp_s;
+      taken.push_back(std::move(*o));
+      ReleasePending(stamp_s);
+    }
+    std::optional<EstimatorEvent> event = events.Pop(std::chrono::milliseconds(2));
+    if (event) {
+      switch (event->kind) {
+        case EstimatorEvent::Kind::kWheel:
+          held.emplace_back(event->wheel, Clock::now());
+          break;
+        case EstimatorEvent::Kind::kScan:
+          localizer->AddScan(std::move(event->scan));
+          break;
+      }
+    }
+    // Apply the held readings whose frames are in (or that waited long
+    // enough), each after the observations of its time.
+    const bool closing = events.closed_and_empty();
+    while (!held.empty()) {
+      const auto& [reading, since] = held.front();
+      const bool waiting = FramePendingAtOrBefore(reading.stamp_s) ||
+                           (!closing && frame_expected(reading.stamp_s));
+      if (waiting && Clock::now() - since < wait) break;
+      while (!taken.empty() && taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
+        last_frame_arrival = taken.front().arrived;
+        localizer->AddFloorObservations(std::move(taken.front().observations));
+        taken.pop_front();
+      }
+      apply(reading);
+      held.pop_front();
+    }
+  }
+  std::lock_guard<std::mutex> lock(status_mutex);
+  cpu_estimator_s = ThreadCpuSeconds() - cpu_start_s;
+}
+
+
+}  // namespace groundline::service
