@@ -45,7 +45,9 @@ core::Status LidarSlamOptions::Validate() const {
 }
 
 LidarSlam::LidarSlam(const LidarSlamOptions& options)
-    : options_(options), submaps_(options.grid, options.scans_per_submap), graph_(options.graph) {
+    : options_(options),
+      submaps_(options.grid, options.scans_per_submap, options.retain_finished_submaps),
+      graph_(options.graph) {
   assert(options.Validate().ok());
 }
 
@@ -223,7 +225,7 @@ void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report
   if (information.rank == 0) return;
   const std::vector<int>& own = node_submaps_[static_cast<std::size_t>(node)];
   for (const std::shared_ptr<Submap>& submap : submaps_.all()) {
-    if (!submap->finished) continue;
+    if (submap == nullptr || !submap->finished) continue;  // released, or still active
     if (std::find(own.begin(), own.end(), submap->id) != own.end()) continue;
     const core::SE2 estimate = graph_.submap(submap->id).Between(graph_.node(node));
     if (!submap->grid.IsKnown(submap->grid.CellOf(estimate.translation()))) continue;

@@ -43,6 +43,7 @@ LidarSlamOptions ScanOdometryOptions::DefaultSlam() {
   LidarSlamOptions slam;
   slam.odometry_noise = OdometryNoiseParams();
   slam.loop_search_every_n_nodes = std::numeric_limits<int>::max();  // node 0 only: no loops
+  slam.retain_finished_submaps = false;  // no loops: memory stays flat over a shift
   return slam;
 }
 

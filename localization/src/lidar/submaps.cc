@@ -4,13 +4,19 @@
 
 namespace groundline::localization::lidar {
 
-ActiveSubmaps::ActiveSubmaps(const ProbabilityGridOptions& grid_options, int scans_per_submap)
-    : grid_options_(grid_options), scans_per_submap_(scans_per_submap) {
+ActiveSubmaps::ActiveSubmaps(const ProbabilityGridOptions& grid_options, int scans_per_submap,
+                             bool retain_finished)
+    : grid_options_(grid_options),
+      scans_per_submap_(scans_per_submap),
+      retain_finished_(retain_finished) {
   assert(scans_per_submap >= 1);
 }
 
 std::vector<int> ActiveSubmaps::InsertScan(const core::SE2& T_local_base, const ScanPoints& scan,
                                            std::vector<std::shared_ptr<Submap>>* finished) {
+  // Submaps that finished in the previous call: the caller has seen them.
+  for (int id : released_next_) all_[static_cast<std::size_t>(id)].reset();
+  released_next_.clear();
   if (active_.empty() || active_.back()->num_scans >= scans_per_submap_) {
     auto submap =
         std::make_shared<Submap>(static_cast<int>(all_.size()), T_local_base, grid_options_);
@@ -33,6 +39,7 @@ std::vector<int> ActiveSubmaps::InsertScan(const core::SE2& T_local_base, const 
     active_.front()->grid.CropToKnown();
     active_.front()->grid.Compress();
     if (finished != nullptr) finished->push_back(active_.front());
+    if (!retain_finished_) released_next_.push_back(active_.front()->id);
     active_.pop_front();
   }
   return ids;

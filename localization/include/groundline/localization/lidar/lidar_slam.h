@@ -110,6 +110,10 @@ struct LidarSlamOptions {
   int loop_search_every_n_nodes = 3;
   int optimize_every_n_nodes = 60;
   int precomputed_cache_size = 24;  // submaps whose loop-search grids stay in memory
+  // Keep the grids of finished submaps (the loop search matches against
+  // them). A front end without loop closures (scan odometry) releases them,
+  // so that its memory stays flat over a shift.
+  bool retain_finished_submaps = true;
 
   core::Status Validate() const;
 };

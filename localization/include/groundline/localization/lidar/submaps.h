@@ -39,7 +39,10 @@ struct Submap {
 
 class ActiveSubmaps {
  public:
-  ActiveSubmaps(const ProbabilityGridOptions& grid_options, int scans_per_submap);
+  // retain_finished: keep finished submaps in all(); false releases them
+  // (their entry in all() becomes null) at the call after they finished.
+  ActiveSubmaps(const ProbabilityGridOptions& grid_options, int scans_per_submap,
+                bool retain_finished = true);
 
   // Inserts a scan taken at T_local_base (points in the base frame) into the
   // active submaps, starting a new one first when due. Returns the ids of
@@ -51,14 +54,16 @@ class ActiveSubmaps {
   std::shared_ptr<const Submap> matching_submap() const {
     return active_.empty() ? nullptr : active_.front();
   }
-  // Every submap ever started, by id.
+  // Every submap ever started, by id (null for a released one).
   const std::vector<std::shared_ptr<Submap>>& all() const { return all_; }
 
  private:
   ProbabilityGridOptions grid_options_;
   int scans_per_submap_;
+  bool retain_finished_;
   std::deque<std::shared_ptr<Submap>> active_;
   std::vector<std::shared_ptr<Submap>> all_;
+  std::vector<int> released_next_;
 };
 
 }  // namespace groundline::localization::lidar
