@@ -21,7 +21,9 @@ core::Status LocalizerOptions::Validate() const {
   const std::pair<const char*, double> positive[] = {
       {"blind_keyframe_m", blind_keyframe_m},     {"odometry_history_s", odometry_history_s},
       {"max_odometry_gap_s", max_odometry_gap_s}, {"max_frame_lag_s", max_frame_lag_s},
-      {"stale_after_s", stale_after_s},           {"lateral_variance_m2_per_m", lateral_variance_m2_per_m}};
+      {"stale_after_s", stale_after_s},           {"lateral_variance_m2_per_m", lateral_variance_m2_per_m},
+      {"max_scan_gap_s", max_scan_gap_s},         {"odometry_gap_speed_mps", odometry_gap_speed_mps},
+      {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0.0)) {
       return core::Status::Error(std::string("localizer option ") + name +

@@ -123,7 +123,8 @@ std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEn
     ++counters.wheel_dropped_out_of_order;
     return std::nullopt;
   }
-  if (previous_s && r.stamp_s - *previous_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
+  const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
+  if (gap_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
   last_reading_s = r.stamp_s;
   if (relocalizer && !relocalizer_done_) {
     if (previous_s) return Relocalize(r);
@@ -134,6 +135,14 @@ std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEn
     return std::nullopt;
   }
   if (r.stamp_s <= current.stamp_s) return std::nullopt;  // at or before the start
+  if (gap_s > options.max_odometry_gap_s) {
+    // The motion over the gap is unknown: widen the odometry by it.
+    const double s_m = options.odometry_gap_speed_mps * gap_s;
+    const double s_rad = options.odometry_gap_yaw_rate_radps * gap_s;
+    OdometryIncrement unknown;
+    unknown.covariance = core::Vector3(s_m * s_m, s_m * s_m, s_rad * s_rad).asDiagonal();
+    odometry->Integrate(unknown);
+  }
 
   // The frame whose turn it is: the newest one up to this reading. Inside
   // the reading's interval it splits the reading (constant wheel speeds).

@@ -118,6 +118,7 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"solve_failures", c.solve_failures},
           {"solves_unconverged", c.solves_unconverged},
           {"lidar_failures", c.lidar_failures},
+          {"lidar_restarts", c.lidar_restarts},
           {"lines_used", c.lines_used},
           {"lines_rejected", c.lines_rejected},
           {"lines_dropped", c.lines_dropped},

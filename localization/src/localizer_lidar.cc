@@ -13,7 +13,10 @@ LidarStage::LidarStage(const LidarSetup& setup, const LocalizerOptions& options)
       points_options_(options.scan_points),
       wall_options_(options.walls),
       history_s_(options.odometry_history_s),
-      scan_odometry_(options.scan_odometry),
+      scan_odometry_options_(options.scan_odometry),
+      max_scan_gap_s_(options.max_scan_gap_s),
+      scan_odometry_(std::make_unique<lidar::ScanOdometry>(options.scan_odometry)),
+      last_matched_s_(-std::numeric_limits<double>::infinity()),
       last_received_s_(-std::numeric_limits<double>::infinity()) {}
 
 void LidarStage::Start(double stamp_s, const core::SE2& T_odom_base) {
@@ -70,11 +73,19 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
   while (!queue_.empty() && queue_.front().first <= up_to_s) {
     auto [describes_s, scan] = std::move(queue_.front());
     queue_.pop_front();
+    // After a silent LiDAR the local map and the last match are stale: a
+    // match across the gap would be a guess, so the scan odometry restarts.
+    if (std::isfinite(last_matched_s_) && describes_s - last_matched_s_ > max_scan_gap_s_) {
+      scan_odometry_ = std::make_unique<lidar::ScanOdometry>(scan_odometry_options_);
+      last_.reset();
+      ++counters->lidar_restarts;
+    }
+    last_matched_s_ = describes_s;
     const lidar::ScanPoints points =
         lidar::ScanPointsFromRanges(scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad,
                                     scan.range_max_m, setup_.T_base_lidar, points_options_);
     core::Result<lidar::ScanReport> report =
-        scan_odometry_.AddScan(describes_s, OdometryAt(describes_s), points);
+        scan_odometry_->AddScan(describes_s, OdometryAt(describes_s), points);
     if (!report.ok()) {
       ++counters->lidar_failures;
       continue;
@@ -85,7 +96,7 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
 }
 
 lidar::ScanOdometryKeyframe LidarStage::Keyframe(double stamp_s) {
-  return scan_odometry_.Keyframe(stamp_s, OdometryAt(stamp_s));
+  return scan_odometry_->Keyframe(stamp_s, OdometryAt(stamp_s));
 }
 
 core::SE2 LidarStage::OdometryAt(double stamp_s) const {

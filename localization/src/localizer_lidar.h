@@ -7,6 +7,7 @@
 #define GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_LIDAR_H_
 
 #include <deque>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,7 +45,10 @@ class LidarStage {
   lidar::ScanPointsOptions points_options_;
   lidar::WallLineOptions wall_options_;
   double history_s_;
-  lidar::ScanOdometry scan_odometry_;
+  lidar::ScanOdometryOptions scan_odometry_options_;
+  double max_scan_gap_s_;
+  std::unique_ptr<lidar::ScanOdometry> scan_odometry_;
+  double last_matched_s_;
   core::Trajectory odometry_;  // T_odom_base at the wheel readings, recent history
   double start_s_ = 0.0;
   bool started_ = false;

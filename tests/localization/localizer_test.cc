@@ -94,12 +94,18 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
   EXPECT_NEAR(noisy->Current().T_map_base.x(), 3.0, 1e-9);
 }
 
-TEST(Localizer, AGapInTheReadingsIsCounted) {
+TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion) {
   std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
   localizer->AddWheelReading(Straight(1));
   localizer->AddWheelReading(Straight(2));
-  localizer->AddWheelReading(Straight(200));  // 1.98 s later: a stalled driver
+  const double before_m2 = localizer->Current().covariance(0, 0);
+  localizer->AddWheelReading(Straight(200));  // 1.98 s later: readings lost
   EXPECT_EQ(localizer->counters().odometry_gaps, 1);
+  // 2 m/s over the gap: a sigma of about 4 m along and across.
+  const LocalizerOptions defaults;
+  const double expected_m = defaults.odometry_gap_speed_mps * 1.98;
+  EXPECT_NEAR(std::sqrt(localizer->Current().covariance(0, 0) - before_m2), expected_m, 0.05);
+  EXPECT_GT(std::sqrt(localizer->Current().covariance(2, 2)), 1.9);
 }
 
 TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {

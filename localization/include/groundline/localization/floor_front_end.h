@@ -27,6 +27,10 @@ struct FloorFrontEndOptions {
   // at remap.grid.cell_m); false: remap.grid as given.
   bool grid_from_footprint = true;
   perception::LineExtractorOptions extractor = perception::LineExtractorOptions::ForFusion();
+  // A frame whose grey levels spread less than this (standard deviation over
+  // a grid of samples) is blank: a covered lens, a blacked-out or saturated
+  // camera. It is refused (an error), not read as a floor without markings.
+  double min_frame_stddev = 2.0;
 
   core::Status Validate() const;
 };
@@ -39,7 +43,7 @@ class FloorFrontEnd {
                                             const FloorFrontEndOptions& options = {});
 
   // The frame's lines and junctions, stamped stamp_s. Errors: an empty frame,
-  // or one whose size is not the camera model's.
+  // one whose size is not the camera model's, a blank one (min_frame_stddev).
   core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s) const;
   // The same, also returning the BEV image (for a status page or an overlay).
   core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s,
@@ -56,6 +60,7 @@ class FloorFrontEnd {
   std::shared_ptr<const perception::LineExtractor> extractor_;
   int width_px_ = 0;
   int height_px_ = 0;
+  double min_frame_stddev_ = 0.0;
 };
 
 }  // namespace groundline::localization

@@ -91,6 +91,15 @@ struct LocalizerOptions {
   lidar::ScanPointsOptions scan_points;
   lidar::WallLineOptions walls;
   RelocalizerOptions relocalizer;
+  // Scans further apart than this (a silent LiDAR) restart the scan odometry
+  // (a fresh local map, no relative measurement across the gap) [s].
+  double max_scan_gap_s = 1.0;
+  // Wheel readings further apart than max_odometry_gap_s: the motion in
+  // between is unknown (readings lost or dropped); the next keyframe's
+  // odometry covariance grows by this speed and yaw rate over the gap, so
+  // that the lines and the LiDAR can pull the pose back.
+  double odometry_gap_speed_mps = 2.0;
+  double odometry_gap_yaw_rate_radps = 1.0;
   // Odometry kept for interpolation at scan, ray and query times [s].
   double odometry_history_s = 3.0;
   // Wheel readings further apart than this are counted as a gap (a stalled
@@ -148,6 +157,7 @@ struct LocalizerCounters {
   long solve_failures = 0;
   long solves_unconverged = 0;
   long lidar_failures = 0;
+  long lidar_restarts = 0;  // the scan odometry restarted after a gap
   long lines_used = 0;
   long lines_rejected = 0;
   long lines_dropped = 0;

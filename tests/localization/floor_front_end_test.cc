@@ -1,0 +1,46 @@
+// The localizer's camera front end (localization/floor_front_end.h): a blank
+// frame (covered lens, blacked-out camera) is refused, not read as a floor
+// without markings; a frame of the wrong size is refused; a real floor is read.
+#include "groundline/localization/floor_front_end.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace groundline::localization {
+namespace {
+
+FloorFrontEnd ReferenceCamera() {
+  const calibration::CameraModel camera =
+      calibration::CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
+  core::Result<FloorFrontEnd> made = FloorFrontEnd::Create(camera, calibration::CameraMount());
+  EXPECT_TRUE(made.ok()) << made.message();
+  return std::move(made).value();
+}
+
+TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {
+  const FloorFrontEnd front_end = ReferenceCamera();
+  // The BEV covers the camera's footprint (0.67-2.2 m ahead for this mount).
+  const perception::BevGrid& grid = front_end.remap().grid();
+  EXPECT_GT(grid.FloorPointOfCell({0.0, 0.0}).x(), 2.0);
+  for (const cv::Scalar& level : {cv::Scalar(0), cv::Scalar(255), cv::Scalar(90)}) {
+    const cv::Mat blank(1024, 1280, CV_8UC1, level);
+    const core::Result<ConvertedObservations> seen = front_end.Observe(blank, 1.0);
+    ASSERT_FALSE(seen.ok());
+    EXPECT_NE(seen.message().find("blank"), std::string::npos) << seen.message();
+  }
+  EXPECT_FALSE(front_end.Observe(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 1.0).ok());
+
+  // Concrete-like noise with a bright tape running straight ahead.
+  cv::Mat floor(1024, 1280, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(floor, cv::RNG::NORMAL, 110, 6);
+  cv::line(floor, cv::Point(640, 1023), cv::Point(640, 0), cv::Scalar(230), 40);
+  const core::Result<ConvertedObservations> seen = front_end.Observe(floor, 2.0);
+  ASSERT_TRUE(seen.ok()) << seen.message();
+  EXPECT_GE(seen->observations.lines.size(), 1u);
+  EXPECT_EQ(seen->observations.stamp_s, 2.0);
+}
+
+}  // namespace
+}  // namespace groundline::localization
