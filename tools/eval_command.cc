@@ -275,7 +275,8 @@ int RunEval(EvalFlags flags) {
     }
     if (flags.from_s || flags.to_s) {
       std::erase_if(*estimate, [&flags](const core::StampedPose& p) {
-        return (flags.from_s && p.stamp_s < *flags.from_s) || (flags.to_s && p.stamp_s >= *flags.to_s);
+        return (flags.from_s && p.stamp_s < *flags.from_s) ||
+               (flags.to_s && p.stamp_s >= *flags.to_s);
       });
       if (estimate->empty()) {
         std::fprintf(stderr, "groundline eval: %s: no pose in the --from-s/--to-s window\n",
@@ -369,7 +370,8 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--from-s", flags->from_s,
                   "score only the estimate poses stamped at or after this time [s] "
                   "(e.g. the minute after a sensor came back)");
-  cmd->add_option("--to-s", flags->to_s, "score only the estimate poses stamped before this time [s]");
+  cmd->add_option("--to-s", flags->to_s,
+                  "score only the estimate poses stamped before this time [s]");
   CLI::Option* rpe_m = cmd->add_option("--rpe-m", flags->rpe_m,
                                        "also report RPE over this reference path length [m]");
   cmd->add_option("--rpe-frames", flags->rpe_frames,

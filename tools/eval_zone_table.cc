@@ -108,8 +108,8 @@ void PrintDetectorShares(const std::vector<EvalRun>& runs, const core::Trajector
         continue;
       }
       const core::SE2 truth = core::InterpolatePose(reference, line["stamp_s"].get<double>());
-      const std::string region = sim::ZoneRegionName(
-          sim::PresetRegionAt(*parsed, truth.translation(), kRegionEndMarginM));
+      const std::string region =
+          sim::ZoneRegionName(sim::PresetRegionAt(*parsed, truth.translation(), kRegionEndMarginM));
       std::pair<int, int>& counts = regions[region];
       counts.first += 1;
       counts.second += line["lidar_degenerate"].get<bool>() ? 1 : 0;

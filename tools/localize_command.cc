@@ -126,9 +126,11 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
   if (flags.mode == "lines" || flags.mode == "mapping") {
     options = loc::LocalizerOptions::ForFusion();
     options.use_lidar = flags.lidar;
-    options.mode = flags.mode == "mapping" ? loc::LocalizerMode::kMapping : loc::LocalizerMode::kLines;
+    options.mode =
+        flags.mode == "mapping" ? loc::LocalizerMode::kMapping : loc::LocalizerMode::kLines;
   } else {
-    options.mode = flags.mode == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
+    options.mode =
+        flags.mode == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
   }
   options.use_wall_lines = flags.wall_lines;
   options.smoother.solver =
@@ -142,7 +144,8 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
   if (flags.lateral_variance_m2_per_m > 0.0) {
     options.lateral_variance_m2_per_m = flags.lateral_variance_m2_per_m;
   }
-  if (flags.near.size() >= 2) options.relocalizer.near_m = Eigen::Vector2d(flags.near[0], flags.near[1]);
+  if (flags.near.size() >= 2)
+    options.relocalizer.near_m = Eigen::Vector2d(flags.near[0], flags.near[1]);
   if (flags.near.size() == 3) options.relocalizer.near_radius_m = flags.near[2];
   return options;
 }
@@ -163,8 +166,10 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
     return Fail("--relocalize needs an atlas to recognize: use it with --mode lines");
   }
-  if (core::Status s = options.relocalizer.Validate(); !s.ok()) return Fail("--near: " + s.message());
-  core::Result<service::DatasetSetup> setup = service::SetupFromDataset(dir, *dataset, setup_options);
+  if (core::Status s = options.relocalizer.Validate(); !s.ok())
+    return Fail("--near: " + s.message());
+  core::Result<service::DatasetSetup> setup =
+      service::SetupFromDataset(dir, *dataset, setup_options);
   if (!setup.ok()) return Fail(setup.message());
   if (setup->setup.camera) {
     const perception::BevGrid& g = setup->setup.camera->remap().grid();
@@ -215,7 +220,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   stream_options.frames = setup_options.localizer.mode == loc::LocalizerMode::kLines ||
                           setup_options.localizer.mode == loc::LocalizerMode::kMapping;
   stream_options.scans = options.mode == loc::LocalizerMode::kLidar || options.use_lidar;
-  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(dir, *dataset, stream_options);
+  core::Result<core::DatasetStreams> streams =
+      core::DatasetStreams::Open(dir, *dataset, stream_options);
   if (!streams.ok()) return Fail(streams.message());
   std::optional<LocalizeDiagnostics> diagnostics;
   if (flags.diagnose && !dataset->ground_truth.empty()) {
@@ -278,8 +284,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (flags.relocalize && !localizer.started()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
     return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
-                std::to_string(localizer.counters().frames_used) + " frames: " +
-                std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
+                std::to_string(localizer.counters().frames_used) +
+                " frames: " + std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
                 std::to_string(s ? s->seeds : 0) +
                 " junction sightings; a repeating floor needs --near X_M Y_M [RADIUS_M] (where "
                 "the drive starts), or give --initial-pose");
@@ -325,12 +331,13 @@ int RunLocalize(const LocalizeFlags& flags) {
   }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
-    summary["relocalized"] = {{"stamp_s", r->stamp_s},
-                              {"x_m", r->T_map_base.x()},
-                              {"y_m", r->T_map_base.y()},
-                              {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
-                              {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
-                              {"junction_sightings", s ? s->seeds : 0}};
+    summary["relocalized"] = {
+        {"stamp_s", r->stamp_s},
+        {"x_m", r->T_map_base.x()},
+        {"y_m", r->T_map_base.y()},
+        {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
+        {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
+        {"junction_sightings", s ? s->seeds : 0}};
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
   }
   std::printf(

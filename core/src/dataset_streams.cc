@@ -35,7 +35,8 @@ Result<DatasetStreams> DatasetStreams::Open(const std::filesystem::path& dir,
   impl->images = options.frames ? &dataset.images : &kNoImages;
   impl->image_dir = (dir / dataset.manifest.files.image_index).parent_path();
   if (options.scans && !dataset.manifest.files.lidar_scans.empty()) {
-    Result<LaserScanReader> reader = LaserScanReader::Open(dir / dataset.manifest.files.lidar_scans);
+    Result<LaserScanReader> reader =
+        LaserScanReader::Open(dir / dataset.manifest.files.lidar_scans);
     if (!reader.ok()) return reader.status();
     impl->scans.emplace(std::move(reader).value());
   }
@@ -56,8 +57,10 @@ Result<bool> DatasetStreams::Next(DatasetEvent* event) {
   }
   constexpr double kNone = std::numeric_limits<double>::infinity();
   const double scan_s = m.next_scan ? m.next_scan->stamp_s : kNone;
-  const double frame_s = m.next_image < m.images->size() ? (*m.images)[m.next_image].stamp_s : kNone;
-  const double wheel_s = m.next_wheel < m.wheels->size() ? (*m.wheels)[m.next_wheel].stamp_s : kNone;
+  const double frame_s =
+      m.next_image < m.images->size() ? (*m.images)[m.next_image].stamp_s : kNone;
+  const double wheel_s =
+      m.next_wheel < m.wheels->size() ? (*m.wheels)[m.next_wheel].stamp_s : kNone;
   if (scan_s == kNone && frame_s == kNone && wheel_s == kNone) return false;
   if (scan_s <= frame_s + kSimultaneousS && scan_s <= wheel_s + kSimultaneousS) {
     event->kind = DatasetEvent::Kind::kScan;

@@ -161,9 +161,8 @@ SE2 InterpolatePose(const Trajectory& trajectory, double stamp_s) {
   assert(!trajectory.empty());
   if (stamp_s <= trajectory.front().stamp_s) return trajectory.front().pose;
   if (stamp_s >= trajectory.back().stamp_s) return trajectory.back().pose;
-  const auto it =
-      std::upper_bound(trajectory.begin(), trajectory.end(), stamp_s,
-                       [](double t, const StampedPose& p) { return t < p.stamp_s; });
+  const auto it = std::upper_bound(trajectory.begin(), trajectory.end(), stamp_s,
+                                   [](double t, const StampedPose& p) { return t < p.stamp_s; });
   const StampedPose& b = *it;
   const StampedPose& a = *(it - 1);
   const double f = (stamp_s - a.stamp_s) / (b.stamp_s - a.stamp_s);

@@ -102,8 +102,8 @@ std::string FormatTumLine(const StampedPose& p) {
   char buffer[256];
   double qz = 0.0, qw = 1.0;
   QuaternionFromYaw(p.pose.yaw(), &qz, &qw);
-  std::snprintf(buffer, sizeof(buffer), "%.9f %.9f %.9f 0 0 0 %.12f %.12f\n", p.stamp_s,
-                p.pose.x(), p.pose.y(), qz, qw);
+  std::snprintf(buffer, sizeof(buffer), "%.9f %.9f %.9f 0 0 0 %.12f %.12f\n", p.stamp_s, p.pose.x(),
+                p.pose.y(), qz, qw);
   return buffer;
 }
 

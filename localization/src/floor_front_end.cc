@@ -55,8 +55,8 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey, 
   if (grey.cols != width_px_ || grey.rows != height_px_) {
     return core::Status::Error("camera frame at " + std::to_string(stamp_s) + " s: expected " +
                                std::to_string(width_px_) + "x" + std::to_string(height_px_) +
-                               " px (the camera model's imager), got " +
-                               std::to_string(grey.cols) + "x" + std::to_string(grey.rows));
+                               " px (the camera model's imager), got " + std::to_string(grey.cols) +
+                               "x" + std::to_string(grey.rows));
   }
   if (min_frame_stddev_ > 0.0) {
     // Every 16th pixel of every 16th row: a blank frame shows in any sample.

@@ -19,10 +19,14 @@ core::Status LocalizerOptions::Validate() const {
   if (core::Status s = scan_points.Validate(); !s.ok()) return s.WithContext("scan_points");
   if (core::Status s = relocalizer.Validate(); !s.ok()) return s.WithContext("relocalizer");
   const std::pair<const char*, double> positive[] = {
-      {"blind_keyframe_m", blind_keyframe_m},     {"odometry_history_s", odometry_history_s},
-      {"max_odometry_gap_s", max_odometry_gap_s}, {"max_frame_lag_s", max_frame_lag_s},
-      {"stale_after_s", stale_after_s},           {"lateral_variance_m2_per_m", lateral_variance_m2_per_m},
-      {"max_scan_gap_s", max_scan_gap_s},         {"odometry_gap_speed_mps", odometry_gap_speed_mps},
+      {"blind_keyframe_m", blind_keyframe_m},
+      {"odometry_history_s", odometry_history_s},
+      {"max_odometry_gap_s", max_odometry_gap_s},
+      {"max_frame_lag_s", max_frame_lag_s},
+      {"stale_after_s", stale_after_s},
+      {"lateral_variance_m2_per_m", lateral_variance_m2_per_m},
+      {"max_scan_gap_s", max_scan_gap_s},
+      {"odometry_gap_speed_mps", odometry_gap_speed_mps},
       {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0.0)) {
@@ -56,7 +60,8 @@ Localizer::~Localizer() = default;
 
 core::Result<std::unique_ptr<Localizer>> Localizer::Create(const LocalizerOptions& options,
                                                            LocalizerSetup setup) {
-  core::Result<std::unique_ptr<LocalizerImpl>> impl = LocalizerImpl::Create(options, std::move(setup));
+  core::Result<std::unique_ptr<LocalizerImpl>> impl =
+      LocalizerImpl::Create(options, std::move(setup));
   if (!impl.ok()) return impl.status();
   return std::unique_ptr<Localizer>(new Localizer(std::move(*impl)));
 }

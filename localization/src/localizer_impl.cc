@@ -48,7 +48,8 @@ core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const Localiz
   }
   impl->options.smoother.track_m = setup.drive.track_m;
   impl->selector = KeyframeSelector(options.keyframes);
-  const bool floor = options.mode == LocalizerMode::kLines || options.mode == LocalizerMode::kMapping;
+  const bool floor =
+      options.mode == LocalizerMode::kLines || options.mode == LocalizerMode::kMapping;
   if (floor) {
     SmootherOptions smoother = impl->options.smoother;
     smoother.mode = options.mode == LocalizerMode::kMapping ? SmootherMode::kMapping
@@ -166,8 +167,7 @@ std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEn
   return Step(r.stamp_s, std::move(frame));
 }
 
-void LocalizerImpl::Integrate(const core::WheelEncoderReading& r, double fraction,
-                              double stamp_s) {
+void LocalizerImpl::Integrate(const core::WheelEncoderReading& r, double fraction, double stamp_s) {
   const OdometryIncrement increment = odometry->Integrate(
       WheelAngleIncrement{fraction * r.left_delta_rad, fraction * r.right_delta_rad});
   path_length_m += std::abs(increment.distance_m);
@@ -315,9 +315,9 @@ void LocalizerImpl::UpdateCurrent(double stamp_s) {
   } else {
     // Dead reckoning (or the LiDAR estimate) composed with the odometry since.
     const core::SE2 T_map_odom = T_map_start * odometry->T_odom_base();
-    current = {stamp_s, keyframe.T_map_base * T_odom_keyframe.Between(T_map_odom),
-               options.mode == LocalizerMode::kOdometry ? odometry->covariance()
-                                                        : core::Matrix3::Zero()};
+    current = {
+        stamp_s, keyframe.T_map_base * T_odom_keyframe.Between(T_map_odom),
+        options.mode == LocalizerMode::kOdometry ? odometry->covariance() : core::Matrix3::Zero()};
   }
   history.push_back(current);
   while (history.size() > 2 && history[1].stamp_s < stamp_s - options.odometry_history_s) {

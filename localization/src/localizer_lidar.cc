@@ -40,8 +40,8 @@ bool LidarStage::AddScan(core::LaserScan scan, LocalizerCounters* counters) {
   // The instant the scan describes: the middle of its sweep (scan_odometry.h).
   double describes_s = scan.stamp_s;
   if (setup_.stamp == core::LidarStamp::kFirstRay) {
-    describes_s += lidar::MidSweepOffsetS(scan.ranges_m.size(), scan.angle_increment_rad,
-                                          setup_.rate_hz);
+    describes_s +=
+        lidar::MidSweepOffsetS(scan.ranges_m.size(), scan.angle_increment_rad, setup_.rate_hz);
   }
   if (describes_s <= last_received_s_) {
     ++counters->scans_dropped_out_of_order;

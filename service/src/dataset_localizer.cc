@@ -38,7 +38,8 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
     return core::Status::Error(name + ": the LiDAR modes need lidar_scans (no LiDAR)");
   }
   if (floor && !manifest.camera && !lidar) {
-    return core::Status::Error(name + ": the lines modes need a camera (or the LiDAR's wall lines)");
+    return core::Status::Error(name +
+                               ": the lines modes need a camera (or the LiDAR's wall lines)");
   }
   if (floor && manifest.camera) {
     core::Result<calibration::CameraModel> camera =
@@ -59,8 +60,7 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
       out.setup.atlas = std::move(atlas).value();
       out.atlas_source = options.atlas_path;
     } else if (dataset.floor_map) {
-      out.setup.atlas =
-          loc::AtlasFromFloorMap(*dataset.floor_map, loc::AtlasFromFloorMapOptions());
+      out.setup.atlas = loc::AtlasFromFloorMap(*dataset.floor_map, loc::AtlasFromFloorMapOptions());
       out.atlas_source = manifest.files.floor_map;
     } else {
       return core::Status::Error(name +

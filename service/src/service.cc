@@ -15,8 +15,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   if (core::Status s = config.Validate(); !s.ok()) return s;
   auto impl = std::make_unique<Impl>();
   impl->config = config;
-  impl->frames = std::make_unique<BoundedQueue<FrameJob>>(
-      static_cast<std::size_t>(config.camera_queue_depth));
+  impl->frames =
+      std::make_unique<BoundedQueue<FrameJob>>(static_cast<std::size_t>(config.camera_queue_depth));
   core::DatasetReadOptions read;
   read.check_image_files = false;
   read.load_scans = false;
@@ -26,7 +26,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   DatasetLocalizerOptions options;
   options.localizer = PresetOptions(config.preset);
   options.atlas_path = config.atlas;
-  core::Result<DatasetSetup> setup = SetupFromDataset(config.replay_dataset, impl->dataset, options);
+  core::Result<DatasetSetup> setup =
+      SetupFromDataset(config.replay_dataset, impl->dataset, options);
   if (!setup.ok()) return setup.status();
   impl->camera = setup->setup.camera;
   impl->atlas = setup->setup.atlas;
@@ -53,20 +54,21 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
     impl->resume_after_s = state["stamp_s"].get<double>();
     started = impl->localizer->SetInitialPose(
         impl->resume_after_s,
-        core::SE2(state["x_m"].get<double>(), state["y_m"].get<double>(), state["yaw_rad"].get<double>()),
+        core::SE2(state["x_m"].get<double>(), state["y_m"].get<double>(),
+                  state["yaw_rad"].get<double>()),
         cov);
     if (!started.ok()) return started.WithContext(state_path.string());
   } else if (config.initial_pose) {
     const auto& p = *config.initial_pose;
-    started = impl->localizer->SetInitialPose(setup->first_reading_s,
-                                              core::SE2(p[0], p[1], p[2] * std::numbers::pi / 180.0),
-                                              StartCovariance(core::StartPose{}));
+    started = impl->localizer->SetInitialPose(
+        setup->first_reading_s, core::SE2(p[0], p[1], p[2] * std::numbers::pi / 180.0),
+        StartCovariance(core::StartPose{}));
   } else if (config.relocalize) {
     started = impl->localizer->RequestRelocalization();
   } else if (setup->start_pose) {
     started = impl->localizer->SetInitialPose(
-        std::min(setup->first_reading_s, setup->start_pose->stamp_s),
-        setup->start_pose->T_map_base, StartCovariance(*setup->start_pose));
+        std::min(setup->first_reading_s, setup->start_pose->stamp_s), setup->start_pose->T_map_base,
+        StartCovariance(*setup->start_pose));
   } else {
     return core::Status::Error(config.replay_dataset +
                                ": no start: the manifest has no start_pose; set "
@@ -95,10 +97,10 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
       }
       res.set_content(std::string(m->bev_png.begin(), m->bev_png.end()), "image/png");
     });
-    m->port = config.http_port == 0 ? m->http.bind_to_any_port(config.http_address)
-                                    : (m->http.bind_to_port(config.http_address, config.http_port)
-                                           ? config.http_port
-                                           : -1);
+    m->port =
+        config.http_port == 0
+            ? m->http.bind_to_any_port(config.http_address)
+            : (m->http.bind_to_port(config.http_address, config.http_port) ? config.http_port : -1);
     if (m->port < 0) {
       return core::Status::Error("http: cannot listen on " + config.http_address + ":" +
                                  std::to_string(config.http_port) +
@@ -109,27 +111,31 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 
-
 core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop) {
   Impl& m = *impl_;
   const fs::path out(m.config.output_dir);
   std::error_code ec;
   fs::create_directories(out, ec);
-  if (ec) return core::Status::Error(out.string() + ": cannot create the output directory: " + ec.message());
-  const auto mode = std::ios::out | (std::isfinite(m.resume_after_s) ? std::ios::app : std::ios::trunc);
-  std::ofstream keyframes(out / "trajectory.tum", mode), odometry(out / "trajectory_odometry_rate.tum", mode),
-      health(out / "health.jsonl", mode);
+  if (ec)
+    return core::Status::Error(out.string() +
+                               ": cannot create the output directory: " + ec.message());
+  const auto mode =
+      std::ios::out | (std::isfinite(m.resume_after_s) ? std::ios::app : std::ios::trunc);
+  std::ofstream keyframes(out / "trajectory.tum", mode),
+      odometry(out / "trajectory_odometry_rate.tum", mode), health(out / "health.jsonl", mode);
   if (!keyframes || !odometry || !health) {
     return core::Status::Error(out.string() + ": cannot write the run outputs");
   }
   const Clock::time_point wall_start = Clock::now();
-  const double first_s = std::min(m.dataset.wheel_encoders.front().stamp_s,
-                                  m.dataset.images.empty() ? 1e300 : m.dataset.images.front().stamp_s);
+  const double first_s =
+      std::min(m.dataset.wheel_encoders.front().stamp_s,
+               m.dataset.images.empty() ? 1e300 : m.dataset.images.front().stamp_s);
   // One pass lasts from the first event to one reading period after the last.
-  const double period_s = m.dataset.wheel_encoders.back().stamp_s - first_s +
-                          (m.dataset.wheel_encoders.size() > 1
-                               ? m.dataset.wheel_encoders[1].stamp_s - m.dataset.wheel_encoders[0].stamp_s
-                               : 0.01);
+  const double period_s =
+      m.dataset.wheel_encoders.back().stamp_s - first_s +
+      (m.dataset.wheel_encoders.size() > 1
+           ? m.dataset.wheel_encoders[1].stamp_s - m.dataset.wheel_encoders[0].stamp_s
+           : 0.01);
   m.replay_first_s = first_s;
   m.fault_tracks.assign(m.config.faults.size(), {});
   std::thread camera_thread([&m] { m.CameraStage(); });
@@ -140,9 +146,11 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
 
   core::Status replayed = core::Status::Ok();
   const double cpu_start_s = ThreadCpuSeconds();
-  const auto faulty = [&m, first_s](InjectedFault::Sensor sensor, double stamp_s) -> const InjectedFault* {
+  const auto faulty = [&m, first_s](InjectedFault::Sensor sensor,
+                                    double stamp_s) -> const InjectedFault* {
     for (const InjectedFault& f : m.config.faults) {
-      if (f.sensor == sensor && stamp_s - first_s >= f.from_s && stamp_s - first_s < f.to_s) return &f;
+      if (f.sensor == sensor && stamp_s - first_s >= f.from_s && stamp_s - first_s < f.to_s)
+        return &f;
     }
     return nullptr;
   };
@@ -213,19 +221,26 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   {
     std::lock_guard<std::mutex> lock(m.status_mutex);
     const loc::PoseEstimate& p = m.pose;
-    state = {{"stamp_s", p.stamp_s}, {"x_m", p.T_map_base.x()}, {"y_m", p.T_map_base.y()},
-             {"yaw_rad", p.T_map_base.yaw()}, {"cov", nlohmann::ordered_json::array()}};
+    state = {{"stamp_s", p.stamp_s},
+             {"x_m", p.T_map_base.x()},
+             {"y_m", p.T_map_base.y()},
+             {"yaw_rad", p.T_map_base.yaw()},
+             {"cov", nlohmann::ordered_json::array()}};
     for (int i = 0; i < 9; ++i) state["cov"].push_back(p.covariance(i / 3, i % 3));
     m.cpu_replay_s = cpu_replay_s;
   }
-  if (core::Status s = core::WriteFileAtomically(out / "state.json", state.dump(2) + "\n"); !s.ok()) return s;
+  if (core::Status s = core::WriteFileAtomically(out / "state.json", state.dump(2) + "\n"); !s.ok())
+    return s;
   if (m.localizer->options().mode == loc::LocalizerMode::kMapping) {
-    if (core::Status s = loc::WriteAtlas(out / "atlas.json", m.localizer->CurrentAtlas()); !s.ok()) return s;
+    if (core::Status s = loc::WriteAtlas(out / "atlas.json", m.localizer->CurrentAtlas()); !s.ok())
+      return s;
   }
   nlohmann::ordered_json summary = StatusJsonOf(m);
   summary["wall_s"] = wall_s;
   summary["stopped"] = stop.load();
-  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n"); !s.ok()) return s;
+  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+      !s.ok())
+    return s;
   if (!replayed.ok()) return replayed;
   return summary;
 }
@@ -237,7 +252,8 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   nlohmann::ordered_json j;
   const loc::PoseEstimate& p = m.pose;
   j["stamp_s"] = p.stamp_s;
-  j["pose"] = {{"x_m", p.T_map_base.x()}, {"y_m", p.T_map_base.y()},
+  j["pose"] = {{"x_m", p.T_map_base.x()},
+               {"y_m", p.T_map_base.y()},
                {"yaw_deg", p.T_map_base.yaw() * 180.0 / std::numbers::pi}};
   j["cov"] = nlohmann::ordered_json::array();
   for (int i = 0; i < 9; ++i) j["cov"].push_back(p.covariance(i / 3, i % 3));
@@ -254,7 +270,8 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   j["latency_ms"] = {{"n", m.latency_ms.size()},
                      {"median", Percentile(m.latency_ms, 0.5)},
                      {"p99", Percentile(m.latency_ms, 0.99)}};
-  j["cpu_s"] = {{"replay", m.cpu_replay_s}, {"camera", m.cpu_camera_s}, {"estimator", m.cpu_estimator_s}};
+  j["cpu_s"] = {
+      {"replay", m.cpu_replay_s}, {"camera", m.cpu_camera_s}, {"estimator", m.cpu_estimator_s}};
   j["faults"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < m.config.faults.size() && i < m.fault_tracks.size(); ++i) {
     const InjectedFault& f = m.config.faults[i];
@@ -262,14 +279,15 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
     const char* sensor = f.sensor == InjectedFault::Sensor::kCamera  ? "camera"
                          : f.sensor == InjectedFault::Sensor::kLidar ? "lidar"
                                                                      : "odometry";
-    j["faults"].push_back({{"sensor", sensor},
-                           {"kind", f.kind},
-                           {"from_s", f.from_s},
-                           {"to_s", f.to_s},
-                           {"from_stamp_s", m.replay_first_s + f.from_s},
-                           {"to_stamp_s", m.replay_first_s + f.to_s},
-                           {"degraded_reported", t.degraded_seen},
-                           {"recovered_after_s", t.recovered_at_s ? *t.recovered_at_s - f.to_s : -1.0}});
+    j["faults"].push_back(
+        {{"sensor", sensor},
+         {"kind", f.kind},
+         {"from_s", f.from_s},
+         {"to_s", f.to_s},
+         {"from_stamp_s", m.replay_first_s + f.from_s},
+         {"to_stamp_s", m.replay_first_s + f.to_s},
+         {"degraded_reported", t.degraded_seen},
+         {"recovered_after_s", t.recovered_at_s ? *t.recovered_at_s - f.to_s : -1.0}});
   }
   j["rss_mb"] = nlohmann::ordered_json::array();
   for (const auto& [data_s, mb] : m.rss_samples) j["rss_mb"].push_back({data_s, mb});

@@ -11,8 +11,10 @@ core::Status ServiceConfig::Validate() const {
     return core::Status::Error("inputs.replay.dataset: expected a dataset directory, got nothing");
   }
   if (!(std::isfinite(replay_speed) && replay_speed >= 0.0 && replay_speed <= 1000.0)) {
-    return core::Status::Error("inputs.replay.speed: expected 0 (as fast as possible) or a factor "
-                               "in (0, 1000], got " + std::to_string(replay_speed));
+    return core::Status::Error(
+        "inputs.replay.speed: expected 0 (as fast as possible) or a factor "
+        "in (0, 1000], got " +
+        std::to_string(replay_speed));
   }
   if (replay_loops < 1 || replay_loops > 100000) {
     return core::Status::Error("inputs.replay.loops: expected 1..100000, got " +
@@ -21,16 +23,19 @@ core::Status ServiceConfig::Validate() const {
   for (std::size_t i = 0; i < faults.size(); ++i) {
     const InjectedFault& f = faults[i];
     const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
-    const bool known =
-        f.sensor == InjectedFault::Sensor::kCamera
-            ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
-        : f.sensor == InjectedFault::Sensor::kLidar ? f.kind == "silent"
-                                                    : (f.kind == "nan" || f.kind == "frozen");
+    const bool known = f.sensor == InjectedFault::Sensor::kCamera
+                           ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
+                       : f.sensor == InjectedFault::Sensor::kLidar
+                           ? f.kind == "silent"
+                           : (f.kind == "nan" || f.kind == "frozen");
     if (!known) {
-      return core::Status::Error(at + ".kind: expected camera silent|blackout|corrupt, lidar "
-                                 "silent, odometry nan|frozen, got '" + f.kind + "'");
+      return core::Status::Error(at +
+                                 ".kind: expected camera silent|blackout|corrupt, lidar "
+                                 "silent, odometry nan|frozen, got '" +
+                                 f.kind + "'");
     }
-    if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 && f.to_s > f.from_s)) {
+    if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 &&
+          f.to_s > f.from_s)) {
       return core::Status::Error(at + ": expected 0 <= from_s < to_s");
     }
   }
@@ -40,8 +45,8 @@ core::Status ServiceConfig::Validate() const {
         "> 0 (the replay's odometry and scans then follow the wall clock too)");
   }
   if (preset != "fusion" && preset != "lines" && preset != "odometry" && preset != "lidar") {
-    return core::Status::Error("localizer.preset: expected fusion, lines, odometry or lidar, got '" +
-                               preset + "'");
+    return core::Status::Error(
+        "localizer.preset: expected fusion, lines, odometry or lidar, got '" + preset + "'");
   }
   if (initial_pose) {
     for (double v : *initial_pose) {
@@ -54,7 +59,8 @@ core::Status ServiceConfig::Validate() const {
   if (relocalize && preset != "fusion" && preset != "lines") {
     return core::Status::Error("start.relocalize: needs the lines or fusion preset (an atlas)");
   }
-  if (output_dir.empty()) return core::Status::Error("output.dir: expected a directory, got nothing");
+  if (output_dir.empty())
+    return core::Status::Error("output.dir: expected a directory, got nothing");
   if (http_port < 0 || http_port > 65535) {
     return core::Status::Error("http.port: expected 0..65535, got " + std::to_string(http_port));
   }
@@ -80,7 +86,8 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   const YAML::Node inputs = y.Child(root, "", "inputs");
   if (inputs && y.ExpectMap(inputs, "inputs")) {
     y.CheckKeys(inputs, "inputs", {"replay", "camera"});
-    if (const YAML::Node camera = inputs["camera"]; camera && y.ExpectMap(camera, "inputs.camera")) {
+    if (const YAML::Node camera = inputs["camera"];
+        camera && y.ExpectMap(camera, "inputs.camera")) {
       y.CheckKeys(camera, "inputs.camera", {"uri"});
       c.camera_uri = y.Text(camera, "inputs.camera", "uri");
     }
@@ -89,8 +96,10 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
       y.CheckKeys(replay, "inputs.replay", {"dataset", "speed", "loops", "faults"});
       c.replay_dataset = y.Text(replay, "inputs.replay", "dataset");
       if (replay["speed"]) c.replay_speed = y.Number(replay, "inputs.replay", "speed");
-      if (replay["loops"]) c.replay_loops = static_cast<int>(y.Integer(replay, "inputs.replay", "loops"));
-      if (const YAML::Node faults = replay["faults"]; faults && y.ExpectSequence(faults, "inputs.replay.faults")) {
+      if (replay["loops"])
+        c.replay_loops = static_cast<int>(y.Integer(replay, "inputs.replay", "loops"));
+      if (const YAML::Node faults = replay["faults"];
+          faults && y.ExpectSequence(faults, "inputs.replay.faults")) {
         for (std::size_t i = 0; i < faults.size() && y.ok(); ++i) {
           const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
           if (!y.ExpectMap(faults[i], at)) break;
@@ -114,7 +123,8 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
       }
     }
   }
-  if (const YAML::Node n = y.Child(root, "", "localizer", false); n && y.ExpectMap(n, "localizer")) {
+  if (const YAML::Node n = y.Child(root, "", "localizer", false);
+      n && y.ExpectMap(n, "localizer")) {
     y.CheckKeys(n, "localizer", {"preset", "atlas"});
     if (n["preset"]) c.preset = y.Text(n, "localizer", "preset");
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");

@@ -4,6 +4,7 @@
 
 #include "groundline/service/service.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,7 +17,6 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <thread>
-#include <unistd.h>
 
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
@@ -51,7 +51,8 @@ inline double ThreadCpuSeconds() {
 inline double Percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+  return v[std::min(v.size() - 1,
+                    static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
 }
 
 struct FrameJob {
@@ -159,7 +160,8 @@ struct Service::Impl {
   void EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry, std::ofstream& health);
   void ReleasePending(double stamp_s) {
     std::lock_guard<std::mutex> lock(pending_mutex);
-    if (auto it = pending_frames.find(stamp_s); it != pending_frames.end()) pending_frames.erase(it);
+    if (auto it = pending_frames.find(stamp_s); it != pending_frames.end())
+      pending_frames.erase(it);
   }
   bool FramePendingAtOrBefore(double stamp_s) {
     std::lock_guard<std::mutex> lock(pending_mutex);

@@ -28,7 +28,8 @@ void Service::Impl::CameraInput(const std::atomic<bool>& done) {
   // A live camera stops with the inputs; a recorded folder plays to its end.
   while (!done.load() || (source && !source->IsLive())) {
     if (!source) {
-      core::Result<std::unique_ptr<io::FrameSource>> opened = io::OpenFrameSource(config.camera_uri);
+      core::Result<std::unique_ptr<io::FrameSource>> opened =
+          io::OpenFrameSource(config.camera_uri);
       if (!opened.ok()) {
         ++camera_source_errors;  // unplugged: try again in a second
         std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -176,8 +177,9 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (period <= 0.0) return false;
     const Clock::duration since_frame =
         Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
-    const bool stalled = since_frame > std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
+    const bool stalled =
+        since_frame > std::chrono::duration_cast<Clock::duration>(
+                          std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
     return !stalled && stamp_s + 1e-9 >= frame_watermark_s.load() + 0.9 * period;
   };
   while (!events.closed_and_empty() || !observed.closed_and_empty() || !held.empty()) {
@@ -202,10 +204,11 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     const bool closing = events.closed_and_empty();
     while (!held.empty()) {
       const auto& [reading, since] = held.front();
-      const bool waiting = FramePendingAtOrBefore(reading.stamp_s) ||
-                           (!closing && frame_expected(reading.stamp_s));
+      const bool waiting =
+          FramePendingAtOrBefore(reading.stamp_s) || (!closing && frame_expected(reading.stamp_s));
       if (waiting && Clock::now() - since < wait) break;
-      while (!taken.empty() && taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
+      while (!taken.empty() &&
+             taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
         last_frame_arrival = taken.front().arrived;
         localizer->AddFloorObservations(std::move(taken.front().observations));
         taken.pop_front();
@@ -217,6 +220,5 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
   std::lock_guard<std::mutex> lock(status_mutex);
   cpu_estimator_s = ThreadCpuSeconds() - cpu_start_s;
 }
-
 
 }  // namespace groundline::service

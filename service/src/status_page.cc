@@ -111,11 +111,12 @@ std::vector<std::uint8_t> DrawBevPng(const cv::Mat& bev, const localization::Flo
   const perception::BevGrid& grid = camera.remap().grid();
   auto pixel = [&](const Eigen::Vector2d& p) {
     const Eigen::Vector2d c = grid.CellOfFloorPoint(p) * kScale;
-    return cv::Point(static_cast<int>(c.x() + 0.5 * kScale), static_cast<int>(c.y() + 0.5 * kScale));
+    return cv::Point(static_cast<int>(c.x() + 0.5 * kScale),
+                     static_cast<int>(c.y() + 0.5 * kScale));
   };
   for (const localization::LineObservation& l : seen.lines) {
-    const cv::Scalar colour_bgr = l.kind == core::MarkingKind::kJoint ? cv::Scalar(255, 0, 255)
-                                                                      : cv::Scalar(0, 200, 0);
+    const cv::Scalar colour_bgr =
+        l.kind == core::MarkingKind::kJoint ? cv::Scalar(255, 0, 255) : cv::Scalar(0, 200, 0);
     cv::line(colour, pixel(l.endpoint_a_base_m), pixel(l.endpoint_b_base_m), colour_bgr, 2);
   }
   for (const localization::JunctionObservation& j : seen.junctions) {

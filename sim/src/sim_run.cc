@@ -229,10 +229,10 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
   core::Dataset& dataset = run.dataset;
   dataset.manifest = MakeManifest(options, run.world);
   dataset.ground_truth = run.route.T_map_base;
-  dataset.floor_map =
-      SiteFloorMap(run.world, options.with_lidar ? options.lidar.height_m : WallFaceOptions().plane_height_m);
-  dataset.manifest.start_pose = core::StartPose{run.route.T_map_base.front().stamp_s,
-                                                run.route.T_map_base.front().pose};
+  dataset.floor_map = SiteFloorMap(
+      run.world, options.with_lidar ? options.lidar.height_m : WallFaceOptions().plane_height_m);
+  dataset.manifest.start_pose =
+      core::StartPose{run.route.T_map_base.front().stamp_s, run.route.T_map_base.front().pose};
   dataset.wheel_encoders.reserve(run.encoder_log.readings.size());
   for (const EncoderReading& r : run.encoder_log.readings) {
     dataset.wheel_encoders.push_back({r.stamp_s, r.increment.left_rad, r.increment.right_rad});

@@ -50,9 +50,9 @@ TEST(DatasetStreams, MergeEveryEventInTimeOrderScansThenFramesThenReadingsAtOneI
   for (const DatasetEvent& e : events) {
     if (std::abs(e.stamp_s - at_s) < 1e-9) at.push_back(e.kind);
   }
-  EXPECT_EQ(at, (std::vector<DatasetEvent::Kind>{DatasetEvent::Kind::kScan,
-                                                 DatasetEvent::Kind::kFrame,
-                                                 DatasetEvent::Kind::kWheel}));
+  EXPECT_EQ(at,
+            (std::vector<DatasetEvent::Kind>{DatasetEvent::Kind::kScan, DatasetEvent::Kind::kFrame,
+                                             DatasetEvent::Kind::kWheel}));
   // Frames carry their file; scans their ranges.
   for (const DatasetEvent& e : events) {
     if (e.kind == DatasetEvent::Kind::kFrame) {
@@ -68,7 +68,8 @@ TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
   const auto dir = testing::ScratchDir("manifest_12");
   Dataset d = testing::MakeSyntheticDataset(dir);
   d.manifest.lidar->stamp = LidarStamp::kFirstRay;
-  d.manifest.start_pose = StartPose{d.ground_truth.front().stamp_s, SE2(1.5, -2.0, 0.3), 0.01, 0.002};
+  d.manifest.start_pose =
+      StartPose{d.ground_truth.front().stamp_s, SE2(1.5, -2.0, 0.3), 0.01, 0.002};
   d.UseDefaultFileNames();
   ASSERT_TRUE(WriteDataset(dir, d).ok());
   Result<DatasetManifest> read = ReadDatasetManifest(dir / "manifest.yaml");
@@ -80,7 +81,8 @@ TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
 
   // A bad convention is refused with its key and line.
   std::string text = testing::ReadText(dir / "manifest.yaml");
-  const std::string bad = std::regex_replace(text, std::regex("stamp: \"first_ray\""), "stamp: \"end\"");
+  const std::string bad =
+      std::regex_replace(text, std::regex("stamp: \"first_ray\""), "stamp: \"end\"");
   testing::WriteText(dir / "manifest.yaml", bad);
   Result<DatasetManifest> refused = ReadDatasetManifest(dir / "manifest.yaml");
   ASSERT_FALSE(refused.ok());
@@ -91,7 +93,8 @@ TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
   std::string old = std::regex_replace(text, std::regex("version: 1.2"), "version: 1.1");
   old = std::regex_replace(old, std::regex("    stamp: \"first_ray\"\n"), "");
   old = std::regex_replace(old, std::regex("start_pose: .*\n"), "");
-  old = std::regex_replace(old, std::regex("\"generator\": \"[^\"]*\""), "\"generator\": \"groundline sim\"");
+  old = std::regex_replace(old, std::regex("\"generator\": \"[^\"]*\""),
+                           "\"generator\": \"groundline sim\"");
   testing::WriteText(dir / "manifest.yaml", old);
   Result<DatasetManifest> migrated = ReadDatasetManifest(dir / "manifest.yaml");
   ASSERT_TRUE(migrated.ok()) << migrated.message();

@@ -36,7 +36,8 @@ TEST(ActiveSubmaps, ReleasesFinishedSubmapsWhenAskedAndKeepsThemOtherwise) {
     // Every submap a scan went into, and every one that just finished, is
     // still there for the caller.
     for (int id : ids) ASSERT_NE(released.all()[static_cast<std::size_t>(id)], nullptr);
-    for (const auto& f : finished) ASSERT_NE(released.all()[static_cast<std::size_t>(f->id)], nullptr);
+    for (const auto& f : finished)
+      ASSERT_NE(released.all()[static_cast<std::size_t>(f->id)], nullptr);
     finished_released += static_cast<int>(finished.size());
     finished.clear();
     retained.InsertScan(pose, Wall(), &finished);

@@ -28,9 +28,7 @@ LocalizerSetup Vehicle() {
   return setup;
 }
 
-core::Matrix3 StartCovariance() {
-  return core::Vector3(1e-6, 1e-6, 1e-6).asDiagonal();
-}
+core::Matrix3 StartCovariance() { return core::Vector3(1e-6, 1e-6, 1e-6).asDiagonal(); }
 
 std::unique_ptr<Localizer> Make(LocalizerMode mode) {
   LocalizerOptions options;
@@ -74,10 +72,10 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
     if (auto out = clean->AddWheelReading(Straight(k))) clean_out.push_back(*out);
     if (auto out = noisy->AddWheelReading(Straight(k))) noisy_out.push_back(*out);
     if (k % 50 == 0) {
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));           // duplicate
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 3)));       // out of order
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));                       // duplicate
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 3)));                   // out of order
       EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS + 0.001, nan, 0.0}));  // NaN
-      EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));       // NaN stamp
+      EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));                   // NaN stamp
     }
   }
   ASSERT_EQ(noisy_out.size(), clean_out.size());

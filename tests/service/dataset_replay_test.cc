@@ -60,7 +60,8 @@ double AteRmse(const LocalizedRun& run, const core::Trajectory& truth) {
 
 TEST(DatasetReplay, TheSameEstimateWithoutTheSimulatorsProvenanceAndWallsBeatOdometry) {
 #ifdef __SANITIZE_ADDRESS__
-  GTEST_SKIP() << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  GTEST_SKIP()
+      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
   sim::SimRunOptions sim_options;
   sim_options.zone = sim::Zone::kB;

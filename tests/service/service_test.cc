@@ -50,8 +50,8 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
     EXPECT_NE(read.message().find(c.expected), std::string::npos) << read.message();
     EXPECT_NE(read.message().find("serve.yaml"), std::string::npos) << read.message();
   }
-  const core::Result<ServiceConfig> line = ReadServiceConfig(
-      WriteConfig(dir, "inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nqueues:\n  camera: x\n"));
+  const core::Result<ServiceConfig> line = ReadServiceConfig(WriteConfig(
+      dir, "inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nqueues:\n  camera: x\n"));
   ASSERT_FALSE(line.ok());
   EXPECT_NE(line.message().find(":5:"), std::string::npos) << line.message();
   // A valid one: paths relative to the config file.
@@ -64,7 +64,8 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
 
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
 #ifdef __SANITIZE_ADDRESS__
-  GTEST_SKIP() << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  GTEST_SKIP()
+      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
   sim::SimRunOptions sim_options;
   sim_options.zone = sim::Zone::kB;
@@ -115,7 +116,8 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
   core::Result<nlohmann::ordered_json> finished = (*second)->Run(never);
   ASSERT_TRUE(finished.ok()) << finished.message();
   EXPECT_FALSE((*finished)["stopped"].get<bool>());
-  const core::Result<core::Trajectory> keyframes = core::ReadTumTrajectory(dir / "out" / "trajectory.tum");
+  const core::Result<core::Trajectory> keyframes =
+      core::ReadTumTrajectory(dir / "out" / "trajectory.tum");
   ASSERT_TRUE(keyframes.ok()) << keyframes.message();  // strictly increasing across the restart
   EXPECT_GT(keyframes->back().stamp_s, end_s - 1.0);
   // Close to the truth at the end (no jump at the restart).

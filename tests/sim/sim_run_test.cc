@@ -49,13 +49,16 @@ TEST(SimRun, WritesAValidDatasetThatReadsBackUnchanged) {
   ASSERT_TRUE(dataset.manifest.start_pose.has_value());
   EXPECT_EQ(dataset.manifest.start_pose->stamp_s, dataset.ground_truth.front().stamp_s);
   EXPECT_LT((dataset.manifest.start_pose->T_map_base.translation() -
-             dataset.ground_truth.front().pose.translation()).norm(), 1e-12);
+             dataset.ground_truth.front().pose.translation())
+                .norm(),
+            1e-12);
   // The floor map: the world's markings, then the faces of its installation
   // drawing (wall and rack faces), which zone C's dock walls have.
   ASSERT_TRUE(dataset.floor_map.has_value());
   ASSERT_GT(dataset.floor_map->markings.size(), run->world.markings.size());
   for (std::size_t i = 0; i < dataset.floor_map->markings.size(); ++i) {
-    EXPECT_EQ(core::IsFaceKind(dataset.floor_map->markings[i].kind), i >= run->world.markings.size())
+    EXPECT_EQ(core::IsFaceKind(dataset.floor_map->markings[i].kind),
+              i >= run->world.markings.size())
         << "marking " << i;
   }
   EXPECT_NEAR(run->route.length_m, 150.0, 0.05 * 150.0);

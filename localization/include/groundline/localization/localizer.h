@@ -144,10 +144,10 @@ struct LocalizerCounters {
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
-  long frames_skipped = 0;      // no keyframe due when the frame's turn came
-  long frames_superseded = 0;   // a newer frame arrived before this one's turn
-  long frames_unreadable = 0;   // the loader or the front end failed
-  long frames_dropped_late = 0; // max_frame_lag_s behind, or before the start
+  long frames_skipped = 0;       // no keyframe due when the frame's turn came
+  long frames_superseded = 0;    // a newer frame arrived before this one's turn
+  long frames_unreadable = 0;    // the loader or the front end failed
+  long frames_dropped_late = 0;  // max_frame_lag_s behind, or before the start
   long scans = 0;
   long scans_dropped_bad = 0;
   long scans_dropped_out_of_order = 0;
@@ -188,10 +188,10 @@ struct SensorState {
 };
 
 struct KeyframeOutput {
-  long index = 0;         // 0, 1, ... over the run's keyframes
+  long index = 0;  // 0, 1, ... over the run's keyframes
   double stamp_s = 0.0;
-  PoseEstimate pose;      // the estimate after the update (kLidar: no covariance)
-  PoseEstimate predicted; // odometry prediction from the previous keyframe
+  PoseEstimate pose;       // the estimate after the update (kLidar: no covariance)
+  PoseEstimate predicted;  // odometry prediction from the previous keyframe
   bool has_covariance = true;
   std::optional<KeyframeHealth> smoother;  // kLines / kMapping
   std::string error;                       // a failed solve or LiDAR stage
