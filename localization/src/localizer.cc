@@ -27,7 +27,8 @@ core::Status LocalizerOptions::Validate() const {
       {"lateral_variance_m2_per_m", lateral_variance_m2_per_m},
       {"max_scan_gap_s", max_scan_gap_s},
       {"odometry_gap_speed_mps", odometry_gap_speed_mps},
-      {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps}};
+      {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps},
+      {"frozen_speed_mps", frozen_speed_mps}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0.0)) {
       return core::Status::Error(std::string("localizer option ") + name +

@@ -125,6 +125,21 @@ std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEn
     return std::nullopt;
   }
   const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
+  // Frozen encoders: exactly no motion right after driving faster than
+  // frozen_speed_mps, a deceleration no vehicle makes in one reading. Such
+  // readings are dropped (the motion over them is unknown: a gap) until the
+  // wheels report motion again.
+  const bool still = r.left_delta_rad == 0.0 && r.right_delta_rad == 0.0;
+  if (still && (odometry_frozen || (gap_s > 0.0 && last_speed_mps > options.frozen_speed_mps))) {
+    odometry_frozen = true;
+    ++counters.wheel_dropped_frozen;
+    return std::nullopt;
+  }
+  odometry_frozen = false;
+  if (gap_s > 0.0) {
+    const double ds_m = 0.5 * setup.drive.wheel_radius_m * (r.left_delta_rad + r.right_delta_rad);
+    last_speed_mps = std::abs(ds_m) / gap_s;
+  }
   if (gap_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
   last_reading_s = r.stamp_s;
   if (relocalizer && !relocalizer_done_) {
@@ -394,6 +409,7 @@ SensorState LocalizerImpl::Sensors() const {
   if (std::isfinite(last_scan_match_s)) s.lidar_age_s = now_s - last_scan_match_s;
   s.camera_ok = uses_camera && s.camera_age_s >= 0.0 && s.camera_age_s <= options.stale_after_s;
   s.lidar_ok = lidar && s.lidar_age_s >= 0.0 && s.lidar_age_s <= options.stale_after_s;
+  s.odometry_frozen = odometry_frozen;
   const bool wants_camera = uses_camera;
   const bool wants_lidar = lidar != nullptr;
   if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok)) {

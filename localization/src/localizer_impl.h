@@ -58,6 +58,8 @@ class LocalizerImpl {
   double last_frame_used_s = -std::numeric_limits<double>::infinity();
   double last_scan_match_s = -std::numeric_limits<double>::infinity();
   double path_length_m = 0.0;
+  double last_speed_mps = 0.0;  // of the last accepted reading
+  bool odometry_frozen = false;
   long keyframe_index = 0;
   bool relocalizer_done_ = false;  // committed: the relocalizer is kept for its status
 

@@ -93,6 +93,7 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
                      {"lidar_ok", k.sensors.lidar_ok},
                      {"camera_age_s", k.sensors.camera_age_s},
                      {"lidar_age_s", k.sensors.lidar_age_s},
+                     {"odometry_frozen", k.sensors.odometry_frozen},
                      {"degraded_mode", k.sensors.degraded_mode}};
   return line;
 }
@@ -102,6 +103,7 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"wheel_dropped_non_finite", c.wheel_dropped_non_finite},
           {"wheel_dropped_out_of_order", c.wheel_dropped_out_of_order},
           {"wheel_before_start", c.wheel_before_start},
+          {"wheel_dropped_frozen", c.wheel_dropped_frozen},
           {"odometry_gaps", c.odometry_gaps},
           {"frames", c.frames},
           {"frames_used", c.frames_used},

@@ -106,6 +106,27 @@ TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion
   EXPECT_GT(std::sqrt(localizer->Current().covariance(2, 2)), 1.9);
 }
 
+TEST(Localizer, FrozenEncodersAreDroppedAndTheMotionOverThemWidensTheOdometry) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 50; ++k) localizer->AddWheelReading(Straight(k));  // 1 m/s
+  const double before_m2 = localizer->Current().covariance(0, 0);
+  for (int k = 51; k <= 150; ++k) localizer->AddWheelReading({k * kPeriodS, 0.0, 0.0});
+  EXPECT_EQ(localizer->counters().wheel_dropped_frozen, 100);
+  EXPECT_TRUE(localizer->Sensors().odometry_frozen);
+  localizer->AddWheelReading(Straight(151));  // the wheels report again
+  EXPECT_FALSE(localizer->Sensors().odometry_frozen);
+  EXPECT_EQ(localizer->counters().odometry_gaps, 1);
+  EXPECT_GT(localizer->Current().covariance(0, 0) - before_m2, 1.0);  // ~2 m sigma over 1 s
+
+  // A real stop decelerates: zero increments after a slow reading are kept.
+  std::unique_ptr<Localizer> stopping = Make(LocalizerMode::kOdometry);
+  const double slow_rad = 0.0005 / kRadiusM;  // 5 cm/s
+  stopping->AddWheelReading({0.01, slow_rad, slow_rad});
+  for (int k = 2; k <= 100; ++k) stopping->AddWheelReading({k * kPeriodS, 0.0, 0.0});
+  EXPECT_EQ(stopping->counters().wheel_dropped_frozen, 0);
+  EXPECT_FALSE(stopping->Sensors().odometry_frozen);
+}
+
 TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {
   std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
   for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));

@@ -100,6 +100,9 @@ struct LocalizerOptions {
   // that the lines and the LiDAR can pull the pose back.
   double odometry_gap_speed_mps = 2.0;
   double odometry_gap_yaw_rate_radps = 1.0;
+  // Exactly zero wheel increments right after a speed above this are frozen
+  // encoders, not a stop (dropped and counted until the wheels turn again).
+  double frozen_speed_mps = 0.2;
   // Odometry kept for interpolation at scan, ray and query times [s].
   double odometry_history_s = 3.0;
   // Wheel readings further apart than this are counted as a gap (a stalled
@@ -141,6 +144,7 @@ struct LocalizerCounters {
   long wheel_dropped_non_finite = 0;
   long wheel_dropped_out_of_order = 0;  // stamp not after the previous one (duplicates too)
   long wheel_before_start = 0;          // before the start pose was known
+  long wheel_dropped_frozen = 0;        // zero increments right after driving (frozen encoders)
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
@@ -183,6 +187,7 @@ struct SensorState {
   bool lidar_ok = false;
   double camera_age_s = -1.0;  // since the last frame (-1: none yet)
   double lidar_age_s = -1.0;
+  bool odometry_frozen = false;  // the encoders report no motion while driving
   // "full", "lines+odometry", "lidar+odometry", "odometry", by what was used lately.
   std::string degraded_mode;
 };
