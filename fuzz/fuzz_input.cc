@@ -1,0 +1,62 @@
+#include "fuzz_input.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <system_error>
+
+namespace groundline::fuzz {
+namespace {
+
+void RemoveScratchDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(ScratchDir(), ec);
+}
+
+}  // namespace
+
+const std::filesystem::path& ScratchDir() {
+  static const std::filesystem::path dir = [] {
+    std::filesystem::path d =
+        std::filesystem::temp_directory_path() / ("groundline-fuzz-" + std::to_string(::getpid()));
+    std::error_code ec;
+    std::filesystem::create_directories(d, ec);
+    if (ec) {
+      std::fprintf(stderr, "fuzz: cannot create %s: %s\n", d.c_str(), ec.message().c_str());
+      std::abort();
+    }
+    std::atexit(RemoveScratchDir);
+    return d;
+  }();
+  return dir;
+}
+
+std::filesystem::path WriteInput(std::string_view name, const std::uint8_t* data,
+                                 std::size_t size) {
+  return WriteInput(name, std::string_view(reinterpret_cast<const char*>(data), size));
+}
+
+std::filesystem::path WriteInput(std::string_view name, std::string_view bytes) {
+  const std::filesystem::path path = ScratchDir() / std::filesystem::path(name);
+  std::error_code ec;
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "fuzz: cannot write %s\n", path.c_str());
+    std::abort();
+  }
+  return path;
+}
+
+void FuzzCheck(bool condition, std::string_view what) {
+  if (condition) return;
+  std::fprintf(stderr, "fuzz: contract broken: %.*s\n", static_cast<int>(what.size()),
+               what.data());
+  std::abort();
+}
+
+}  // namespace groundline::fuzz
