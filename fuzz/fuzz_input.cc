@@ -19,9 +19,14 @@ void RemoveScratchDir() {
 
 const std::filesystem::path& ScratchDir() {
   static const std::filesystem::path dir = [] {
-    std::filesystem::path d =
-        std::filesystem::temp_directory_path() / ("groundline-fuzz-" + std::to_string(::getpid()));
+    // /dev/shm (memory) when there is one: a disk-backed /tmp costs ~1 ms per
+    // input written, ten times the parse.
     std::error_code ec;
+    std::filesystem::path base = std::filesystem::temp_directory_path();
+    if (std::filesystem::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0) {
+      base = "/dev/shm";
+    }
+    const std::filesystem::path d = base / ("groundline-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d, ec);
     if (ec) {
       std::fprintf(stderr, "fuzz: cannot create %s: %s\n", d.c_str(), ec.message().c_str());
@@ -54,8 +59,7 @@ std::filesystem::path WriteInput(std::string_view name, std::string_view bytes) 
 
 void FuzzCheck(bool condition, std::string_view what) {
   if (condition) return;
-  std::fprintf(stderr, "fuzz: contract broken: %.*s\n", static_cast<int>(what.size()),
-               what.data());
+  std::fprintf(stderr, "fuzz: contract broken: %.*s\n", static_cast<int>(what.size()), what.data());
   std::abort();
 }
 

@@ -2,7 +2,8 @@
 //
 // Most of groundline's readers take a path, as the tools call them. A target
 // hands them its input through a file in a private scratch directory
-// (/tmp/groundline-fuzz-<pid>/, removed at exit), so the bytes fuzzed are the
+// (/dev/shm/groundline-fuzz-<pid>/, or under $TMPDIR without /dev/shm;
+// removed at exit), so the bytes fuzzed are the
 // bytes the reader sees, through the same open/read/close code as in use.
 //
 // A finding is either a sanitizer report, an uncaught exception (libFuzzer
@@ -25,8 +26,7 @@ const std::filesystem::path& ScratchDir();
 // Writes `size` bytes to ScratchDir()/name (replacing it) and returns the path.
 // Aborts if the file cannot be written: a broken scratch directory would make
 // every later input look rejected.
-std::filesystem::path WriteInput(std::string_view name, const std::uint8_t* data,
-                                 std::size_t size);
+std::filesystem::path WriteInput(std::string_view name, const std::uint8_t* data, std::size_t size);
 std::filesystem::path WriteInput(std::string_view name, std::string_view bytes);
 
 // The input as text (the in-memory parsers take std::string).

@@ -134,7 +134,6 @@ int main(int argc, char** argv) {
     Run(input_path, input);
   }
   std::filesystem::remove(input_path, ec);
-  std::printf("%s: %zu corpus files and %ld mutations, no failure\n", argv[0], corpus.size(),
-              runs);
+  std::printf("%s: %zu corpus files and %ld mutations, no failure\n", argv[0], corpus.size(), runs);
   return 0;
 }

@@ -32,6 +32,9 @@ std::string FindKey(const cv::FileStorage& fs, const std::array<const char*, N>&
   return "";
 }
 
+// Larger than any matrix of a calibration file (3x3, 1x14 coefficients).
+constexpr int kMaxMatrixSide = 64;
+
 // Reads an !!opencv-matrix or a plain sequence of numbers.
 core::Result<Numbers> ReadNumbers(const cv::FileNode& node, const std::string& where) {
   Numbers numbers;
@@ -49,6 +52,23 @@ core::Result<Numbers> ReadNumbers(const cv::FileNode& node, const std::string& w
   }
   if (!node.isMap()) {
     return core::Status::Error(where + ": expected an !!opencv-matrix or a list of numbers");
+  }
+  // OpenCV allocates rows x cols before it reads 'data': check the sizes
+  // first, so that a damaged header cannot ask for gigabytes (found by fuzzing).
+  const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+  if (!rows.isInt() || !cols.isInt() || static_cast<int>(rows) < 1 || static_cast<int>(cols) < 1 ||
+      static_cast<int>(rows) > kMaxMatrixSide || static_cast<int>(cols) > kMaxMatrixSide) {
+    return core::Status::Error(where +
+                               ": expected an !!opencv-matrix with integer 'rows' and "
+                               "'cols' in [1, " +
+                               std::to_string(kMaxMatrixSide) + "]");
+  }
+  if (!data.isSeq() ||
+      data.size() != static_cast<size_t>(static_cast<int>(rows) * static_cast<int>(cols))) {
+    return core::Status::Error(where + ": expected 'data' to hold rows x cols = " +
+                               std::to_string(static_cast<int>(rows) * static_cast<int>(cols)) +
+                               " numbers, got " +
+                               (data.isSeq() ? std::to_string(data.size()) : std::string("none")));
   }
   cv::Mat matrix;
   try {

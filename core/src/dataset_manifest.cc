@@ -143,7 +143,9 @@ void CheckReferencedFiles(YamlFields& y, const YAML::Node& root, const DatasetMa
 
 }  // namespace
 
-Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
+namespace {
+
+Result<DatasetManifest> ReadDatasetManifestUnguarded(const std::filesystem::path& path) {
   Result<YAML::Node> loaded = internal::LoadYamlFile(path);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;
@@ -179,6 +181,14 @@ Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
   CheckReferencedFiles(y, root, m, path.has_parent_path() ? path.parent_path() : ".");
   if (!y.ok()) return y.status();
   return m;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
+  return internal::CatchYamlErrors(path.string(),
+                                   [&] { return ReadDatasetManifestUnguarded(path); });
 }
 
 Status WriteDatasetManifest(const std::filesystem::path& path, const DatasetManifest& manifest) {

@@ -38,8 +38,8 @@ std::string Bzip2(const std::uint8_t* data, std::size_t size) {
   unsigned int out_size = static_cast<unsigned int>(size + size / 100 + 700);
   std::string out(out_size, '\0');
   char* in = const_cast<char*>(reinterpret_cast<const char*>(data));
-  gf::FuzzCheck(BZ2_bzBuffToBuffCompress(out.data(), &out_size, in,
-                                         static_cast<unsigned int>(size), 1, 0, 0) == BZ_OK,
+  gf::FuzzCheck(BZ2_bzBuffToBuffCompress(out.data(), &out_size, in, static_cast<unsigned int>(size),
+                                         1, 0, 0) == BZ_OK,
                 "BZ2_bzBuffToBuffCompress");
   out.resize(out_size);
   return out;
@@ -49,13 +49,10 @@ std::string Bzip2(const std::uint8_t* data, std::size_t size) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > (1u << 20)) return 0;
-#if FUZZ_CARMEN_COMPRESSION == 1
-  const auto path = gf::WriteInput("log.clf.gz", Gzip(data, size));
-#elif FUZZ_CARMEN_COMPRESSION == 2
-  const auto path = gf::WriteInput("log.clf.bz2", Bzip2(data, size));
-#else
-  const auto path = gf::WriteInput("log.clf", data, size);
-#endif
+  constexpr int kCompression = FUZZ_CARMEN_COMPRESSION;
+  const auto path = kCompression == 1   ? gf::WriteInput("log.clf.gz", Gzip(data, size))
+                    : kCompression == 2 ? gf::WriteInput("log.clf.bz2", Bzip2(data, size))
+                                        : gf::WriteInput("log.clf", data, size);
   gio::CarmenReadOptions options;
   options.max_readings = 2000;  // keeps each execution short; the limit itself is fuzzed
   const auto lenient = gio::ReadCarmenLog(path, options);

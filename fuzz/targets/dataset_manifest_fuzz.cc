@@ -12,11 +12,10 @@ namespace gf = groundline::fuzz;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const bool referenced_files_made = [] {
-    for (const char* name :
-         {gc::kDefaultImageIndexFile, gc::kDefaultWheelEncodersFile, gc::kDefaultLidarScansFile,
-          gc::kDefaultGroundTruthFile, gc::kDefaultFloorMapFile,
-          gc::kDefaultGroundTruthExtrinsicsFile, "calibration/camera.yaml",
-          "calibration/extrinsics.yaml"}) {
+    for (const char* name : {gc::kDefaultImageIndexFile, gc::kDefaultWheelEncodersFile,
+                             gc::kDefaultLidarScansFile, gc::kDefaultGroundTruthFile,
+                             gc::kDefaultFloorMapFile, gc::kDefaultGroundTruthExtrinsicsFile,
+                             "calibration/camera.yaml", "calibration/extrinsics.yaml"}) {
       gf::WriteInput(name, "");
     }
     return true;

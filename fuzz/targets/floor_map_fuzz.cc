@@ -19,9 +19,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto path = gf::ScratchDir() / "floor_map_again.yaml";
   gf::FuzzCheck(gc::WriteFloorMap(path, *map).ok(), "an accepted floor map can be written");
   const auto again = gc::ReadFloorMap(path);
-  gf::FuzzCheck(again.ok() && again->markings.size() == map->markings.size() &&
-                    again->frame == map->frame,
-                "a written floor map reads back");
+  gf::FuzzCheck(
+      again.ok() && again->markings.size() == map->markings.size() && again->frame == map->frame,
+      "a written floor map reads back");
   for (std::size_t i = 0; again.ok() && i < map->markings.size(); ++i) {
     gf::FuzzCheck(again->markings[i].polyline_m == map->markings[i].polyline_m,
                   "polylines read back exactly");

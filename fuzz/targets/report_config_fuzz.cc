@@ -16,12 +16,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   bool require_all_quadrants = true;
   int min_corners_per_quadrant = 4;
   const auto path = gf::WriteInput("calibration.yaml", data, size);
-  const groundline::core::Status status = gcal::internal::ReadConfigSection(
-      path, "intrinsics_report",
-      {{"max_rms_px", &max_rms_px},
-       {"max_worst_px", &max_worst_px},
-       {"require_all_quadrants", &require_all_quadrants},
-       {"min_corners_per_quadrant", &min_corners_per_quadrant}});
+  const groundline::core::Status status =
+      gcal::internal::ReadConfigSection(path, "intrinsics_report",
+                                        {{"max_rms_px", &max_rms_px},
+                                         {"max_worst_px", &max_worst_px},
+                                         {"require_all_quadrants", &require_all_quadrants},
+                                         {"min_corners_per_quadrant", &min_corners_per_quadrant}});
   if (!status.ok()) gf::FuzzCheck(!status.message().empty(), "an error has a message");
   return 0;
 }
