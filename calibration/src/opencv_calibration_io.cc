@@ -117,21 +117,8 @@ const char* ModelForCount(size_t count) {
   }
 }
 
-}  // namespace
-
-core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& path) {
-  const std::string source = path.string();
-  core::Result<std::string> text = text_util::ReadTextFile(path, "OpenCV calibration file");
-  if (!text.ok()) return text.status();
-  cv::FileStorage fs;
-  try {
-    fs.open(*text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& e) {
-    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it: " + e.err);
-  }
-  if (!fs.isOpened()) {
-    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it");
-  }
+// The camera of an opened calibration file whose root is a mapping.
+core::Result<CameraModel> CameraFromStorage(const cv::FileStorage& fs, const std::string& source) {
   const std::string k_key = FindKey(fs, kCameraMatrixKeys);
   if (k_key.empty()) {
     return core::Status::Error(source +
@@ -186,6 +173,35 @@ core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& pat
       CameraModel::Create(model, std::move(intrinsics), *width, *height);
   if (!camera.ok()) return camera.status().WithContext(k_where + " / '" + d_key + "'");
   return camera;
+}
+
+}  // namespace
+
+core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  core::Result<std::string> text = text_util::ReadTextFile(path, "OpenCV calibration file");
+  if (!text.ok()) return text.status();
+  cv::FileStorage fs;
+  try {
+    fs.open(*text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const cv::Exception& e) {
+    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it: " + e.err);
+  }
+  if (!fs.isOpened()) {
+    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it");
+  }
+  // fs[key] asserts (throws cv::Exception) on a document that is not a mapping.
+  if (!fs.root().isMap()) {
+    return core::Status::Error(source +
+                               ": expected a mapping with keys 'camera_matrix', "
+                               "'distortion_coefficients', 'image_width' and 'image_height'");
+  }
+  try {
+    return CameraFromStorage(fs, source);
+  } catch (const cv::Exception& e) {
+    return core::Status::Error(source +
+                               ": unexpected structure for OpenCV's FileStorage: " + e.err);
+  }
 }
 
 core::Result<std::string> OpenCvCalibrationToYaml(const CameraModel& camera) {

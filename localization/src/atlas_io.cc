@@ -135,7 +135,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
   json root;
   try {
     root = json::parse(in);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {  // parse_error, and out_of_range for 1e999
     return core::Status::Error(file + ": not valid JSON (" + error.what() + ")");
   }
   FieldReader reader(file);

@@ -38,6 +38,24 @@ TEST(ReaderHardening, CameraModelEndingInACommentWithoutNewlineParses) {
       << broken.message();
 }
 
+// libmrcal's lexer read past the end of a text with an unterminated string.
+TEST(ReaderHardening, CameraModelWithAnUnterminatedStringIsRejectedBeforeMrcal) {
+  const std::string text(kPinhole);
+  for (const auto& [bad, expected] : {
+           std::pair<std::string, std::string>{text.substr(0, text.size() - 2) + " 'intrin",
+                                               "line 6: a string that is never closed"},
+           {text.substr(0, text.size() - 2) + " \"abc\n", "line 6: a string that is never closed"},
+           {text + std::string("\0", 1), "line 7: a NUL byte"},
+       }) {
+    const auto model = ParseMrcalCameraModel(bad, "c.cameramodel");
+    ASSERT_FALSE(model.ok()) << bad;
+    EXPECT_NE(model.message().find("c.cameramodel: " + expected), std::string::npos)
+        << model.message();
+  }
+  // Quotes inside a comment open no string.
+  EXPECT_TRUE(ParseMrcalCameraModel("# it's mrcal's\n" + text, "d").ok());
+}
+
 // OpenCV allocated rows x cols before reading 'data': a damaged header asked
 // for gigabytes.
 TEST(ReaderHardening, OpenCvMatrixSizesAreCheckedBeforeOpenCvAllocates) {
@@ -61,6 +79,16 @@ TEST(ReaderHardening, OpenCvMatrixSizesAreCheckedBeforeOpenCvAllocates) {
         << camera.message();
     EXPECT_NE(camera.message().find(expected), std::string::npos) << camera.message();
   }
+}
+
+// cv::FileStorage's operator[] asserted (threw) on a document that is not a mapping.
+TEST(ReaderHardening, OpenCvDocumentThatIsNotAMappingIsAnError) {
+  const std::filesystem::path path = testing::ScratchDir("opencv_root") / "camera.yaml";
+  std::ofstream(path) << "%YAML:1.0\n---\n- 1\n- 2\n";
+  const auto camera = ReadOpenCvCalibration(path);
+  ASSERT_FALSE(camera.ok());
+  EXPECT_NE(camera.message().find(path.string() + ": expected a mapping"), std::string::npos)
+      << camera.message();
 }
 
 // yaml-cpp threw BadSubscript (operator[] on a scalar) out of the readers

@@ -153,6 +153,10 @@ TEST(Atlas, ErrorsNameTheField) {
   EXPECT_NE(bad.message().find("format"), std::string::npos) << bad.message();
   bad = write("{not json");
   EXPECT_FALSE(bad.ok());
+  // A number beyond double's range is an error, not an exception out of the reader.
+  bad = write(head + R"("lines": [{"id": 0, "rho_m": 4e406}], "junctions": []})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("not valid JSON"), std::string::npos) << bad.message();
   EXPECT_FALSE(ReadAtlas(TempPath("does_not_exist.json")).ok());
 }
 
