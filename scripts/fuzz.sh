@@ -7,7 +7,8 @@
 # what it finds in build-fuzz/corpus/<target>/ (not committed); a finding is
 # written to build-fuzz/findings/<target>/. Prints one line per target:
 # executions, coverage (libFuzzer's cov:), findings. Exits 1 if any target failed.
-# GROUNDLINE_FUZZ_MAX_TIME=S stops each target after S seconds even if RUNS is not reached.
+# GROUNDLINE_FUZZ_MAX_TIME=S stops each target after S seconds even if RUNS is not reached;
+# GROUNDLINE_FUZZ_PARALLEL=N runs N targets at once.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 which="${1:-all}"
@@ -28,29 +29,46 @@ cmake --build build-fuzz -j "$jobs" "${build_targets[@]}"
 
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:symbolize=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-failed=0
-printf '%-26s %12s %8s %8s  %s\n' target executions cov ft findings
-for t in "${targets[@]}"; do
-  corpus=build-fuzz/corpus/$t findings=build-fuzz/findings/$t log=build-fuzz/logs/$t.log
-  mkdir -p "$corpus" "$findings" build-fuzz/logs
-  extra=()
+mkdir -p build-fuzz/logs
+# One target: its log, then a status file with libFuzzer's exit code.
+run_one() {
+  local t=$1 corpus=build-fuzz/corpus/$1 findings=build-fuzz/findings/$1
+  local log=build-fuzz/logs/$1.log status=0
+  mkdir -p "$corpus" "$findings"
+  local extra=()
   [ -n "${GROUNDLINE_FUZZ_MAX_TIME:-}" ] && extra+=(-max_total_time="$GROUNDLINE_FUZZ_MAX_TIME")
   # -timeout: an input that takes over 10 s is a hang; -rss_limit_mb: a leak or a blow-up.
-  status=0
   build-fuzz/fuzz/fuzz_"$t" "$corpus" "fuzz/corpus/$t" -runs="$runs" -timeout=10 \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 -artifact_prefix="$findings/" \
     "${extra[@]}" >"$log" 2>&1 || status=$?
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
-  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
+  echo "$status" >"build-fuzz/logs/$t.status"
+}
+# GROUNDLINE_FUZZ_PARALLEL=N runs N targets at a time (default 1).
+parallel="${GROUNDLINE_FUZZ_PARALLEL:-1}"
+for t in "${targets[@]}"; do
+  rm -f "build-fuzz/logs/$t.status"
+  while [ "$(jobs -rp | wc -l)" -ge "$parallel" ]; do wait -n || true; done
+  run_one "$t" &
+done
+wait
+
+failed=0
+printf '%-26s %12s %8s %8s %7s  %s\n' target executions cov ft exec/s findings
+for t in "${targets[@]}"; do
+  log=build-fuzz/logs/$t.log findings=build-fuzz/findings/$t
+  status=$(cat "build-fuzz/logs/$t.status" 2>/dev/null || echo "?")
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1 || true)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2 || true)
+  ft=$(grep -o 'ft: [0-9]*' "$log" | tail -1 | cut -d' ' -f2 || true)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1 || true)
   found=$(find "$findings" -type f | wc -l)
   what="none"
-  if [ "$status" -ne 0 ]; then
+  if [ "$status" != 0 ]; then
     failed=1
     what="FAILED (exit $status, $found file(s) in $findings; log $log)"
   elif [ "$found" -ne 0 ]; then
     what="$found earlier file(s) in $findings"
   fi
-  printf '%-26s %12s %8s %8s  %s\n' "$t" "${execs:-?}" "${cov:-?}" "${ft:-?}" "$what"
+  printf '%-26s %12s %8s %8s %7s  %s\n' "$t" "${execs:-?}" "${cov:-?}" "${ft:-?}" "${rate:-?}" "$what"
 done
 exit "$failed"
