@@ -111,7 +111,13 @@ void ParseProvenance(YamlFields& y, const YAML::Node& root,
              "a nested value");
       return;
     }
-    (*provenance)[key] = entry.second.IsNull() ? std::string() : entry.second.Scalar();
+    const std::string value = entry.second.IsNull() ? std::string() : entry.second.Scalar();
+    if (!IsValidUtf8(key) || !IsValidUtf8(value)) {
+      y.Fail(entry.second, internal::JoinPath("provenance", key), "UTF-8 text",
+             "bytes that are not UTF-8");
+      return;
+    }
+    (*provenance)[key] = value;
   }
 }
 

@@ -147,6 +147,10 @@ std::string YamlFields::Text(const YAML::Node& map, std::string_view path, const
          Describe(node));
     return {};
   }
+  if (!IsValidUtf8(node.Scalar())) {
+    Fail(node, JoinPath(path, key), "UTF-8 text", "bytes that are not UTF-8");
+    return {};
+  }
   return node.Scalar();
 }
 
