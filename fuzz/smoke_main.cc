@@ -8,8 +8,9 @@
 //
 //   fuzz_smoke_<target> CORPUS_DIR [RUNS=2000] [SEED=1]
 //
-// Before each execution the input is written to $TMPDIR/fuzz_smoke_<pid>.input,
-// so that after a sanitizer report or an abort it is there to be replayed.
+// Before each execution the input is written to smoke_input in the target's
+// scratch directory (fuzz_input.h; /dev/shm/groundline-fuzz-<pid>/), which a
+// sanitizer report or an abort leaves behind, so that it can be replayed.
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -21,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
@@ -123,9 +124,8 @@ int main(int argc, char** argv) {
   std::vector<Bytes> corpus;
   for (const auto& f : files) corpus.push_back(ReadBytes(f));
 
-  const std::string input_path = (std::filesystem::temp_directory_path() /
-                                  ("fuzz_smoke_" + std::to_string(::getpid()) + ".input"))
-                                     .string();
+  const std::string input_path = (groundline::fuzz::ScratchDir() / "smoke_input").string();
+  std::printf("%s: each input is written to %s first\n", argv[0], input_path.c_str());
   for (const Bytes& input : corpus) Run(input_path, input);
   std::mt19937_64 rng(seed);
   for (long i = 0; i < runs; ++i) {
@@ -133,7 +133,6 @@ int main(int argc, char** argv) {
     Mutate(rng, corpus, &input);
     Run(input_path, input);
   }
-  std::filesystem::remove(input_path, ec);
   std::printf("%s: %zu corpus files and %ld mutations, no failure\n", argv[0], corpus.size(), runs);
   return 0;
 }
