@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/) and runs them.
-#   scripts/fuzz.sh [TARGET|all] [RUNS]       (default: all, 100000 executions each)
+#   scripts/fuzz.sh [TARGET[,TARGET...]|all] [RUNS]   (default: all, 100000 executions each)
 # build-fuzz/: clang-14, the libraries with -fsanitize=fuzzer-no-link,address,undefined,
 # the fuzz executables with -fsanitize=fuzzer,address,undefined (GROUNDLINE_BUILD_FUZZERS).
 # Each target starts from its committed corpus fuzz/corpus/<target>/ and keeps
@@ -22,7 +22,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja "${launcher[@]}" -D
   -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCMAKE_C_FLAGS_DEBUG="-O1 -g1" \
   -DGROUNDLINE_BUILD_FUZZERS=ON -DGROUNDLINE_BUILD_TESTS=OFF -DGROUNDLINE_BUILD_BENCHMARKS=OFF \
   -DGROUNDLINE_WERROR=ON >/dev/null
-if [ "$which" = all ]; then mapfile -t targets < build-fuzz/fuzz/targets.txt; else targets=("$which"); fi
+if [ "$which" = all ]; then mapfile -t targets < build-fuzz/fuzz/targets.txt; else IFS=, read -ra targets <<<"$which"; fi
 build_targets=()
 for t in "${targets[@]}"; do build_targets+=(--target "fuzz_$t"); done
 cmake --build build-fuzz -j "$jobs" "${build_targets[@]}"
