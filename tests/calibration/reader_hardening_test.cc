@@ -8,6 +8,7 @@
 
 #include "groundline/calibration/calib_target.h"
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/calibration/floor_calibration.h"
 #include "groundline/calibration/mrcal_cameramodel_io.h"
 #include "groundline/calibration/opencv_calibration_io.h"
 #include "groundline/calibration/ros_camera_info_io.h"
@@ -101,6 +102,19 @@ TEST(ReaderHardening, YamlReadersReturnAnErrorForAScalarOrListDocument) {
     EXPECT_FALSE(ParseTagLayoutYaml(text, "layout.yaml").ok()) << text;
     EXPECT_FALSE(ParseCameraMountYaml(text, "extrinsics.yaml").ok()) << text;
     EXPECT_FALSE(ParseRosCameraInfo(text, "camera_info.yaml").ok()) << text;
+  }
+}
+
+// nlohmann's value() threw type_error out of the reader for a 'format' that
+// is not a string.
+TEST(ReaderHardening, IntrinsicsReportWithANonStringFormatIsAnError) {
+  const std::filesystem::path path = testing::ScratchDir("report") / "report.json";
+  for (const char* text : {R"({"format": 3})", R"([1, 2])", R"({"format": null})"}) {
+    std::ofstream(path) << text;
+    const auto summary = ReadIntrinsicsReportSummary(path);
+    ASSERT_FALSE(summary.ok()) << text;
+    EXPECT_NE(summary.message().find(path.string() + ": field 'format'"), std::string::npos)
+        << summary.message();
   }
 }
 
