@@ -43,7 +43,7 @@ namespace fs = std::filesystem;
 core::FloorMap MapOf(std::int64_t g) {
   core::FloorMap map;
   map.frame = "map_" + std::to_string(g);
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < 150; ++i) {
     core::FloorMarking m;
     m.id = i;
     m.width_m = 0.05;
@@ -56,7 +56,7 @@ core::FloorMap MapOf(std::int64_t g) {
 localization::Atlas AtlasOf(std::int64_t g) {
   localization::Atlas atlas;
   atlas.frame = "map_" + std::to_string(g);
-  for (int i = 0; i < 1500; ++i) {
+  for (int i = 0; i < 500; ++i) {
     localization::AtlasLine line;
     line.id = i;
     line.line_map = perception::NormalizeLine(0.01 * i + 1e-6 * g, 0.001 * i);
@@ -70,7 +70,7 @@ localization::Atlas AtlasOf(std::int64_t g) {
 
 core::Trajectory TrajectoryOf(std::int64_t g) {
   core::Trajectory trajectory;
-  for (int i = 0; i < 20000; ++i) {
+  for (int i = 0; i < 5000; ++i) {
     trajectory.push_back({static_cast<double>(g) + 1e-4 * i, core::SE2(0.01 * i, 0.0, 0.0), {}});
   }
   return trajectory;
@@ -162,8 +162,8 @@ TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
   const fs::path expected_dir = testing::ScratchDir("expected");
   const std::vector<Writer> writers = Writers();
   std::mt19937 rng(20261201);
-  // Each write of the four files takes ~10-60 ms here (more under ASan).
-  std::uniform_int_distribution<int> delay_us(500, 60000);
+  // A cycle through the four files takes ~5-30 ms (more under ASan).
+  std::uniform_int_distribution<int> delay_us(500, 30000);
   std::uniform_int_distribution<int> in_write_us(0, 300);
 
   int mid_write = 0, checked = 0, torn = 0, absent = 0;
