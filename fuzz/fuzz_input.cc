@@ -1,7 +1,9 @@
 #include "fuzz_input.h"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -26,7 +28,19 @@ const std::filesystem::path& ScratchDir() {
     if (std::filesystem::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0) {
       base = "/dev/shm";
     }
-    const std::filesystem::path d = base / ("groundline-fuzz-" + std::to_string(::getpid()));
+    // libFuzzer ends with _Exit (no atexit handler runs): remove the
+    // directories of processes that are gone before making this one.
+    const std::string prefix = "groundline-fuzz-";
+    for (const auto& entry : std::filesystem::directory_iterator(base, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix, 0) != 0) continue;
+      const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
+      if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+        std::error_code ignored;
+        std::filesystem::remove_all(entry.path(), ignored);
+      }
+    }
+    const std::filesystem::path d = base / (prefix + std::to_string(::getpid()));
     std::filesystem::create_directories(d, ec);
     if (ec) {
       std::fprintf(stderr, "fuzz: cannot create %s: %s\n", d.c_str(), ec.message().c_str());
