@@ -20,7 +20,9 @@ void RemoveScratchDir() {
 }  // namespace
 
 const std::filesystem::path& ScratchDir() {
-  static const std::filesystem::path dir = [] {
+  // Never destroyed: the atexit handler is registered while this static is
+  // made, so it would run after the static's own destructor and find it gone.
+  static const std::filesystem::path* const dir = [] {
     // /dev/shm (memory) when there is one: a disk-backed /tmp costs ~1 ms per
     // input written, ten times the parse.
     std::error_code ec;
@@ -47,9 +49,9 @@ const std::filesystem::path& ScratchDir() {
       std::abort();
     }
     std::atexit(RemoveScratchDir);
-    return d;
+    return new std::filesystem::path(d);
   }();
-  return dir;
+  return *dir;
 }
 
 std::filesystem::path WriteInput(std::string_view name, const std::uint8_t* data,
