@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +21,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/trajectory_association.h"
+#include "png_file.h"
 #include "progress.h"
 
 namespace groundline::tools {
@@ -223,7 +223,9 @@ int RunExtract(const ExtractFlags& flags) {
 
   std::error_code ec;
   fs::create_directories(flags.out, ec);
-  std::ofstream jsonl(fs::path(flags.out) / "lines.jsonl.tmp");
+  // Kept in memory and written once at the end, atomically: an interrupted
+  // run leaves no lines.jsonl rather than a cut one.
+  std::string jsonl;
   perception::LineEvaluation evaluation;
   std::vector<double> ms;
   std::vector<std::string> skipped;
@@ -292,7 +294,8 @@ int RunExtract(const ExtractFlags& flags) {
       frame["missed_marking_ids"] = missed;
       frame["missed"] = missed_lines;
     }
-    jsonl << frame.dump() << "\n";
+    jsonl += frame.dump();
+    jsonl += '\n';
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
       char name[64];
       // Shown as the camera sees the floor: the cells it does not see (which
@@ -300,18 +303,22 @@ int RunExtract(const ExtractFlags& flags) {
       cv::Mat shown = bev.clone();
       shown.setTo(cv::Scalar::all(0), unseen);
       std::snprintf(name, sizeof(name), "bev_%06zu.png", i);
-      cv::imwrite((fs::path(flags.out) / name).string(), shown);
+      core::Status written = WritePngAtomically(fs::path(flags.out) / name, shown);
       std::snprintf(name, sizeof(name), "overlay_%06zu.png", i);
-      cv::imwrite((fs::path(flags.out) / name).string(),
-                  DrawOverlay(shown, grid, extraction, truths));
+      if (written.ok()) {
+        written = WritePngAtomically(fs::path(flags.out) / name,
+                                     DrawOverlay(shown, grid, extraction, truths));
+      }
+      if (!written.ok()) {
+        std::fprintf(stderr, "groundline extract: %s\n", written.message().c_str());
+        return 1;
+      }
     }
   }
   progress.Update("images", 1.0);
-  jsonl.close();
-  fs::rename(fs::path(flags.out) / "lines.jsonl.tmp", fs::path(flags.out) / "lines.jsonl", ec);
-  if (ec) {
-    std::fprintf(stderr, "groundline extract: cannot write %s/lines.jsonl: %s\n", flags.out.c_str(),
-                 ec.message().c_str());
+  if (core::Status s = core::WriteFileAtomically(fs::path(flags.out) / "lines.jsonl", jsonl);
+      !s.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
     return 1;
   }
 

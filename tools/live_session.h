@@ -21,6 +21,7 @@
 
 #include "groundline/core/status.h"
 #include "groundline/io/frame_source.h"
+#include "png_file.h"
 
 namespace groundline::tools {
 
@@ -101,15 +102,9 @@ inline core::Result<std::string> SaveFrame(const std::filesystem::path& dir,
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".jpg" || ext == ".jpeg" || ext.empty()) file.replace_extension(".png");
   const std::string name = file.filename().string();
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  const std::filesystem::path path = dir / name;
-  const std::filesystem::path tmp = dir / ("tmp." + name);
-  if (ec || !cv::imwrite(tmp.string(), grey)) {
-    return core::Status::Error(path.string() + ": cannot write the frame");
+  if (core::Status s = WritePngAtomically(dir / name, grey); !s.ok()) {
+    return s.WithContext("cannot save the frame");
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) return core::Status::Error(path.string() + ": " + ec.message());
   return name;
 }
 

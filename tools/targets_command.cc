@@ -10,6 +10,7 @@
 #include "groundline/calibration/calib_target.h"
 #include "groundline/calibration/target_render.h"
 #include "groundline/core/atomic_file.h"
+#include "png_file.h"
 
 namespace groundline::tools {
 namespace {
@@ -79,10 +80,8 @@ int RunTargets(const TargetsFlags& flags) {
         return 1;
       }
       if (!flags.no_png) {
-        std::vector<unsigned char> png;
-        cv::imencode(".png", calibration::RasterizeSheet(sheet, flags.dpi), png);
-        const std::string bytes(png.begin(), png.end());
-        if (core::Status s = core::WriteFileAtomically(out / (sheet.file_stem + ".png"), bytes);
+        if (core::Status s = WritePngAtomically(out / (sheet.file_stem + ".png"),
+                                                calibration::RasterizeSheet(sheet, flags.dpi));
             !s.ok()) {
           std::fprintf(stderr, "groundline targets: %s\n", s.message().c_str());
           return 1;

@@ -1,4 +1,5 @@
 #include "groundline/calibration/calib_target.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -196,10 +197,16 @@ int AprilGridCornerIndex(const CalibTarget& target, const BoardGrid& grid, int t
   return (y0 + kDy[k] * n_tag) * grid.width_n + x0 + kDx[k] * n_tag;
 }
 
-core::Result<std::vector<CalibTarget>> ParseCalibTargets(const std::string& yaml_text,
-                                                         const std::string& source_name) {
+namespace {
+
+core::Result<std::vector<CalibTarget>> ParseCalibTargetsUnguarded(const std::string& yaml_text,
+                                                                  const std::string& source_name) {
   core::Result<YAML::Node> root = internal::LoadYamlText(yaml_text, source_name);
   if (!root.ok()) return root.status();
+  if (!root->IsMap()) {
+    return core::Status::Error(source_name +
+                               ": expected a mapping with keys 'format', 'version' and 'targets'");
+  }
   if (!(*root)["format"] || (*root)["format"].as<std::string>("") != "groundline-calib-targets") {
     return core::Status::Error(source_name +
                                ": field 'format': expected 'groundline-calib-targets'");
@@ -222,6 +229,15 @@ core::Result<std::vector<CalibTarget>> ParseCalibTargets(const std::string& yaml
     targets.push_back(std::move(target).value());
   }
   return targets;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<std::vector<CalibTarget>> ParseCalibTargets(const std::string& yaml_text,
+                                                         const std::string& source_name) {
+  return core::internal::CatchYamlErrors(
+      source_name, [&] { return ParseCalibTargetsUnguarded(yaml_text, source_name); });
 }
 
 core::Result<std::vector<CalibTarget>> ReadCalibTargets(const std::filesystem::path& path) {

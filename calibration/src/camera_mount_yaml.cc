@@ -1,4 +1,5 @@
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -12,6 +13,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "groundline/core/atomic_file.h"
 #include "groundline/core/text_parse.h"
 #include "yaml_text.h"
 
@@ -85,8 +87,10 @@ core::Status RangeError(const std::string& source, const YAML::Node& node, const
 
 }  // namespace
 
-core::Result<CameraMount> ParseCameraMountYaml(const std::string& yaml_text,
-                                               const std::string& source_name) {
+namespace {
+
+core::Result<CameraMount> ParseCameraMountYamlUnguarded(const std::string& yaml_text,
+                                                        const std::string& source_name) {
   const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;  // const: lookups of absent keys must not insert them
@@ -166,6 +170,15 @@ core::Result<CameraMount> ParseCameraMountYaml(const std::string& yaml_text,
   return mount;
 }
 
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<CameraMount> ParseCameraMountYaml(const std::string& yaml_text,
+                                               const std::string& source_name) {
+  return core::internal::CatchYamlErrors(
+      source_name, [&] { return ParseCameraMountYamlUnguarded(yaml_text, source_name); });
+}
+
 core::Result<CameraMount> ReadCameraMountYaml(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -198,27 +211,8 @@ core::Status WriteCameraMountYaml(const CameraMount& mount, const std::filesyste
   if (core::Status status = mount.Validate(); !status.ok()) {
     return status.WithContext(path.string() + ": refusing to write an invalid camera mount");
   }
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << CameraMountToYaml(mount);
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(tmp, ignored);
-      return core::Status::Error(tmp.string() + ": cannot write the camera extrinsics file");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    const std::string reason = ec.message();
-    std::filesystem::remove(tmp, ec);
-    return core::Status::Error(path.string() + ": cannot rename " + tmp.string() +
-                               " into place: " + reason);
-  }
-  return core::Status::Ok();
+  return core::WriteFileAtomically(path, CameraMountToYaml(mount))
+      .WithContext(path.string() + ": cannot write the camera extrinsics file");
 }
 
 }  // namespace groundline::calibration

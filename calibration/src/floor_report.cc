@@ -22,7 +22,10 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
   } catch (const nlohmann::json::exception& e) {
     return core::Status::Error(where + ": not JSON (" + e.what() + ")");
   }
-  if (!j.is_object() || j.value("format", "") != "groundline-intrinsics-report") {
+  // json::value() throws for a 'format' that is not a string: look it up instead.
+  const auto format = j.is_object() ? j.find("format") : j.end();
+  if (format == j.end() || !format->is_string() ||
+      format->get<std::string>() != "groundline-intrinsics-report") {
     return core::Status::Error(where +
                                ": field 'format': expected \"groundline-intrinsics-report\" "
                                "(the report.json of `groundline calibrate intrinsics`)");

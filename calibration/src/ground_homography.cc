@@ -1,4 +1,5 @@
 #include "groundline/calibration/ground_homography.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -60,8 +61,10 @@ core::Result<Eigen::Matrix3d> ReadMatrix(const YAML::Node& root, const std::stri
 
 }  // namespace
 
-core::Result<GroundHomography> ParseGroundHomographyYaml(const std::string& yaml_text,
-                                                         const std::string& source_name) {
+namespace {
+
+core::Result<GroundHomography> ParseGroundHomographyYamlUnguarded(const std::string& yaml_text,
+                                                                  const std::string& source_name) {
   const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;  // const: absent keys must not be inserted
@@ -104,6 +107,15 @@ core::Result<GroundHomography> ParseGroundHomographyYaml(const std::string& yaml
     result.floor_frame_right_handed = result.H_floor_input.determinant() < 0.0;
   }
   return result;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<GroundHomography> ParseGroundHomographyYaml(const std::string& yaml_text,
+                                                         const std::string& source_name) {
+  return core::internal::CatchYamlErrors(
+      source_name, [&] { return ParseGroundHomographyYamlUnguarded(yaml_text, source_name); });
 }
 
 core::Result<GroundHomography> ReadGroundHomographyYaml(const std::filesystem::path& path) {

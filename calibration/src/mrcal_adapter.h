@@ -28,8 +28,13 @@ using CameraModelPtr = std::unique_ptr<mrcal_cameramodel_t, CameraModelDeleter>;
 inline CameraModelPtr ReadCameraModelFile(const std::filesystem::path& path) {
   return CameraModelPtr(mrcal_read_cameramodel_file(path.c_str()));
 }
+// libmrcal 2.2's parser skips a '#' comment up to its '\n' without checking
+// the length it was given: a text that ends inside a comment is read past its
+// end (found by fuzzing). The text it is handed therefore always ends with '\n'.
 inline CameraModelPtr ReadCameraModelString(const std::string& text) {
-  return CameraModelPtr(mrcal_read_cameramodel_string(text.data(), static_cast<int>(text.size())));
+  const std::string terminated = text.empty() || text.back() != '\n' ? text + '\n' : text;
+  return CameraModelPtr(
+      mrcal_read_cameramodel_string(terminated.data(), static_cast<int>(terminated.size())));
 }
 
 // Known defect of libmrcal 2.2's C mrcal_project(): with N > 1 points and a

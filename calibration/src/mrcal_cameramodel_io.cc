@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,38 @@ constexpr std::array<const char*, 4> kRequiredKeys = {"lensmodel", "intrinsics",
 bool HasKey(const std::string& text, const std::string& key) {
   return text.find("'" + key + "'") != std::string::npos ||
          text.find("\"" + key + "\"") != std::string::npos;
+}
+
+// libmrcal 2.2's lexer scans a quoted string up to its closing quote without
+// checking the length it was given, so an unterminated string is read past the
+// end of the text (found by fuzzing). The text is checked here first: no NUL
+// byte, and every string outside a '#' comment closed on the text, without a
+// backslash (mrcal-written names and keys have none, and an escape would let
+// mrcal and this scan disagree about where the string ends). Returns what is
+// wrong with the line it is on, or "".
+std::string LexProblem(const std::string& text) {
+  int line = 1, string_line = 0;
+  char quote = 0;
+  bool comment = false;
+  for (const char c : text) {
+    if (c == '\0') return "line " + std::to_string(line) + ": a NUL byte (not a text file)";
+    if (quote != 0) {
+      if (c == '\\') return "line " + std::to_string(line) + ": a backslash in a string";
+      if (c == quote) quote = 0;
+    } else if (comment) {
+      comment = c != '\n';
+    } else if (c == '#') {
+      comment = true;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+      string_line = line;
+    }
+    if (c == '\n') ++line;
+  }
+  if (quote != 0) {
+    return "line " + std::to_string(string_line) + ": a string that is never closed";
+  }
+  return "";
 }
 
 std::string NumberList(const double* values, size_t count) {
@@ -41,6 +74,10 @@ core::Result<MrcalCameraModelFile> ParseMrcalCameraModel(const std::string& text
                                  "' (a .cameramodel needs lensmodel, intrinsics, extrinsics and "
                                  "imagersize)");
     }
+  }
+  if (const std::string problem = LexProblem(text); !problem.empty()) {
+    return core::Status::Error(source_name + ": " + problem +
+                               "; expected a Python-dict cameramodel as mrcal writes it");
   }
   const mrcal_adapter::CameraModelPtr model = mrcal_adapter::ReadCameraModelString(text);
   if (model == nullptr) {

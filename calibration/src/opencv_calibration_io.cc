@@ -4,24 +4,20 @@
 
 #include <array>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "groundline/core/atomic_file.h"
+#include "opencv_yaml_fields.h"
 #include "text_util.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr std::array<const char*, 3> kCameraMatrixKeys = {"camera_matrix", "K", "cameraMatrix"};
-constexpr std::array<const char*, 4> kDistortionKeys = {"distortion_coefficients", "D",
-                                                        "distCoeffs", "dist_coeffs"};
-
-struct Numbers {
-  std::vector<double> values;
-  int rows = 0;
-  int cols = 0;
-};
+using internal::OpenCvFields;
+using internal::OpenCvNumbers;
 
 // The first present key of `keys`, or "" when none is.
 template <size_t N>
@@ -33,8 +29,8 @@ std::string FindKey(const cv::FileStorage& fs, const std::array<const char*, N>&
 }
 
 // Reads an !!opencv-matrix or a plain sequence of numbers.
-core::Result<Numbers> ReadNumbers(const cv::FileNode& node, const std::string& where) {
-  Numbers numbers;
+core::Result<OpenCvNumbers> ReadNumbers(const cv::FileNode& node, const std::string& where) {
+  OpenCvNumbers numbers;
   if (node.isSeq()) {
     for (size_t i = 0; i < node.size(); ++i) {
       const cv::FileNode item = node[static_cast<int>(i)];
@@ -49,6 +45,24 @@ core::Result<Numbers> ReadNumbers(const cv::FileNode& node, const std::string& w
   }
   if (!node.isMap()) {
     return core::Status::Error(where + ": expected an !!opencv-matrix or a list of numbers");
+  }
+  // OpenCV allocates rows x cols before it reads 'data': check the sizes
+  // first, so that a damaged header cannot ask for gigabytes (found by fuzzing).
+  constexpr int kMax = internal::kOpenCvMaxMatrixSide;
+  const cv::FileNode rows = node["rows"], cols = node["cols"], data = node["data"];
+  if (!rows.isInt() || !cols.isInt() || static_cast<int>(rows) < 1 || static_cast<int>(cols) < 1 ||
+      static_cast<int>(rows) > kMax || static_cast<int>(cols) > kMax) {
+    return core::Status::Error(where +
+                               ": expected an !!opencv-matrix with integer 'rows' and "
+                               "'cols' in [1, " +
+                               std::to_string(kMax) + "]");
+  }
+  if (!data.isSeq() ||
+      data.size() != static_cast<size_t>(static_cast<int>(rows) * static_cast<int>(cols))) {
+    return core::Status::Error(where + ": expected 'data' to hold rows x cols = " +
+                               std::to_string(static_cast<int>(rows) * static_cast<int>(cols)) +
+                               " numbers, got " +
+                               (data.isSeq() ? std::to_string(data.size()) : std::string("none")));
   }
   cv::Mat matrix;
   try {
@@ -82,6 +96,58 @@ core::Result<int> ReadSize(const cv::FileStorage& fs, const std::string& source,
   return static_cast<int>(node);
 }
 
+// The fields of an XML or JSON file, through cv::FileStorage.
+core::Result<OpenCvFields> ReadStorageFields(const std::string& text, const std::string& source) {
+  cv::FileStorage fs;
+  try {
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  } catch (const cv::Exception& e) {
+    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it: " + e.err);
+  } catch (const std::exception& e) {
+    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it: " + e.what());
+  }
+  if (!fs.isOpened()) {
+    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it");
+  }
+  // fs[key] asserts (throws cv::Exception) on a document that is not a mapping.
+  if (!fs.root().isMap()) {
+    return core::Status::Error(source +
+                               ": expected a mapping with keys 'camera_matrix', "
+                               "'distortion_coefficients', 'image_width' and 'image_height'");
+  }
+  OpenCvFields f;
+  try {
+    f.k_key = FindKey(fs, internal::kOpenCvCameraMatrixKeys);
+    if (f.k_key.empty()) {
+      return core::Status::Error(source +
+                                 ": missing key 'camera_matrix' (or 'K', 'cameraMatrix'): "
+                                 "the 3x3 intrinsic matrix");
+    }
+    f.d_key = FindKey(fs, internal::kOpenCvDistortionKeys);
+    if (f.d_key.empty()) {
+      return core::Status::Error(source +
+                                 ": missing key 'distortion_coefficients' (or 'D', "
+                                 "'distCoeffs', 'dist_coeffs')");
+    }
+    core::Result<OpenCvNumbers> k = ReadNumbers(fs[f.k_key], source + ": key '" + f.k_key + "'");
+    if (!k.ok()) return k.status();
+    core::Result<OpenCvNumbers> d = ReadNumbers(fs[f.d_key], source + ": key '" + f.d_key + "'");
+    if (!d.ok()) return d.status();
+    core::Result<int> width = ReadSize(fs, source, "image_width");
+    if (!width.ok()) return width.status();
+    core::Result<int> height = ReadSize(fs, source, "image_height");
+    if (!height.ok()) return height.status();
+    f.k = std::move(k).value();
+    f.d = std::move(d).value();
+    f.width_px = *width;
+    f.height_px = *height;
+  } catch (const cv::Exception& e) {
+    return core::Status::Error(source +
+                               ": unexpected structure for OpenCV's FileStorage: " + e.err);
+  }
+  return f;
+}
+
 const char* ModelForCount(size_t count) {
   switch (count) {
     case 4:
@@ -97,42 +163,17 @@ const char* ModelForCount(size_t count) {
   }
 }
 
-}  // namespace
-
-core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& path) {
-  const std::string source = path.string();
-  core::Result<std::string> text = text_util::ReadTextFile(path, "OpenCV calibration file");
-  if (!text.ok()) return text.status();
-  cv::FileStorage fs;
-  try {
-    fs.open(*text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& e) {
-    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it: " + e.err);
+// The camera of the fields: K a 3x3 [fx 0 cx; 0 fy cy; 0 0 1], D a vector of
+// 4, 5, 8 or 12 coefficients.
+core::Result<CameraModel> CameraFromFields(const OpenCvFields& f, const std::string& source) {
+  const std::string k_where = source + ": key '" + f.k_key + "'";
+  const std::string d_where = source + ": key '" + f.d_key + "'";
+  const OpenCvNumbers& k = f.k;
+  if (k.values.size() != 9 || (k.rows != 3 && k.rows != 1)) {
+    return core::Status::Error(k_where + ": expected a 3x3 matrix, got " + std::to_string(k.rows) +
+                               "x" + std::to_string(k.cols));
   }
-  if (!fs.isOpened()) {
-    return core::Status::Error(source + ": OpenCV's FileStorage cannot parse it");
-  }
-  const std::string k_key = FindKey(fs, kCameraMatrixKeys);
-  if (k_key.empty()) {
-    return core::Status::Error(source +
-                               ": missing key 'camera_matrix' (or 'K', 'cameraMatrix'): "
-                               "the 3x3 intrinsic matrix");
-  }
-  const std::string d_key = FindKey(fs, kDistortionKeys);
-  if (d_key.empty()) {
-    return core::Status::Error(source +
-                               ": missing key 'distortion_coefficients' (or 'D', "
-                               "'distCoeffs', 'dist_coeffs')");
-  }
-  const std::string k_where = source + ": key '" + k_key + "'";
-  const std::string d_where = source + ": key '" + d_key + "'";
-  core::Result<Numbers> k = ReadNumbers(fs[k_key], k_where);
-  if (!k.ok()) return k.status();
-  if (k->values.size() != 9 || (k->rows != 3 && k->rows != 1)) {
-    return core::Status::Error(k_where + ": expected a 3x3 matrix, got " + std::to_string(k->rows) +
-                               "x" + std::to_string(k->cols));
-  }
-  const std::vector<double>& m = k->values;
+  const std::vector<double>& m = k.values;
   if (m[3] != 0.0 || m[6] != 0.0 || m[7] != 0.0 || m[8] != 1.0) {
     return core::Status::Error(k_where + ": expected [fx 0 cx; 0 fy cy; 0 0 1]");
   }
@@ -140,32 +181,43 @@ core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& pat
     return core::Status::Error(k_where + ": skew K(0,1) = " + text_util::ShortestDecimal(m[1]) +
                                " is not supported (mrcal models have no skew)");
   }
-  core::Result<Numbers> d = ReadNumbers(fs[d_key], d_where);
-  if (!d.ok()) return d.status();
-  if (d->rows != 1 && d->cols != 1) {
+  const OpenCvNumbers& d = f.d;
+  if (d.rows != 1 && d.cols != 1) {
     return core::Status::Error(d_where + ": expected a 1xN or Nx1 vector, got " +
-                               std::to_string(d->rows) + "x" + std::to_string(d->cols));
+                               std::to_string(d.rows) + "x" + std::to_string(d.cols));
   }
-  const char* model = ModelForCount(d->values.size());
+  const char* model = ModelForCount(d.values.size());
   if (model == nullptr) {
-    std::string why = d->values.size() == 14
+    std::string why = d.values.size() == 14
                           ? " (the 14-coefficient tilted-sensor model has no mrcal equivalent)"
                           : "";
     return core::Status::Error(d_where +
                                ": expected 4, 5, 8 or 12 values (OpenCV k1 k2 p1 p2 "
                                "[k3 [k4 k5 k6 [s1 s2 s3 s4]]]), got " +
-                               std::to_string(d->values.size()) + why);
+                               std::to_string(d.values.size()) + why);
   }
-  core::Result<int> width = ReadSize(fs, source, "image_width");
-  if (!width.ok()) return width.status();
-  core::Result<int> height = ReadSize(fs, source, "image_height");
-  if (!height.ok()) return height.status();
   std::vector<double> intrinsics = {m[0], m[4], m[2], m[5]};
-  intrinsics.insert(intrinsics.end(), d->values.begin(), d->values.end());
+  intrinsics.insert(intrinsics.end(), d.values.begin(), d.values.end());
   core::Result<CameraModel> camera =
-      CameraModel::Create(model, std::move(intrinsics), *width, *height);
-  if (!camera.ok()) return camera.status().WithContext(k_where + " / '" + d_key + "'");
+      CameraModel::Create(model, std::move(intrinsics), f.width_px, f.height_px);
+  if (!camera.ok()) return camera.status().WithContext(k_where + " / '" + f.d_key + "'");
   return camera;
+}
+
+}  // namespace
+
+core::Result<CameraModel> ReadOpenCvCalibration(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  core::Result<std::string> text = text_util::ReadTextFile(path, "OpenCV calibration file");
+  if (!text.ok()) return text.status();
+  // YAML through yaml-cpp (opencv_yaml_fields.h says why); XML and JSON
+  // through cv::FileStorage.
+  const size_t first = text->find_first_not_of(" \t\r\n");
+  const bool yaml = first == std::string::npos || ((*text)[first] != '<' && (*text)[first] != '{');
+  const core::Result<OpenCvFields> fields =
+      yaml ? internal::ReadOpenCvYamlFields(*text, source) : ReadStorageFields(*text, source);
+  if (!fields.ok()) return fields.status();
+  return CameraFromFields(*fields, source);
 }
 
 core::Result<std::string> OpenCvCalibrationToYaml(const CameraModel& camera) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "groundline/core/text_parse.h"
+#include "groundline/core/yaml_fields.h"
 #include "text_util.h"
 #include "yaml_text.h"
 #include "yaml_util.h"
@@ -40,8 +41,10 @@ const char* Expected(const std::variant<double*, int*, bool*>& target) {
 
 }  // namespace
 
-core::Status ReadConfigSection(const std::filesystem::path& path, const char* section,
-                               std::initializer_list<ConfigField> fields) {
+namespace {
+
+core::Status ReadConfigSectionUnguarded(const std::filesystem::path& path, const char* section,
+                                        std::initializer_list<ConfigField> fields) {
   core::Result<std::string> text = text_util::ReadTextFile(path, "report config");
   if (!text.ok()) return text.status();
   const std::string source = path.string();
@@ -74,6 +77,15 @@ core::Status ReadConfigSection(const std::filesystem::path& path, const char* se
     }
   }
   return core::Status::Ok();
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Status ReadConfigSection(const std::filesystem::path& path, const char* section,
+                               std::initializer_list<ConfigField> fields) {
+  return core::internal::CatchYamlErrors(
+      path.string(), [&] { return ReadConfigSectionUnguarded(path, section, fields); });
 }
 
 }  // namespace groundline::calibration::internal

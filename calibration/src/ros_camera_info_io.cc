@@ -1,4 +1,5 @@
 #include "groundline/calibration/ros_camera_info_io.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -111,8 +112,10 @@ RosCameraInfo MakeRosCameraInfo(const CameraModel& camera, const std::string& ca
   return info;
 }
 
-core::Result<RosCameraInfo> ParseRosCameraInfo(const std::string& yaml_text,
-                                               const std::string& source_name) {
+namespace {
+
+core::Result<RosCameraInfo> ParseRosCameraInfoUnguarded(const std::string& yaml_text,
+                                                        const std::string& source_name) {
   const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;  // const: absent keys must not be inserted
@@ -187,6 +190,15 @@ core::Result<RosCameraInfo> ParseRosCameraInfo(const std::string& yaml_text,
   for (int i = 0; i < 9; ++i) info.rectification(i / 3, i % 3) = (*r)[static_cast<size_t>(i)];
   for (int i = 0; i < 12; ++i) info.projection(i / 4, i % 4) = (*p)[static_cast<size_t>(i)];
   return info;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<RosCameraInfo> ParseRosCameraInfo(const std::string& yaml_text,
+                                               const std::string& source_name) {
+  return core::internal::CatchYamlErrors(
+      source_name, [&] { return ParseRosCameraInfoUnguarded(yaml_text, source_name); });
 }
 
 core::Result<RosCameraInfo> ReadRosCameraInfo(const std::filesystem::path& path) {

@@ -1,4 +1,5 @@
 #include "groundline/calibration/tag_layout.h"
+#include "groundline/core/yaml_fields.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -167,8 +168,10 @@ const VehiclePose* TagLayout::FindPose(const std::string& image) const {
   return nullptr;
 }
 
-core::Result<TagLayout> ParseTagLayoutYaml(const std::string& yaml_text,
-                                           const std::string& source_name) {
+namespace {
+
+core::Result<TagLayout> ParseTagLayoutYamlUnguarded(const std::string& yaml_text,
+                                                    const std::string& source_name) {
   const core::Result<YAML::Node> loaded = internal::LoadYamlText(yaml_text, source_name);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;
@@ -249,6 +252,15 @@ core::Result<TagLayout> ParseTagLayoutYaml(const std::string& yaml_text,
     }
   }
   return layout;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<TagLayout> ParseTagLayoutYaml(const std::string& yaml_text,
+                                           const std::string& source_name) {
+  return core::internal::CatchYamlErrors(
+      source_name, [&] { return ParseTagLayoutYamlUnguarded(yaml_text, source_name); });
 }
 
 core::Result<TagLayout> ReadTagLayout(const std::filesystem::path& path) {

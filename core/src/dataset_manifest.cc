@@ -147,7 +147,13 @@ void ParseProvenance(YamlFields& y, const YAML::Node& root,
              "a nested value");
       return;
     }
-    (*provenance)[key] = entry.second.IsNull() ? std::string() : entry.second.Scalar();
+    const std::string value = entry.second.IsNull() ? std::string() : entry.second.Scalar();
+    if (!IsValidUtf8(key) || !IsValidUtf8(value)) {
+      y.Fail(entry.second, internal::JoinPath("provenance", key), "UTF-8 text",
+             "bytes that are not UTF-8");
+      return;
+    }
+    (*provenance)[key] = value;
   }
 }
 
@@ -179,7 +185,9 @@ void CheckReferencedFiles(YamlFields& y, const YAML::Node& root, const DatasetMa
 
 }  // namespace
 
-Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
+namespace {
+
+Result<DatasetManifest> ReadDatasetManifestUnguarded(const std::filesystem::path& path) {
   Result<YAML::Node> loaded = internal::LoadYamlFile(path);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;
@@ -219,6 +227,14 @@ Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
   CheckReferencedFiles(y, root, m, path.has_parent_path() ? path.parent_path() : ".");
   if (!y.ok()) return y.status();
   return m;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+Result<DatasetManifest> ReadDatasetManifest(const std::filesystem::path& path) {
+  return internal::CatchYamlErrors(path.string(),
+                                   [&] { return ReadDatasetManifestUnguarded(path); });
 }
 
 Status WriteDatasetManifest(const std::filesystem::path& path, const DatasetManifest& manifest) {

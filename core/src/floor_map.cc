@@ -7,8 +7,8 @@
 
 #include "dataset_internal.h"
 #include "groundline/core/atomic_file.h"
-#include "text_lines.h"
 #include "groundline/core/yaml_fields.h"
+#include "text_lines.h"
 
 namespace groundline::core {
 namespace {
@@ -159,8 +159,17 @@ Status FloorMap::Validate() const {
   return Status::Ok();
 }
 
-Result<FloorMap> ReadFloorMap(const std::filesystem::path& path) {
+namespace {
+
+Result<FloorMap> ReadFloorMapUnguarded(const std::filesystem::path& path) {
   return internal::ReadFloorMapInFrame(path, "");
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+Result<FloorMap> ReadFloorMap(const std::filesystem::path& path) {
+  return internal::CatchYamlErrors(path.string(), [&] { return ReadFloorMapUnguarded(path); });
 }
 
 Result<FloorMap> internal::ReadFloorMapInFrame(const std::filesystem::path& path,

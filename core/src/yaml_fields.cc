@@ -77,6 +77,12 @@ Result<YAML::Node> LoadYamlFile(const std::filesystem::path& path) {
   }
 }
 
+std::string YamlExceptionMessage(std::string_view source, const YAML::Exception& e) {
+  std::string message(source);
+  if (!e.mark.is_null()) message += ":" + std::to_string(e.mark.line + 1);
+  return message + ": unexpected YAML structure: " + e.msg;
+}
+
 void YamlFields::Fail(const YAML::Node& at, std::string_view path, std::string_view expected,
                       std::string_view got) {
   Fail(LineOf(at), path, expected, got);
@@ -139,6 +145,10 @@ std::string YamlFields::Text(const YAML::Node& map, std::string_view path, const
   if (!node.IsScalar() || (!allow_empty && node.Scalar().empty())) {
     Fail(node, JoinPath(path, key), allow_empty ? "a string" : "a non-empty string",
          Describe(node));
+    return {};
+  }
+  if (!IsValidUtf8(node.Scalar())) {
+    Fail(node, JoinPath(path, key), "UTF-8 text", "bytes that are not UTF-8");
     return {};
   }
   return node.Scalar();

@@ -34,6 +34,17 @@ class FieldReader {
     }
     return value->get<double>();
   }
+  // An id: an integral number within +-2^53 (every such double is exact; a
+  // larger or fractional one cannot be cast to an integer, found by fuzzing).
+  std::int64_t Id(const json& object, const std::string& path, const char* key) {
+    const double value = Number(object, path, key);
+    if (!(std::abs(value) <= 9007199254740992.0) || std::floor(value) != value) {
+      const json* raw = Get(object, path, key);
+      Fail(path + key, "an integer id", raw != nullptr ? raw->dump() : "nothing");
+      return 0;
+    }
+    return static_cast<std::int64_t>(value);
+  }
   std::vector<double> Numbers(const json& object, const std::string& path, const char* key,
                               size_t count) {
     const json* value = Get(object, path, key);
@@ -135,7 +146,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
   json root;
   try {
     root = json::parse(in);
-  } catch (const json::parse_error& error) {
+  } catch (const json::exception& error) {  // parse_error, and out_of_range for 1e999
     return core::Status::Error(file + ": not valid JSON (" + error.what() + ")");
   }
   FieldReader reader(file);
@@ -159,7 +170,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     const json& entry = (*lines)[i];
     const std::string p = "lines[" + std::to_string(i) + "].";
     AtlasLine line;
-    line.id = static_cast<std::int64_t>(reader.Number(entry, p, "id"));
+    line.id = reader.Id(entry, p, "id");
     line.line_map.rho_m = reader.Number(entry, p, "rho_m");
     line.line_map.alpha_rad = reader.Number(entry, p, "alpha_rad");
     line.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));
@@ -176,7 +187,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     const json& entry = (*junctions)[i];
     const std::string p = "junctions[" + std::to_string(i) + "].";
     AtlasJunction junction;
-    junction.id = static_cast<std::int64_t>(reader.Number(entry, p, "id"));
+    junction.id = reader.Id(entry, p, "id");
     const std::vector<double> point = reader.Numbers(entry, p, "point_m", 2);
     junction.point_m = {point[0], point[1]};
     junction.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));

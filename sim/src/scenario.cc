@@ -206,7 +206,9 @@ void ReadPerturbations(YamlFields& y, const YAML::Node& map, MountPerturbationOp
 
 }  // namespace
 
-core::Result<Scenario> LoadScenario(const std::filesystem::path& path) {
+namespace {
+
+core::Result<Scenario> LoadScenarioUnguarded(const std::filesystem::path& path) {
   core::Result<YAML::Node> loaded = core::internal::LoadYamlFile(path);
   if (!loaded.ok()) return loaded.status();
   const YAML::Node& root = *loaded;
@@ -296,6 +298,14 @@ core::Result<Scenario> LoadScenario(const std::filesystem::path& path) {
   if (!y.ok()) return y.status();
   if (core::Status s = o.Validate(); !s.ok()) return s.WithContext(path.string());
   return scenario;
+}
+
+}  // namespace
+
+// A yaml-cpp exception escaping the walk becomes an error (no reader throws).
+core::Result<Scenario> LoadScenario(const std::filesystem::path& path) {
+  return core::internal::CatchYamlErrors(path.string(),
+                                         [&] { return LoadScenarioUnguarded(path); });
 }
 
 }  // namespace groundline::sim

@@ -165,7 +165,15 @@ TEST(CameraMountYaml, FileErrorsNameTheFile) {
   const std::filesystem::path out = dir / "out.yaml";
   EXPECT_FALSE(WriteCameraMountYaml(invalid, out).ok());
   EXPECT_FALSE(std::filesystem::exists(out));
-  EXPECT_FALSE(WriteCameraMountYaml(CameraMount{}, dir / "no_such_dir" / "out.yaml").ok());
+  // Like every writer it creates missing directories; a regular file where a
+  // directory must be is an error, and nothing is left behind.
+  std::ofstream(dir / "a_file") << "x";
+  EXPECT_FALSE(WriteCameraMountYaml(CameraMount{}, dir / "a_file" / "out.yaml").ok());
+  ASSERT_TRUE(WriteCameraMountYaml(CameraMount{}, dir / "new_dir" / "out.yaml").ok());
+  EXPECT_TRUE(ReadCameraMountYaml(dir / "new_dir" / "out.yaml").ok());
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "new_dir")) {
+    EXPECT_EQ(entry.path().filename(), "out.yaml") << "temporary file left behind";
+  }
 }
 
 }  // namespace

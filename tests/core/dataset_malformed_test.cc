@@ -188,6 +188,10 @@ std::vector<Corruption> Cases() {
       {"floor_map_frame", map,
        [=](const fs::path& d) { return Replace(d / map, "frame: \"map\"", "frame: \"world\""); },
        "frame", "map frame"},
+      // YAML is UTF-8: other bytes could not be written back (found by fuzzing).
+      {"floor_map_frame_not_utf8", map,
+       [=](const fs::path& d) { return Replace(d / map, "frame: \"map\"", "frame: \"ma\xffp\""); },
+       "frame", "UTF-8"},
       {"floor_map_unknown_kind", map,
        [=](const fs::path& d) { return Replace(d / map, "kind: joint", "kind: pothole"); },
        "markings[2].kind"},

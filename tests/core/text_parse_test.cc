@@ -62,5 +62,17 @@ TEST(FormatDouble, ShortestRoundTripsAndYamlFormHasAMantissaPoint) {
   EXPECT_EQ(FormatYamlDouble(0.58), "0.58");
 }
 
+TEST(TextParse, IsValidUtf8AcceptsUtf8AndRejectsEverythingElse) {
+  for (const char* good : {"", "map", "\xc3\xa9", "\xe2\x82\xac", "\xf0\x9f\x98\x80",
+                           "\xef\xbf\xbf", "\xf4\x8f\xbf\xbf"}) {
+    EXPECT_TRUE(IsValidUtf8(good)) << good;
+  }
+  for (const char* bad : {"ma\xffp", "\x80", "\xc3", "\xc0\xaf",  // lone, cut, overlong
+                          "\xe0\x80\xaf", "\xed\xa0\x80",         // overlong, surrogate
+                          "\xf4\x90\x80\x80", "\xf5\x80\x80\x80", "\xc3\x28"}) {
+    EXPECT_FALSE(IsValidUtf8(bad)) << bad;
+  }
+}
+
 }  // namespace
 }  // namespace groundline::core

@@ -153,6 +153,19 @@ TEST(Atlas, ErrorsNameTheField) {
   EXPECT_NE(bad.message().find("format"), std::string::npos) << bad.message();
   bad = write("{not json");
   EXPECT_FALSE(bad.ok());
+  // A number beyond double's range is an error, not an exception out of the reader.
+  bad = write(head + R"("lines": [{"id": 0, "rho_m": 4e406}], "junctions": []})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("not valid JSON"), std::string::npos) << bad.message();
+  // An id that no integer holds is an error naming it (not an undefined cast).
+  for (const char* id : {"1e300", "0.5", "-9.3e18"}) {
+    bad = write(head + R"("lines": [{"id": )" + id +
+                R"(, "rho_m": 1, "alpha_rad": 0, "covariance": [1,0,0,1], "kind": "tape_solid",
+        "endpoints_m": [0,0,1,0]}], "junctions": []})");
+    ASSERT_FALSE(bad.ok()) << id;
+    EXPECT_NE(bad.message().find("lines[0].id': expected an integer id"), std::string::npos)
+        << bad.message();
+  }
   EXPECT_FALSE(ReadAtlas(TempPath("does_not_exist.json")).ok());
 }
 

@@ -1,5 +1,7 @@
-// OpenCV calibration files (cv::FileStorage: YAML "%YAML:1.0", XML or JSON),
-// as OpenCV's calibration sample and cv::calibrateCamera users write them:
+// OpenCV calibration files (YAML "%YAML:1.0", XML or JSON), as OpenCV's
+// calibration sample and cv::calibrateCamera users write them. YAML is read
+// with yaml-cpp (OpenCV 4.6's own YAML parser can hang on damaged files),
+// XML and JSON with cv::FileStorage:
 //
 //   image_width: 640                        (px, integer > 0)
 //   image_height: 480

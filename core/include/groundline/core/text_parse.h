@@ -24,6 +24,11 @@ std::string_view Trim(std::string_view text);
 std::optional<double> ParseDouble(std::string_view token);
 std::optional<std::int64_t> ParseInt(std::string_view token);
 
+// True if `text` is well-formed UTF-8 (no overlong forms, surrogates or code
+// points above U+10FFFF). YAML text must be; yaml-cpp does not check, and its
+// emitter cannot write back what is not.
+bool IsValidUtf8(std::string_view text);
+
 // The shortest text that parses back to exactly `value` ("0.1", "1e-05").
 std::string FormatShortestDouble(double value);
 // The same, written so that YAML 1.1 readers (PyYAML, and through it mrcal's

@@ -39,6 +39,23 @@ std::size_t LineOfPath(const YAML::Node& root, std::string_view path);
 // Parses a YAML file; syntax errors become "file:line: YAML syntax error: ...".
 Result<YAML::Node> LoadYamlFile(const std::filesystem::path& path);
 
+// The message for a yaml-cpp exception: "source:line: unexpected YAML
+// structure: <yaml-cpp's reason>" (no line when yaml-cpp gives none).
+std::string YamlExceptionMessage(std::string_view source, const YAML::Exception& e);
+
+// Runs `parse` (a reader's walk over a document) and returns a yaml-cpp
+// exception escaping it (operator[] on a scalar, as<T>() of a value that is
+// not a T, ...) as an error naming `source` and the line: no reader lets one
+// reach the user. `parse` returns a Result<T> or a Status (the return type).
+template <typename Parse>
+auto CatchYamlErrors(std::string_view source, Parse&& parse) -> decltype(parse()) {
+  try {
+    return parse();
+  } catch (const YAML::Exception& e) {
+    return Status::Error(YamlExceptionMessage(source, e));
+  }
+}
+
 // Reads typed fields from a parsed document, keeping the first error:
 // "<file>:<line>: field '<path>': expected <...>, got '<...>'". After an
 // error, getters return empty values; check ok() once at the end of a section.
