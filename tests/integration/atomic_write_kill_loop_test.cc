@@ -220,9 +220,11 @@ TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
       "checked, %d torn, %d not yet written\n",
       kills, mid_write, checked, torn, absent);
   EXPECT_EQ(torn, 0);
-  // The test only means something if kills land inside writes: most of the
-  // waited-for ones do.
-  EXPECT_GT(mid_write, kills / 4);
+  // The test only means something if kills land inside writes. Half the
+  // kills wait for a temporary file; how many of those still catch it depends
+  // on the machine's load (25 of 100 under ASan on 2 busy cores), so the
+  // bound is loose.
+  EXPECT_GE(mid_write, kills / 10);
 }
 
 }  // namespace
