@@ -79,7 +79,7 @@ aisle between two parallel solid tapes after >= 10 m inside it; error = |p_est -
 p_ref| there, the estimate interpolated; counted above 5 cm). --floor-map FILE does
 the same with --ref. --zone A|B|C|D prints instead one compact table, one row per
 run (ATE rmse/max, along/cross-track rmse in cm, heading rmse in deg, aisle exits,
-NEES mean and share in the 95 % band), each row checked against issue 6's
+NEES mean and share in the 95 % band), each row checked against the localization
 targets of the zone (B: ATE rmse <= 1.5 cm, max <= 5 cm, along <= 1 cm, heading
 <= 0.2 deg, no exit above 5 cm; A, C, D: ATE rmse <= 2 cm; all: NEES in band on
 >= 90 % of the keyframes); under it, for runs made with the LiDAR, the share of

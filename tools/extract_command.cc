@@ -409,13 +409,12 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
       ->capture_default_str();
   cmd->add_option("--tape-occludes-joints", flags->tape_occludes_joints,
                   "Ground truth: a joint under a tape's paint (on a dash) is not seen; it counts "
-                  "only between dashes or beside the tape (false: the definition before the "
-                  "issue 4 audit)")
+                  "only between dashes or beside the tape (false: every joint under tape counts)")
       ->capture_default_str();
   cmd->add_option("--min-visible-run-m", flags->min_visible_run_m,
                   "Ground truth: a true line counts only with one unbroken run of at least this "
                   "many metres seen 1.0-2.5 m ahead (the extractor's least line length; 0: off, "
-                  "the definition before the issue 4 audit)")
+                  "every true line in view counts)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->callback([cmd, flags, run]() {
