@@ -15,6 +15,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
+#include "groundline/core/run_timing.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
@@ -32,6 +33,7 @@ namespace {
 
 namespace fs = std::filesystem;
 namespace loc = localization;
+using core::Percentile;
 
 struct LocalizeFlags {
   std::string dataset_dir;
@@ -112,13 +114,6 @@ Examples:
 int Fail(const std::string& message) {
   std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
   return 1;
-}
-
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5);
-  return values[std::min(k, values.size() - 1)];
 }
 
 loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {

@@ -5,6 +5,7 @@
 #include <ctime>
 #include <string>
 
+#include "groundline/core/run_timing.h"
 #include "groundline/core/trajectory_association.h"
 
 namespace groundline::localization::internal {
@@ -12,12 +13,6 @@ namespace {
 
 // Stamps within this of each other are the same instant (text round trips).
 constexpr double kSameInstantS = 1e-9;
-
-double ThreadCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
 
 bool IsCovariance(const core::Matrix3& c) {
   if (!c.allFinite() || !c.isApprox(c.transpose(), 1e-9)) return false;
@@ -199,7 +194,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
     case LocalizerMode::kLidar: {
       if (frame) ++counters.frames_skipped;
       if (!moved) break;
-      const double cpu_before_s = ThreadCpuSeconds();
+      const double cpu_before_s = core::ThreadCpuSeconds();
       odometry->StartKeyframe();
       KeyframeOutput k;
       k.stamp_s = stamp_s;
@@ -214,7 +209,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
       }
       keyframe = k.pose;
       T_odom_keyframe = k.predicted.T_map_base;
-      k.update_cpu_s = ThreadCpuSeconds() - cpu_before_s;
+      k.update_cpu_s = core::ThreadCpuSeconds() - cpu_before_s;
       out = std::move(k);
       break;
     }
@@ -255,7 +250,7 @@ std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame,
 
 std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
                                                            std::optional<PendingFrame> frame) {
-  const double cpu_before_s = ThreadCpuSeconds();
+  const double cpu_before_s = core::ThreadCpuSeconds();
   KeyframeOutput k;
   k.stamp_s = stamp_s;
   ConvertedObservations converted;
@@ -311,7 +306,7 @@ std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
   }
   counters.lines_dropped += converted.dropped_lines;
   k.pose = smoother->Latest();
-  k.update_cpu_s = ThreadCpuSeconds() - cpu_before_s;
+  k.update_cpu_s = core::ThreadCpuSeconds() - cpu_before_s;
   return k;
 }
 

@@ -21,6 +21,7 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
+#include "groundline/core/run_timing.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/io/frame_source.h"
 #include "groundline/localization/localizer_json.h"
@@ -38,22 +39,11 @@ namespace groundline::service {
 
 namespace fs = std::filesystem;
 namespace loc = localization;
+using core::Percentile;
+using core::ThreadCpuSeconds;
 using localization::KeyframeSelector;
 using Clock = std::chrono::steady_clock;
 using internal::BoundedQueue;
-
-inline double ThreadCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-inline double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1,
-                    static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
-}
 
 struct FrameJob {
   double stamp_s = 0.0;

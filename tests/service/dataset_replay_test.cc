@@ -11,6 +11,7 @@
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/sim/sim_run.h"
+#include "simulated_drive.h"
 #include "test_data.h"
 
 namespace groundline::service {
@@ -63,16 +64,10 @@ TEST(DatasetReplay, TheSameEstimateWithoutTheSimulatorsProvenanceAndWallsBeatOdo
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  sim::SimRunOptions sim_options;
-  sim_options.zone = sim::Zone::kB;
-  sim_options.route.length_m = 25.0;
-  sim_options.seed = 5;
-  sim_options.with_camera = false;
-  core::Result<sim::SimRun> simulated = sim::SimulateRun(sim_options);
-  ASSERT_TRUE(simulated.ok()) << simulated.message();
   const auto scratch = testing::ScratchDir("dataset_replay");
   const auto from_sim = scratch / "from_sim", from_site = scratch / "from_site";
-  ASSERT_TRUE(core::WriteDataset(from_sim, simulated->dataset).ok());
+  const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(25.0, 5, from_sim);
+  ASSERT_TRUE(simulated.has_value());
   core::Dataset site = simulated->dataset;  // a site's copy: nobody says where it came from
   site.manifest.provenance.clear();
   site.manifest.name = "site_drive";

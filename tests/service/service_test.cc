@@ -16,6 +16,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/service/service_config.h"
 #include "groundline/sim/sim_run.h"
+#include "simulated_drive.h"
 #include "test_data.h"
 
 // Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
@@ -69,15 +70,9 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  sim::SimRunOptions sim_options;
-  sim_options.zone = sim::Zone::kB;
-  sim_options.route.length_m = 20.0;
-  sim_options.seed = 7;
-  sim_options.with_camera = false;
-  core::Result<sim::SimRun> simulated = sim::SimulateRun(sim_options);
-  ASSERT_TRUE(simulated.ok()) << simulated.message();
   const auto dir = testing::ScratchDir("service_run");
-  ASSERT_TRUE(core::WriteDataset(dir / "drive", simulated->dataset).ok());
+  const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(20.0, 7, dir / "drive");
+  ASSERT_TRUE(simulated.has_value());
   const double end_s = simulated->dataset.wheel_encoders.back().stamp_s;
 
   ServiceConfig config;
@@ -133,15 +128,9 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  sim::SimRunOptions sim_options;
-  sim_options.zone = sim::Zone::kB;
-  sim_options.route.length_m = 30.0;
-  sim_options.seed = 9;
-  sim_options.with_camera = false;
-  core::Result<sim::SimRun> simulated = sim::SimulateRun(sim_options);
-  ASSERT_TRUE(simulated.ok()) << simulated.message();
   const auto dir = testing::ScratchDir("service_faults");
-  ASSERT_TRUE(core::WriteDataset(dir / "drive", simulated->dataset).ok());
+  const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(30.0, 9, dir / "drive");
+  ASSERT_TRUE(simulated.has_value());
   struct Case {
     InjectedFault fault;
     const char* counter;
