@@ -107,4 +107,11 @@ WheelAngleIncrement WheelsFromArc(const DiffDriveParams& drive, double distance_
           (distance_m + half_track_turn_m) / drive.wheel_radius_m};
 }
 
+WheelAngleIncrement WheelsFromIncrement(const DiffDriveParams& drive, const core::SE2& T_prev_curr,
+                                        double* lateral_m) {
+  const core::Vector3 xi = T_prev_curr.Log();
+  if (lateral_m != nullptr) *lateral_m = xi.y();
+  return WheelsFromArc(drive, xi.x(), xi.z());
+}
+
 }  // namespace groundline::localization

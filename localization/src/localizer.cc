@@ -80,6 +80,11 @@ const RelocalizerStatus* Localizer::relocalizer_status() const {
 std::optional<KeyframeOutput> Localizer::AddWheelReading(const core::WheelEncoderReading& r) {
   return impl_->AddWheelReading(r);
 }
+std::optional<KeyframeOutput> Localizer::AddOdometryIncrement(double stamp_s,
+                                                              const core::SE2& T_prev_curr) {
+  const WheelAngleIncrement wheels = WheelsFromIncrement(impl_->setup.drive, T_prev_curr);
+  return impl_->AddWheelReading({stamp_s, wheels.left_rad, wheels.right_rad});
+}
 void Localizer::AddFrame(double stamp_s, FrameLoader load) {
   impl_->AddFrame(stamp_s, std::move(load), std::nullopt);
 }

@@ -15,6 +15,9 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   if (core::Status s = config.Validate(); !s.ok()) return s;
   auto impl = std::make_unique<Impl>();
   impl->config = config;
+  // DDS inputs are live: frames never wait for room, readings wait for their
+  // frame at most max_frame_wait_s (the replay's pacing does not apply).
+  if (config.dds_inputs.enabled) impl->config.replay_speed = 1.0;
   impl->frames =
       std::make_unique<BoundedQueue<FrameJob>>(static_cast<std::size_t>(config.camera_queue_depth));
   core::DatasetReadOptions read;
@@ -29,6 +32,11 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   core::Result<DatasetSetup> setup =
       SetupFromDataset(config.replay_dataset, impl->dataset, options);
   if (!setup.ok()) return setup.status();
+  // ROS stamps a LaserScan at its first ray (the dataset may say mid_sweep).
+  if (config.dds_inputs.enabled && setup->setup.lidar) {
+    setup->setup.lidar->stamp = core::LidarStamp::kFirstRay;
+  }
+  impl->drive = setup->setup.drive;
   impl->camera = setup->setup.camera;
   impl->atlas = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> localizer =
@@ -58,6 +66,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
                   state["yaw_rad"].get<double>()),
         cov);
     if (!started.ok()) return started.WithContext(state_path.string());
+  } else if (config.wait_for_initial_pose) {
+    // Started by the first rt/initialpose (the estimator applies it).
   } else if (config.initial_pose) {
     const auto& p = *config.initial_pose;
     started = impl->localizer->SetInitialPose(
@@ -76,6 +86,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   }
   if (!started.ok()) return started;
   impl->pose = impl->localizer->Current();
+  if (core::Status s = impl->CreateDds(); !s.ok()) return s;
   impl->atlas_json = AtlasJson(impl->atlas);
 
   if (config.http_enabled) {
@@ -154,7 +165,9 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     }
     return nullptr;
   };
-  for (int pass = 0; pass < m.config.replay_loops && replayed.ok() && !stop.load(); ++pass) {
+  if (m.dds_inputs) m.DdsInputLoop(stop);
+  for (int pass = 0; pass < m.config.replay_loops && replayed.ok() && !stop.load() && !m.dds_inputs;
+       ++pass) {
     core::Result<core::DatasetStreams> streams =
         core::DatasetStreams::Open(m.config.replay_dataset, m.dataset);
     if (!streams.ok()) {
@@ -289,6 +302,7 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
          {"degraded_reported", t.degraded_seen},
          {"recovered_after_s", t.recovered_at_s ? *t.recovered_at_s - f.to_s : -1.0}});
   }
+  if (m.dds) j["dds"] = m.DdsJson();
   j["rss_mb"] = nlohmann::ordered_json::array();
   for (const auto& [data_s, mb] : m.rss_samples) j["rss_mb"].push_back({data_s, mb});
   j["last_keyframe"] = m.last_keyframe;

@@ -5,6 +5,109 @@
 #include "groundline/core/yaml_fields.h"
 
 namespace groundline::service {
+namespace {
+
+// An optional text key that must be one of `allowed` (the line named on error).
+void ReadChoice(core::internal::YamlFields& y, const YAML::Node& map, const std::string& path,
+                const char* key, std::initializer_list<const char*> allowed, std::string* out) {
+  if (!map[key] || !y.ok()) return;
+  const std::string value = y.Text(map, path, key, true);
+  std::string expected;
+  for (const char* a : allowed) {
+    if (value == a) {
+      *out = value;
+      return;
+    }
+    expected += (expected.empty() ? "" : " | ") + std::string(a);
+  }
+  if (y.ok()) y.Fail(map[key], path + "." + key, expected, value);
+}
+
+void ReadBool(core::internal::YamlFields& y, const YAML::Node& map, const std::string& path,
+              const char* key, bool* out) {
+  if (map[key] && y.ok()) *out = y.BoolAt(map[key], path + "." + key);
+}
+
+void ReadText(core::internal::YamlFields& y, const YAML::Node& map, const std::string& path,
+              const char* key, bool allow_empty, std::string* out) {
+  if (map[key] && y.ok()) *out = y.Text(map, path, key, allow_empty);
+}
+
+// A ROS namespace: names separated by single '/', none at either end.
+bool IsNamespace(const std::string& ns) {
+  return ns.empty() ||
+         (ns.front() != '/' && ns.back() != '/' && ns.find("//") == std::string::npos &&
+          ns.find_first_of(" \t") == std::string::npos);
+}
+
+void ReadDdsInputs(core::internal::YamlFields& y, const YAML::Node& n, DdsInputConfig* d) {
+  const std::string at = "inputs.dds";
+  d->enabled = true;
+  if (n.IsNull()) return;  // `dds:` alone: every default
+  if (!y.ExpectMap(n, at)) return;
+  y.CheckKeys(
+      n, at,
+      {"odometry", "scan", "image", "initial_pose", "namespace", "stamp_check", "qos", "odom_frame",
+       "base_frame", "lidar_frame", "camera_frame", "left_wheel_joint", "right_wheel_joint"});
+  ReadChoice(y, n, at, "odometry", {"odom", "joint_states"}, &d->odometry);
+  ReadBool(y, n, at, "scan", &d->scan);
+  ReadBool(y, n, at, "image", &d->image);
+  ReadBool(y, n, at, "initial_pose", &d->initial_pose);
+  ReadText(y, n, at, "namespace", true, &d->ros_namespace);
+  if (y.ok() && !IsNamespace(d->ros_namespace)) {
+    y.Fail(n["namespace"], at + ".namespace", "a ROS namespace without leading or trailing '/'",
+           d->ros_namespace);
+  }
+  ReadChoice(y, n, at, "stamp_check", {"wall", "newest", "none"}, &d->stamp_check);
+  ReadChoice(y, n, at, "qos", {"sensor_data", "lossless"}, &d->qos);
+  ReadText(y, n, at, "odom_frame", false, &d->odom_frame);
+  ReadText(y, n, at, "base_frame", false, &d->base_frame);
+  ReadText(y, n, at, "lidar_frame", false, &d->lidar_frame);
+  ReadText(y, n, at, "camera_frame", true, &d->camera_frame);
+  ReadText(y, n, at, "left_wheel_joint", false, &d->left_wheel_joint);
+  ReadText(y, n, at, "right_wheel_joint", false, &d->right_wheel_joint);
+  if (y.ok() && d->left_wheel_joint == d->right_wheel_joint) {
+    y.Fail(n["right_wheel_joint"] ? n["right_wheel_joint"] : n, at + ".right_wheel_joint",
+           "a joint name other than left_wheel_joint's", d->right_wheel_joint);
+  }
+}
+
+void ReadDdsOutputs(core::internal::YamlFields& y, const YAML::Node& n, DdsOutputConfig* d) {
+  const std::string at = "output.dds";
+  if (!y.ExpectMap(n, at)) return;
+  y.CheckKeys(n, at,
+              {"enabled", "pose", "tf", "diagnostics", "namespace", "map_frame", "odom_frame",
+               "base_frame", "transform_tolerance_s", "diagnostics_period_s"});
+  d->enabled = true;
+  ReadBool(y, n, at, "enabled", &d->enabled);
+  ReadBool(y, n, at, "pose", &d->pose);
+  ReadBool(y, n, at, "tf", &d->tf);
+  ReadBool(y, n, at, "diagnostics", &d->diagnostics);
+  ReadText(y, n, at, "namespace", true, &d->ros_namespace);
+  if (y.ok() && !IsNamespace(d->ros_namespace)) {
+    y.Fail(n["namespace"], at + ".namespace", "a ROS namespace without leading or trailing '/'",
+           d->ros_namespace);
+  }
+  ReadText(y, n, at, "map_frame", false, &d->map_frame);
+  ReadText(y, n, at, "odom_frame", false, &d->odom_frame);
+  ReadText(y, n, at, "base_frame", false, &d->base_frame);
+  if (n["transform_tolerance_s"] && y.ok()) {
+    d->transform_tolerance_s = y.Number(n, at, "transform_tolerance_s");
+    if (y.ok() && !(d->transform_tolerance_s >= 0.0 && d->transform_tolerance_s <= 1.0)) {
+      y.Fail(n["transform_tolerance_s"], at + ".transform_tolerance_s", "0..1 s",
+             std::to_string(d->transform_tolerance_s));
+    }
+  }
+  if (n["diagnostics_period_s"] && y.ok()) {
+    d->diagnostics_period_s = y.Number(n, at, "diagnostics_period_s");
+    if (y.ok() && !(d->diagnostics_period_s >= 0.1 && d->diagnostics_period_s <= 60.0)) {
+      y.Fail(n["diagnostics_period_s"], at + ".diagnostics_period_s", "0.1..60 s",
+             std::to_string(d->diagnostics_period_s));
+    }
+  }
+}
+
+}  // namespace
 
 core::Status ServiceConfig::Validate() const {
   if (replay_dataset.empty()) {
@@ -43,6 +146,30 @@ core::Status ServiceConfig::Validate() const {
     return core::Status::Error(
         "inputs.camera.uri: a camera delivers frames at its own pace: set inputs.replay.speed "
         "> 0 (the replay's odometry and scans then follow the wall clock too)");
+  }
+  if (dds_inputs.enabled) {
+    if (dds_inputs.odometry != "odom" && dds_inputs.odometry != "joint_states") {
+      return core::Status::Error("inputs.dds.odometry: expected odom or joint_states, got '" +
+                                 dds_inputs.odometry + "'");
+    }
+    if (!faults.empty()) {
+      return core::Status::Error(
+          "inputs.replay.faults: injected faults belong to the replay; with inputs.dds the "
+          "replay's logs are not read");
+    }
+    if (dds_inputs.image && !camera_uri.empty()) {
+      return core::Status::Error(
+          "inputs.dds.image: the frames come from inputs.camera.uri already; set one of them");
+    }
+  }
+  if (wait_for_initial_pose && !(dds_inputs.enabled && dds_inputs.initial_pose)) {
+    return core::Status::Error(
+        "start.wait_for_initial_pose: needs inputs.dds with initial_pose: true (the pose comes "
+        "from rt/initialpose)");
+  }
+  if (wait_for_initial_pose && (initial_pose || relocalize)) {
+    return core::Status::Error(
+        "start.wait_for_initial_pose: conflicts with start.initial_pose / start.relocalize");
   }
   if (preset != "fusion" && preset != "lines" && preset != "odometry" && preset != "lidar") {
     return core::Status::Error(
@@ -85,7 +212,8 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   y.CheckKeys(root, "", {"inputs", "localizer", "start", "output", "http", "queues"});
   const YAML::Node inputs = y.Child(root, "", "inputs");
   if (inputs && y.ExpectMap(inputs, "inputs")) {
-    y.CheckKeys(inputs, "inputs", {"replay", "camera"});
+    y.CheckKeys(inputs, "inputs", {"replay", "camera", "dds"});
+    if (const YAML::Node dds = inputs["dds"]) ReadDdsInputs(y, dds, &c.dds_inputs);
     if (const YAML::Node camera = inputs["camera"];
         camera && y.ExpectMap(camera, "inputs.camera")) {
       y.CheckKeys(camera, "inputs.camera", {"uri"});
@@ -130,7 +258,9 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
   }
   if (const YAML::Node n = y.Child(root, "", "start", false); n && y.ExpectMap(n, "start")) {
-    y.CheckKeys(n, "start", {"initial_pose", "relocalize", "resume"});
+    y.CheckKeys(n, "start", {"initial_pose", "relocalize", "resume", "wait_for_initial_pose"});
+    if (n["wait_for_initial_pose"])
+      c.wait_for_initial_pose = y.BoolAt(n["wait_for_initial_pose"], "start.wait_for_initial_pose");
     if (const YAML::Node p = n["initial_pose"]) {
       if (y.ExpectSequence(p, "start.initial_pose")) {
         if (p.size() != 3) {
@@ -148,8 +278,9 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   }
   const YAML::Node output = y.Child(root, "", "output");
   if (output && y.ExpectMap(output, "output")) {
-    y.CheckKeys(output, "output", {"dir"});
+    y.CheckKeys(output, "output", {"dir", "dds"});
     c.output_dir = y.Text(output, "output", "dir");
+    if (const YAML::Node dds = output["dds"]) ReadDdsOutputs(y, dds, &c.dds_outputs);
   }
   if (const YAML::Node n = y.Child(root, "", "http", false); n && y.ExpectMap(n, "http")) {
     y.CheckKeys(n, "http", {"enabled", "address", "port"});

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -23,8 +24,11 @@
 #include "groundline/core/dataset_streams.h"
 #include "groundline/core/run_timing.h"
 #include "groundline/core/trajectory_io.h"
+#include "groundline/io/dds_inputs.h"
+#include "groundline/io/dds_outputs.h"
 #include "groundline/io/frame_source.h"
 #include "groundline/localization/localizer_json.h"
+#include "groundline/localization/odometry_integrator.h"
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
 #include "service_queues.h"
@@ -67,9 +71,19 @@ struct Observed {
   Clock::time_point arrived;
 };
 struct EstimatorEvent {
-  enum class Kind { kWheel, kScan } kind = Kind::kWheel;
+  enum class Kind { kWheel, kScan, kInitialPose } kind = Kind::kWheel;
   core::WheelEncoderReading wheel;
+  // kWheel from nav_msgs/Odometry: the robot's own odom pose at the reading
+  // (map -> odom is computed against it); else the service integrates one.
+  std::optional<core::SE2> T_odom_base;
   core::LaserScan scan;
+  io::PlanarPoseStamped initial_pose;  // kInitialPose (rt/initialpose)
+};
+// A wheel reading waiting in the estimator for the frame of its time.
+struct HeldReading {
+  core::WheelEncoderReading reading;
+  std::optional<core::SE2> T_odom_base;
+  std::chrono::steady_clock::time_point since;
 };
 
 inline loc::LocalizerOptions PresetOptions(const std::string& preset) {
@@ -141,6 +155,33 @@ struct Service::Impl {
   std::atomic<long> camera_source_errors{0}, camera_reopens{0};
   void CameraInput(const std::atomic<bool>& done);
   void PushFrame(FrameJob job);
+
+  // inputs.dds / output.dds (service_dds.cc). The inputs are polled by the
+  // input loop (Run's thread); the outputs are written by the estimator.
+  std::optional<io::DdsParticipant> dds;
+  std::optional<io::DdsInputs> dds_inputs;
+  std::optional<io::DdsOutputs> dds_outputs;
+  // The input loop's conversion of nav_msgs/Odometry to wheel readings.
+  std::optional<core::SE2> dds_last_T_odom_base;
+  localization::DiffDriveParams drive;
+  // The odom frame of readings without one of their own (the replay, joint
+  // states): the service's own integration of the wheel readings.
+  std::optional<loc::OdometryIntegrator> own_odom;
+  // Snapshots and counts for the health (under status_mutex).
+  std::array<io::DdsInputCounters, io::kNumDdsInputs> dds_counters;
+  std::array<std::uint32_t, io::kNumDdsInputs> dds_matched{};
+  long dds_poll_errors = 0, initial_poses_applied = 0, initial_poses_refused = 0;
+  std::string dds_last_error, initial_pose_last_error;
+  long dds_poses_out = 0, dds_tf_out = 0, dds_diagnostics_out = 0, dds_write_errors = 0;
+  Clock::time_point dds_last_diagnostics{};
+  loc::LocalizerCounters dds_diag_counters;  // counters at the last diagnostics, for rates
+  core::Status CreateDds();
+  void DdsInputLoop(const std::atomic<bool>& stop);
+  // After an accepted reading (status_mutex held): map -> odom, and at
+  // keyframes the pose; diagnostics every diagnostics_period_s.
+  void PublishDds(const core::SE2* T_odom_base, const std::optional<loc::KeyframeOutput>& keyframe);
+  void PublishDiagnostics();
+  nlohmann::ordered_json DdsJson() const;
 
   httplib::Server http;
   int port = 0;

@@ -111,7 +111,7 @@ void Service::Impl::CameraStage() {
 void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odometry,
                                    std::ofstream& health) {
   const double cpu_start_s = ThreadCpuSeconds();
-  std::deque<std::pair<core::WheelEncoderReading, Clock::time_point>> held;
+  std::deque<HeldReading> held;
   std::optional<Clock::time_point> last_frame_arrival;
   // As fast as possible there is no deadline: a reading waits for its frame.
   const auto wait = config.replay_speed == 0.0
@@ -119,7 +119,21 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
                         : std::chrono::duration_cast<Clock::duration>(
                               std::chrono::duration<double>(config.max_frame_wait_s));
   const loc::LocalizerMode mode = localizer->options().mode;
-  auto apply = [&](const core::WheelEncoderReading& r) {
+  auto apply = [&](const HeldReading& held_reading) {
+    const core::WheelEncoderReading& r = held_reading.reading;
+    core::SE2 T_odom_base = held_reading.T_odom_base.value_or(core::SE2());
+    bool have_odom_frame = held_reading.T_odom_base.has_value();
+    if (!have_odom_frame && dds_outputs) {
+      // The service's own odom frame: the wheel readings integrated from the
+      // first one (whose deltas predate the stream), non-finite ones skipped.
+      if (!own_odom) {
+        own_odom.emplace(drive, loc::OdometryNoiseParams{});
+      } else if (std::isfinite(r.left_delta_rad) && std::isfinite(r.right_delta_rad)) {
+        own_odom->Integrate(loc::WheelAngleIncrement{r.left_delta_rad, r.right_delta_rad});
+      }
+      T_odom_base = own_odom->T_odom_base();
+      have_odom_frame = true;
+    }
     const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
     std::optional<loc::KeyframeOutput> k = localizer->AddWheelReading(r);
     std::lock_guard<std::mutex> lock(status_mutex);
@@ -128,7 +142,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (rss_samples.empty() || data_s >= rss_samples.back().first + 600.0) {
       rss_samples.emplace_back(data_s, ResidentMb());
     }
-    if (localizer->started() && localizer->Current().stamp_s != before_s) {
+    const bool moved = localizer->started() && localizer->Current().stamp_s != before_s;
+    if (moved) {
       pose = localizer->Current();
       odometry << core::FormatTumLine({pose.stamp_s, pose.T_map_base, std::nullopt});
       ++odometry_out;
@@ -155,6 +170,7 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       last_keyframe = std::move(line);
     }
     counters = localizer->counters();
+    PublishDds(moved && have_odom_frame ? &T_odom_base : nullptr, k);
     const loc::RelativeMotion since = localizer->SinceKeyframe();
     since_keyframe_m.store(since.T_start_end.translation().norm());
     since_keyframe_rad.store(std::abs(since.T_start_end.yaw()));
@@ -192,8 +208,30 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (event) {
       switch (event->kind) {
         case EstimatorEvent::Kind::kWheel:
-          held.emplace_back(event->wheel, Clock::now());
+          held.push_back({event->wheel, event->T_odom_base, Clock::now()});
           break;
+        case EstimatorEvent::Kind::kInitialPose: {
+          // A start from rt/initialpose; an unset stamp (0) means "now".
+          const io::PlanarPoseStamped& p = event->initial_pose;
+          const double stamp_s = p.stamp_s > 0.0 ? p.stamp_s
+                                 : !held.empty() ? held.back().reading.stamp_s
+                                                 : replay_now_s.load();
+          const core::Status s =
+              localizer->started()
+                  ? core::Status::Error(
+                        "rt/initialpose: the localizer has already started (it does not "
+                        "restart mid-run; restart the service to move it)")
+                  : localizer->SetInitialPose(stamp_s, p.T_frame_base, p.covariance);
+          std::lock_guard<std::mutex> lock(status_mutex);
+          if (s.ok()) {
+            ++initial_poses_applied;
+            pose = localizer->Current();
+          } else {
+            ++initial_poses_refused;
+            initial_pose_last_error = s.message();
+          }
+          break;
+        }
         case EstimatorEvent::Kind::kScan:
           localizer->AddScan(std::move(event->scan));
           break;
@@ -203,17 +241,17 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     // enough), each after the observations of its time.
     const bool closing = events.closed_and_empty();
     while (!held.empty()) {
-      const auto& [reading, since] = held.front();
+      const core::WheelEncoderReading& reading = held.front().reading;
       const bool waiting =
           FramePendingAtOrBefore(reading.stamp_s) || (!closing && frame_expected(reading.stamp_s));
-      if (waiting && Clock::now() - since < wait) break;
+      if (waiting && Clock::now() - held.front().since < wait) break;
       while (!taken.empty() &&
              taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
         last_frame_arrival = taken.front().arrived;
         localizer->AddFloorObservations(std::move(taken.front().observations));
         taken.pop_front();
       }
-      apply(reading);
+      apply(held.front());
       held.pop_front();
     }
   }

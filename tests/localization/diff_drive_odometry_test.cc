@@ -71,6 +71,28 @@ TEST(DiffDriveOdometry, WheelsFromArcInvertsTheKinematics) {
   }
 }
 
+TEST(DiffDriveOdometry, WheelsFromIncrementInvertsTheIncrementAndDropsTheLateralPart) {
+  const DiffDriveParams drive{0.1, 0.5};
+  for (const auto& [left, right] :
+       {std::pair{0.3, 0.3}, {-0.4, 0.4}, {-0.2, -0.1}, {0.05, 2.0}, {3.0, -3.0}}) {
+    const OdometryIncrement inc =
+        IncrementFromWheels(drive, OdometryNoiseParams{}, WheelAngleIncrement{left, right});
+    double lateral_m = 1.0;
+    const WheelAngleIncrement back = WheelsFromIncrement(drive, inc.T_prev_curr, &lateral_m);
+    EXPECT_NEAR(back.left_rad, left, 1e-12);
+    EXPECT_NEAR(back.right_rad, right, 1e-12);
+    EXPECT_NEAR(lateral_m, 0.0, 1e-15);
+  }
+  // A sideways component (a fused source's correction) is not wheel motion.
+  const SE2 sideways = SE2::Exp(Vector3(0.2, 0.01, 0.1));
+  double lateral_m = 0.0;
+  const WheelAngleIncrement w = WheelsFromIncrement(drive, sideways, &lateral_m);
+  EXPECT_NEAR(lateral_m, 0.01, 1e-15);
+  const OdometryIncrement inc = IncrementFromWheels(drive, OdometryNoiseParams{}, w);
+  EXPECT_NEAR(inc.distance_m, 0.2, 1e-12);
+  EXPECT_NEAR(inc.rotation_rad, 0.1, 1e-12);
+}
+
 TEST(DiffDriveOdometry, KinematicsJacobianMatchesNumeric) {
   // d(ds, dtheta)/d(phi_L, phi_R) = [r/2, r/2; -r/B, r/B], the Jacobian that
   // maps per-wheel noise into OdometryNoiseFromWheelVariance.

@@ -9,6 +9,8 @@
 #include <limits>
 #include <vector>
 
+#include "groundline/localization/odometry_integrator.h"
+
 namespace groundline::localization {
 namespace {
 
@@ -125,6 +127,42 @@ TEST(Localizer, FrozenEncodersAreDroppedAndTheMotionOverThemWidensTheOdometry) {
   for (int k = 2; k <= 100; ++k) stopping->AddWheelReading({k * kPeriodS, 0.0, 0.0});
   EXPECT_EQ(stopping->counters().wheel_dropped_frozen, 0);
   EXPECT_FALSE(stopping->Sensors().odometry_frozen);
+}
+
+TEST(Localizer, OdometryIncrementsDriveItAsTheWheelReadingsTheyCameFrom) {
+  // What a base driver publishes as nav_msgs/Odometry: the integrated wheel
+  // poses; their consecutive Between are the increments.
+  std::unique_ptr<Localizer> wheels = Make(LocalizerMode::kOdometry);
+  std::unique_ptr<Localizer> increments = Make(LocalizerMode::kOdometry);
+  OdometryIntegrator base_driver(Vehicle().drive, OdometryNoiseParams{});
+  core::SE2 previous;
+  std::vector<KeyframeOutput> from_wheels, from_increments;
+  for (int k = 1; k <= 400; ++k) {
+    // Straight, then a left arc, then turning in place to the right.
+    const double l = k < 150 ? 0.08 : k < 300 ? 0.05 : 0.06;
+    const double r = k < 150 ? 0.08 : k < 300 ? 0.09 : -0.06;
+    const core::WheelEncoderReading reading{k * kPeriodS, l, r};
+    base_driver.Integrate(WheelAngleIncrement{l, r});
+    if (auto out = wheels->AddWheelReading(reading)) from_wheels.push_back(*out);
+    const core::SE2 now = base_driver.T_odom_base();
+    if (auto out = increments->AddOdometryIncrement(reading.stamp_s, previous.Between(now))) {
+      from_increments.push_back(*out);
+    }
+    previous = now;
+  }
+  ASSERT_GT(from_wheels.size(), 10u);
+  ASSERT_EQ(from_increments.size(), from_wheels.size());
+  for (std::size_t i = 0; i < from_wheels.size(); ++i) {
+    EXPECT_EQ(from_increments[i].stamp_s, from_wheels[i].stamp_s);
+    EXPECT_TRUE(
+        from_increments[i].pose.T_map_base.IsApprox(from_wheels[i].pose.T_map_base, 1e-9, 1e-9));
+    EXPECT_TRUE(from_increments[i].pose.covariance.isApprox(from_wheels[i].pose.covariance, 1e-6));
+  }
+  EXPECT_TRUE(increments->Current().T_map_base.IsApprox(base_driver.T_odom_base(), 1e-9, 1e-9));
+  // A non-finite increment is dropped and counted like a non-finite reading.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(increments->AddOdometryIncrement(4.5, core::SE2(nan, 0.0, 0.0)));
+  EXPECT_EQ(increments->counters().wheel_dropped_non_finite, 1);
 }
 
 TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {

@@ -92,6 +92,15 @@ OdometryIncrement IncrementFromWheels(const DiffDriveParams& drive,
 WheelAngleIncrement WheelsFromArc(const DiffDriveParams& drive, double distance_m,
                                   double rotation_rad);
 
+// The wheel angles of a planar odometry increment T_prev_curr (e.g. the
+// Between of consecutive nav_msgs/Odometry poses): the arc (ds, dtheta) of
+// Log(T_prev_curr) = (ds, d_lateral, dtheta), driven by WheelsFromArc. A
+// differential drive cannot move sideways, so d_lateral (rounding, or a fused
+// odometry source's lateral correction) is dropped; *lateral_m, if given,
+// receives it. IncrementFromWheels of the result is Exp((ds, 0, dtheta)).
+WheelAngleIncrement WheelsFromIncrement(const DiffDriveParams& drive, const core::SE2& T_prev_curr,
+                                        double* lateral_m = nullptr);
+
 // The diagonal covariance of an increment of arc length ds and rotation
 // dtheta (eq. 9 above).
 core::Matrix3 IncrementCovariance(const OdometryNoiseParams& noise, double distance_m,

@@ -4,6 +4,8 @@
 // (cartographer's TrajectoryBuilderInterface::AddSensorData; basalt's input
 // queues):
 //   AddWheelReading   wheel encoder increments (the clock of the estimate)
+//   AddOdometryIncrement  the same from a planar odometry increment (a
+//                     robot that publishes nav_msgs/Odometry, not its wheels)
 //   AddFrame          a camera frame, decoded lazily (only when a keyframe
 //                     uses it), or AddFloorObservations for lines extracted
 //                     elsewhere (the service's camera thread, FloorFrontEnd)
@@ -231,6 +233,12 @@ class Localizer {
 
   // Returns the keyframe this reading closed, if any.
   std::optional<KeyframeOutput> AddWheelReading(const core::WheelEncoderReading& reading);
+  // An odometry increment T_prev_curr since the previous reading (identity
+  // for the first), taken as the wheel reading that drives its arc
+  // (WheelsFromIncrement with the setup's drive; the lateral part is
+  // dropped): everything AddWheelReading does and counts applies, and the
+  // noise model is the options' (a source's own covariance is not used).
+  std::optional<KeyframeOutput> AddOdometryIncrement(double stamp_s, const core::SE2& T_prev_curr);
   // A frame to be decoded when a keyframe uses it; load returns an empty Mat
   // when the frame cannot be read (counted as unreadable).
   using FrameLoader = std::function<cv::Mat()>;

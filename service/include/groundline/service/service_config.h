@@ -27,9 +27,47 @@ struct InjectedFault {
   double to_s = 0.0;
 };
 
+// inputs.dds: the sensor streams from ROS 2 topics over DDS (docs/dds.md)
+// instead of the replay's logs. The domain id is ROS_DOMAIN_ID's; the network
+// CYCLONEDDS_URI's (unset: loopback only).
+struct DdsInputConfig {
+  bool enabled = false;              // the key inputs.dds is present
+  std::string odometry = "odom";     // odom (nav_msgs/Odometry) | joint_states
+  bool scan = true;                  // rt/scan
+  bool image = false;                // rt/camera/image_raw (mono8)
+  bool initial_pose = true;          // rt/initialpose
+  std::string ros_namespace;         // "agv7": rt/agv7/odom, ...
+  std::string stamp_check = "wall";  // wall | newest | none (io::StampReference)
+  std::string qos = "sensor_data";   // sensor_data (best effort, depth 5) | lossless
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+  std::string lidar_frame = "laser";
+  std::string camera_frame;  // empty: any
+  std::string left_wheel_joint = "left_wheel_joint";
+  std::string right_wheel_joint = "right_wheel_joint";
+};
+
+// output.dds: the pose, the map -> odom transform and the health on ROS 2 topics.
+struct DdsOutputConfig {
+  bool enabled = false;
+  bool pose = true;         // rt/groundline/pose at every keyframe
+  bool tf = true;           // rt/tf map -> odom at every wheel reading
+  bool diagnostics = true;  // rt/diagnostics every diagnostics_period_s
+  std::string ros_namespace;
+  std::string map_frame = "map";
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+  // map -> odom is stamped this far after the reading it was computed at, as
+  // nav2 AMCL's transform_tolerance (a transform valid a little ahead) [s].
+  double transform_tolerance_s = 0.1;
+  double diagnostics_period_s = 1.0;
+};
+
 struct ServiceConfig {
-  // inputs.replay: a dataset replayed with its timestamps honoured.
-  std::string replay_dataset;  // required (the live inputs come through DDS)
+  // inputs.replay: a dataset replayed with its timestamps honoured. With
+  // inputs.dds it only sets the localizer up (calibration, wheel and LiDAR
+  // geometry, floor map, start pose): its logs are not replayed.
+  std::string replay_dataset;  // required
   double replay_speed = 1.0;   // 1: real time; N: N times faster; 0: as fast as possible
   // Replays the dataset this many times, each pass shifted in time to follow
   // the previous one (a closed-loop drive as a long shift).
@@ -39,6 +77,7 @@ struct ServiceConfig {
   // libcamera:, folder:) instead of the replay's own; a folder is paced to
   // the replay's clock by its index stamps. Empty: the replay's frames.
   std::string camera_uri;
+  DdsInputConfig dds_inputs;
   // localizer
   std::string preset = "fusion";  // fusion | lines | odometry | lidar
   std::string atlas;              // empty: the dataset's floor map
@@ -47,8 +86,12 @@ struct ServiceConfig {
   std::optional<std::array<double, 3>> initial_pose;
   bool relocalize = false;
   bool resume = true;  // start from output.dir/state.json when it exists
+  // Start from the first accepted rt/initialpose (inputs.dds.initial_pose)
+  // instead of the dataset's start pose.
+  bool wait_for_initial_pose = false;
   // output
   std::string output_dir;  // required
+  DdsOutputConfig dds_outputs;
   // http: the status page and health endpoint
   bool http_enabled = true;
   std::string http_address = "127.0.0.1";
