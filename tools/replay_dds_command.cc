@@ -1,26 +1,30 @@
 // `groundline replay-dds DATASET`: publishes a dataset's sensor streams as
-// ROS 2 topics over DDS, in the dataset's time order, at real time or a
-// multiple of it. Odometry is integrated causally from the wheel encoders
+// ROS 2 topics over DDS, in the dataset's time order (core/dataset_streams.h,
+// paced by service::ReplayEvents), at real time or a multiple of it. Scans
+// are stamped at their first ray, as ROS does (the dataset may stamp them
+// mid-sweep). Odometry is integrated causally from the wheel encoders
 // with the project's differential-drive model (OdometryIntegrator), as a
 // robot's base driver would publish it.
-#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
-#include <thread>
-#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.h"
 #include "groundline/core/dataset.h"
+#include "groundline/core/dataset_streams.h"
 #include "groundline/io/dds_convert.h"
 #include "groundline/io/dds_convert_sensors.h"
 #include "groundline/io/dds_pubsub.h"
+#include "groundline/localization/lidar/scan_odometry.h"
 #include "groundline/localization/odometry_integrator.h"
+#include "groundline/service/replay.h"
 
 namespace groundline::tools {
 namespace {
@@ -41,13 +45,6 @@ struct ReplayFlags {
   std::string ros_namespace;  // "agv7": topics /agv7/odom, ...
 };
 
-enum class Stream { kWheels, kScan, kImage };
-struct Event {
-  double stamp_s;
-  Stream stream;
-  std::size_t index;
-};
-
 // The publishers of one replay; empty optionals are streams not published.
 struct Publishers {
   std::optional<io::DdsPublisher<io::RosOdometry>> odom;
@@ -66,32 +63,11 @@ core::Status Make(const io::DdsParticipant& p, const std::string& topic, io::Qos
   return core::Status::Ok();
 }
 
-std::vector<Event> MergeStreams(const core::Dataset& d, const ReplayFlags& f) {
-  std::vector<Event> events;
-  if (f.odometry != "none") {
-    for (std::size_t i = 0; i < d.wheel_encoders.size(); ++i) {
-      events.push_back({d.wheel_encoders[i].stamp_s, Stream::kWheels, i});
-    }
-  }
-  if (!f.no_scans) {
-    for (std::size_t i = 0; i < d.scans.size(); ++i)
-      events.push_back({d.scans[i].stamp_s, Stream::kScan, i});
-  }
-  if (f.images) {
-    for (std::size_t i = 0; i < d.images.size(); ++i)
-      events.push_back({d.images[i].stamp_s, Stream::kImage, i});
-  }
-  // Stable: equal stamps keep the order wheels, scans, images.
-  std::stable_sort(events.begin(), events.end(),
-                   [](const Event& a, const Event& b) { return a.stamp_s < b.stamp_s; });
-  return events;
-}
-
 int RunReplay(const ReplayFlags& f) {
   core::DatasetReadOptions read;
   read.load_images = f.images;
   read.check_image_files = f.images;
-  read.load_scans = !f.no_scans;
+  read.load_scans = false;         // streamed (core/dataset_streams.h)
   read.load_ground_truth = false;  // a replay is what a robot would send: no ground truth
   read.load_floor_map = false;
   core::Result<core::Dataset> dataset = core::ReadDataset(f.dir, read);
@@ -153,100 +129,140 @@ int RunReplay(const ReplayFlags& f) {
               f.dir.c_str(), participant->domain_id(), participant->config_source().c_str(), f.rate,
               f.stamps.c_str());
   if (f.wait_for_subscribers_s > 0.0) {
-    const io::DdsEntity* first = pub.scan     ? &pub.scan->writer()
-                                 : pub.odom   ? &pub.odom->writer()
-                                 : pub.joints ? &pub.joints->writer()
-                                              : nullptr;
+    // Every sensor topic: a subscriber that matched one topic may not have
+    // matched the others yet.
     const auto timeout =
         std::chrono::milliseconds(static_cast<long>(1000 * f.wait_for_subscribers_s));
-    if (first != nullptr && !io::WaitForMatches(*first, true, 1, timeout)) {
-      std::fprintf(stderr, "replay-dds: no subscriber within %g s\n", f.wait_for_subscribers_s);
-      return 1;
+    for (const io::DdsEntity* w :
+         {pub.odom ? &pub.odom->writer() : nullptr, pub.joints ? &pub.joints->writer() : nullptr,
+          pub.scan ? &pub.scan->writer() : nullptr, pub.image ? &pub.image->writer() : nullptr}) {
+      if (w != nullptr && !io::WaitForMatches(*w, true, 1, timeout)) {
+        std::fprintf(stderr, "replay-dds: no subscriber within %g s\n", f.wait_for_subscribers_s);
+        return 1;
+      }
     }
   }
 
-  const std::vector<Event> events = MergeStreams(d, f);
-  if (events.empty()) {
+  core::DatasetStreamOptions streamed;
+  streamed.wheels = f.odometry != "none";
+  streamed.scans = !f.no_scans && m.lidar.has_value();
+  streamed.frames = f.images;
+  core::Result<core::DatasetStreams> streams = core::DatasetStreams::Open(f.dir, d, streamed);
+  if (!streams.ok()) {
+    std::fprintf(stderr, "replay-dds: %s\n", streams.message().c_str());
+    return 1;
+  }
+  // ROS stamps a LaserScan at its first ray; the dataset may stamp mid-sweep.
+  const double lidar_rate_hz = m.lidar ? m.lidar->rate_hz : 0.0;
+  const bool mid_sweep = m.lidar && m.lidar->stamp == core::LidarStamp::kMidSweep;
+  std::optional<double> first_stamp_s;
+  double wall_start_s = 0.0;
+  auto out_stamp = [&](double s) {
+    return f.stamps == "wall" ? wall_start_s + (s - *first_stamp_s) : s;
+  };
+  double left_rad = 0.0, right_rad = 0.0, prev_wheel_stamp_s = 0.0;
+  std::size_t sent_wheels = 0, sent_scans = 0, sent_images = 0;
+  core::Status failed = core::Status::Ok();
+  service::ReplayOptions paced;
+  paced.speed = f.rate;
+  paced.stop = [&failed] { return !failed.ok(); };
+  const core::Result<service::ReplayStats> stats =
+      service::ReplayEvents(*streams, paced, [&](core::DatasetEvent& e) {
+        if (!first_stamp_s) {
+          first_stamp_s = e.stamp_s;
+          wall_start_s =
+              std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+                  .count();
+          if (f.stamps == "wall") {
+            std::printf("replay-dds: stamps are the dataset's plus %.9f s\n",
+                        wall_start_s - *first_stamp_s);
+            std::fflush(stdout);
+          }
+          if (pub.tf_static) {
+            const core::Status s =
+                pub.tf_static->Write(io::ToTfMessage({{out_stamp(e.stamp_s), m.frames.base_link,
+                                                       f.lidar_frame, m.lidar->T_base_lidar}})
+                                         .msg());
+            if (!s.ok()) std::fprintf(stderr, "replay-dds: %s\n", s.message().c_str());
+          }
+        }
+        const double stamp = out_stamp(e.stamp_s);
+        core::Status s = core::Status::Ok();
+        switch (e.kind) {
+          case core::DatasetEvent::Kind::kWheel: {
+            const core::WheelEncoderReading& r = e.wheel;
+            io::PlanarOdometry odom;
+            odom.stamp_s = stamp;
+            odom.odom_frame = m.frames.odom;
+            odom.base_frame = m.frames.base_link;
+            // The first reading's deltas predate the file (docs/dataset.md): not applied.
+            if (sent_wheels > 0) {
+              const localization::OdometryIncrement inc =
+                  integrator.Integrate({r.left_delta_rad, r.right_delta_rad});
+              const double dt = r.stamp_s - prev_wheel_stamp_s;
+              left_rad += r.left_delta_rad;
+              right_rad += r.right_delta_rad;
+              if (dt > 0.0) {
+                odom.forward_velocity_mps = inc.distance_m / dt;
+                odom.yaw_rate_radps = inc.rotation_rad / dt;
+                odom.twist_covariance = inc.covariance / (dt * dt);
+              }
+            }
+            prev_wheel_stamp_s = r.stamp_s;
+            odom.T_odom_base = integrator.T_odom_base();
+            odom.covariance = integrator.covariance();
+            if (pub.odom) s = pub.odom->Write(io::ToOdometry(odom).msg());
+            if (s.ok() && pub.joints) {
+              io::WheelJointState js;
+              js.stamp_s = stamp;
+              js.names = {f.left_joint, f.right_joint};
+              js.position_rad = {left_rad, right_rad};
+              s = pub.joints->Write(io::ToJointState(js).msg());
+            }
+            ++sent_wheels;
+            break;
+          }
+          case core::DatasetEvent::Kind::kScan: {
+            if (!pub.scan) break;
+            core::LaserScan scan = std::move(e.scan);
+            const double sweep_s = localization::lidar::MidSweepOffsetS(
+                scan.ranges_m.size(), scan.angle_increment_rad, lidar_rate_hz);
+            scan.stamp_s = stamp - (mid_sweep ? sweep_s : 0.0);
+            io::DdsSample<io::RosLaserScan> msg =
+                io::ToLaserScan(scan, f.lidar_frame, 1.0 / lidar_rate_hz);
+            // One mirror revolution per scan: the time between two rays.
+            msg.msg().time_increment = static_cast<float>(std::abs(scan.angle_increment_rad) /
+                                                          (2.0 * std::numbers::pi * lidar_rate_hz));
+            s = pub.scan->Write(msg.msg());
+            ++sent_scans;
+            break;
+          }
+          case core::DatasetEvent::Kind::kFrame: {
+            const cv::Mat grey = cv::imread(e.image_path.string(), cv::IMREAD_GRAYSCALE);
+            if (grey.empty()) {
+              s = core::Status::Error("cannot read image " + e.image_path.string());
+              break;
+            }
+            s = pub.image->Write(io::ToMono8Image(grey, stamp, f.camera_frame).msg());
+            ++sent_images;
+            break;
+          }
+        }
+        if (!s.ok()) failed = s;
+      });
+  if (!stats.ok()) failed = stats.status();
+  if (!failed.ok()) {
+    std::fprintf(stderr, "replay-dds: %s\n", failed.message().c_str());
+    return 1;
+  }
+  if (stats->events == 0) {
     std::printf("replay-dds: nothing to publish\n");
     return 0;
   }
-  const double first_stamp_s = events.front().stamp_s;
-  const auto wall_start = std::chrono::system_clock::now();
-  const double wall_start_s = std::chrono::duration<double>(wall_start.time_since_epoch()).count();
-  const auto steady_start = std::chrono::steady_clock::now();
-  auto out_stamp = [&](double s) {
-    return f.stamps == "wall" ? wall_start_s + (s - first_stamp_s) : s;
-  };
-  if (pub.tf_static) {
-    const core::Status s =
-        pub.tf_static->Write(io::ToTfMessage({{out_stamp(first_stamp_s), m.frames.base_link,
-                                               f.lidar_frame, m.lidar->T_base_lidar}})
-                                 .msg());
-    if (!s.ok()) std::fprintf(stderr, "replay-dds: %s\n", s.message().c_str());
-  }
-  const std::filesystem::path image_dir =
-      (std::filesystem::path(f.dir) / m.files.image_index).parent_path();
-  double left_rad = 0.0, right_rad = 0.0, prev_wheel_stamp_s = 0.0;
-  std::size_t sent[3] = {0, 0, 0};
-  for (const Event& e : events) {
-    std::this_thread::sleep_until(
-        steady_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                           std::chrono::duration<double>((e.stamp_s - first_stamp_s) / f.rate)));
-    core::Status s = core::Status::Ok();
-    const double stamp = out_stamp(e.stamp_s);
-    if (e.stream == Stream::kWheels) {
-      const core::WheelEncoderReading& r = d.wheel_encoders[e.index];
-      io::PlanarOdometry odom;
-      odom.stamp_s = stamp;
-      odom.odom_frame = m.frames.odom;
-      odom.base_frame = m.frames.base_link;
-      // The first reading's deltas predate the file (docs/dataset.md): not applied.
-      if (e.index > 0) {
-        const localization::OdometryIncrement inc =
-            integrator.Integrate({r.left_delta_rad, r.right_delta_rad});
-        const double dt = r.stamp_s - prev_wheel_stamp_s;
-        left_rad += r.left_delta_rad;
-        right_rad += r.right_delta_rad;
-        if (dt > 0.0) {
-          odom.forward_velocity_mps = inc.distance_m / dt;
-          odom.yaw_rate_radps = inc.rotation_rad / dt;
-          odom.twist_covariance = inc.covariance / (dt * dt);
-        }
-      }
-      prev_wheel_stamp_s = r.stamp_s;
-      odom.T_odom_base = integrator.T_odom_base();
-      odom.covariance = integrator.covariance();
-      if (pub.odom) s = pub.odom->Write(io::ToOdometry(odom).msg());
-      if (s.ok() && pub.joints) {
-        io::WheelJointState js;
-        js.stamp_s = stamp;
-        js.names = {f.left_joint, f.right_joint};
-        js.position_rad = {left_rad, right_rad};
-        s = pub.joints->Write(io::ToJointState(js).msg());
-      }
-    } else if (e.stream == Stream::kScan) {
-      core::LaserScan scan = d.scans[e.index];
-      scan.stamp_s = stamp;
-      s = pub.scan->Write(
-          io::ToLaserScan(scan, f.lidar_frame, m.lidar ? 1.0 / m.lidar->rate_hz : 0.0).msg());
-    } else {
-      const std::filesystem::path path = image_dir / d.images[e.index].file;
-      const cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-      if (grey.empty()) {
-        std::fprintf(stderr, "replay-dds: cannot read image %s\n", path.c_str());
-        return 1;
-      }
-      s = pub.image->Write(io::ToMono8Image(grey, stamp, f.camera_frame).msg());
-    }
-    if (!s.ok()) {
-      std::fprintf(stderr, "replay-dds: %s\n", s.message().c_str());
-      return 1;
-    }
-    ++sent[static_cast<int>(e.stream)];
-  }
   std::printf(
       "replay-dds: published %zu wheel readings, %zu scans, %zu images over %.3f s of data\n",
-      sent[0], sent[1], sent[2], events.back().stamp_s - first_stamp_s);
+      sent_wheels, sent_scans, sent_images, stats->last_stamp_s - stats->first_stamp_s);
+  std::fflush(stdout);
   // Reliable data still in flight is lost if the participant goes at once.
   for (const io::DdsEntity* w :
        {pub.odom ? &pub.odom->writer() : nullptr, pub.joints ? &pub.joints->writer() : nullptr,

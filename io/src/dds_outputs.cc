@@ -77,4 +77,14 @@ core::Status DdsOutputs::PublishDiagnostics(double stamp_s,
   return diagnostics_->Write(ToDiagnosticArray(stamp_s, entries).msg());
 }
 
+bool DdsOutputs::WaitForAcknowledgements(std::chrono::milliseconds timeout) const {
+  const dds_duration_t ns = DDS_MSECS(timeout.count());
+  bool all = true;
+  for (const DdsEntity* w : {pose_ ? &pose_->writer() : nullptr, tf_ ? &tf_->writer() : nullptr,
+                             diagnostics_ ? &diagnostics_->writer() : nullptr}) {
+    if (w != nullptr && dds_wait_for_acks(w->get(), ns) != DDS_RETCODE_OK) all = false;
+  }
+  return all;
+}
+
 }  // namespace groundline::io

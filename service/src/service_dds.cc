@@ -122,6 +122,23 @@ void Service::Impl::DdsInputLoop(const std::atomic<bool>& stop) {
     // A failing DDS call is reported, never fatal; do not spin on it.
     if (!polled.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+  // What the readers hold already (acknowledged to its writers) is taken and
+  // passed on before the inputs close.
+  const auto received = [this] {
+    std::uint64_t n = 0;
+    for (int i = 0; i < io::kNumDdsInputs; ++i)
+      n += dds_inputs->counters(static_cast<io::DdsInput>(i)).received;
+    return n;
+  };
+  for (std::uint64_t before = received();;) {
+    if (!dds_inputs->Poll(std::chrono::milliseconds(0)).ok()) break;
+    const std::uint64_t after = received();
+    if (after == before) break;
+    before = after;
+  }
+  std::lock_guard<std::mutex> lock(status_mutex);
+  for (int i = 0; i < io::kNumDdsInputs; ++i)
+    dds_counters[i] = dds_inputs->counters(static_cast<io::DdsInput>(i));
 }
 
 void Service::Impl::PublishDds(const core::SE2* T_odom_base,

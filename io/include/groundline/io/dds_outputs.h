@@ -7,6 +7,7 @@
 #ifndef GROUNDLINE_IO_DDS_OUTPUTS_H_
 #define GROUNDLINE_IO_DDS_OUTPUTS_H_
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
@@ -43,6 +44,11 @@ class DdsOutputs {
   core::Status PublishMapToOdom(double stamp_s, const core::SE2& T_map_odom) const;
   core::Status PublishDiagnostics(double stamp_s,
                                   const std::vector<DiagnosticEntry>& entries) const;
+
+  // Waits up to `timeout` until every reliable reader has acknowledged what
+  // was written (call before destroying the outputs at a clean shutdown, so
+  // that the last pose is not lost in flight). False if some did not in time.
+  bool WaitForAcknowledgements(std::chrono::milliseconds timeout) const;
 
   const DdsOutputsOptions& options() const { return options_; }
 
