@@ -1,11 +1,11 @@
 // service_dds_pose_listener: the ROS 2 side of the service's DDS outputs, for
 // the end-to-end test and scripts/dds_demo.sh. Subscribes to
 // <prefix>groundline/pose (reliable, transient local) and <prefix>tf
-// (map -> odom), writes the poses as TUM, and prints how many arrived and
-// how late: receive wall time minus the pose's stamp, and for map -> odom
-// minus its stamp less the transform tolerance (the odometry reading it was
-// computed at). The latencies mean something only for wall-clock stamps.
-// Prints "listener: matched" once both topics have a publisher. Ends on SIGINT/SIGTERM, after
+// (map -> odom; read keep-all, so that a busy listener counts every one), writes the poses as TUM,
+// and prints how many arrived and how late: receive wall time minus the pose's stamp, and for map
+// -> odom minus its stamp less the transform tolerance (the odometry reading it was computed at).
+// The latencies mean something only for wall-clock stamps. Prints "listener: matched" once both
+// topics have a publisher. Ends on SIGINT/SIGTERM, after
 // --idle seconds without a message once one came, or after --timeout seconds.
 //   service_dds_pose_listener --out FILE.tum [--prefix rt/] [--stamp-offset S]
 //       [--tf-tolerance S] [--idle S] [--timeout S]
@@ -49,8 +49,8 @@ int Run(const std::string& out_path, const std::string& prefix, double offset_s,
   }
   auto pose = io::DdsSubscriber<io::RosPoseWithCovarianceStamped>::Create(
       *participant, prefix + "groundline/pose", io::QosPreset::kPoseOutput);
-  auto tf =
-      io::DdsSubscriber<io::RosTfMessage>::Create(*participant, prefix + "tf", io::QosPreset::kTf);
+  auto tf = io::DdsSubscriber<io::RosTfMessage>::Create(*participant, prefix + "tf",
+                                                        io::QosPreset::kLossless);
   if (!pose.ok() || !tf.ok()) {
     std::fprintf(stderr, "listener: %s\n", (pose.ok() ? tf.message() : pose.message()).c_str());
     return 1;

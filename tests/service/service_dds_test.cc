@@ -18,6 +18,8 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <functional>
+#include <numbers>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -33,6 +35,7 @@
 #include "groundline/io/dds_convert_sensors.h"
 #include "groundline/io/dds_pubsub.h"
 #include "groundline/service/service.h"
+#include "groundline/service/service_config.h"
 #include "simulated_drive.h"
 #include "test_data.h"
 
@@ -275,6 +278,152 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
               0.05 * static_cast<double>(file_poses->size()));
   std::printf("ATE RMSE: DDS chain %.4f m (%zu poses), file replay %.4f m (%zu poses)\n", ate_dds_m,
               listened->size(), ate_file_m, file_poses->size());
+}
+
+// The service's own process on DDS: joint states in, started by an
+// rt/initialpose (a second one refused and counted), the pose, map -> odom
+// and diagnostics out to this process.
+TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
+  io::testing::UseLoopbackConfig();
+  ::setenv("ROS_DOMAIN_ID", std::to_string(kDomainId).c_str(), 1);
+  const auto dir = testing::ScratchDir("service_dds_start");
+  ASSERT_TRUE(testing::SimulatedZoneBDrive(4.0, 3, dir / "drive").has_value());
+  const std::string ns = "gls" + std::to_string(::getpid());
+  std::ofstream(dir / "serve.yaml")
+      << "inputs:\n  replay: {dataset: drive}\n"
+      << "  dds: {odometry: joint_states, scan: false, namespace: " << ns
+      << ", stamp_check: none, qos: lossless}\n"
+      << "localizer: {preset: odometry}\n"
+      << "start: {resume: false, wait_for_initial_pose: true}\n"
+      << "output:\n  dir: out\n  dds: {namespace: " << ns << ", diagnostics_period_s: 0.1}\n"
+      << "http: {enabled: false}\n";
+  core::Result<ServiceConfig> config = ReadServiceConfig(dir / "serve.yaml");
+  ASSERT_TRUE(config.ok()) << config.message();
+  core::Result<std::unique_ptr<Service>> service = Service::Create(*config);
+  ASSERT_TRUE(service.ok()) << service.message();
+  std::atomic<bool> stop{false};
+  core::Result<nlohmann::ordered_json> summary = core::Status::Error("not run");
+  std::thread run([&] { summary = (*service)->Run(stop); });
+
+  core::Result<io::DdsParticipant> participant = io::DdsParticipant::Create();
+  ASSERT_TRUE(participant.ok()) << participant.message();
+  const std::string prefix = "rt/" + ns + "/";
+  auto joints = io::DdsPublisher<io::RosJointState>::Create(*participant, prefix + "joint_states",
+                                                            io::QosPreset::kLossless);
+  auto initial = io::DdsPublisher<io::RosPoseWithCovarianceStamped>::Create(
+      *participant, prefix + "initialpose", io::QosPreset::kDefault);
+  auto pose = io::DdsSubscriber<io::RosPoseWithCovarianceStamped>::Create(
+      *participant, prefix + "groundline/pose", io::QosPreset::kPoseOutput);
+  auto tf = io::DdsSubscriber<io::RosTfMessage>::Create(*participant, prefix + "tf",
+                                                        io::QosPreset::kLossless);
+  auto diagnostics = io::DdsSubscriber<io::RosDiagnosticArray>::Create(
+      *participant, prefix + "diagnostics", io::QosPreset::kDefault);
+  ASSERT_TRUE(joints.ok() && initial.ok() && pose.ok() && tf.ok() && diagnostics.ok());
+  for (const io::DdsEntity* w : {&joints->writer(), &initial->writer()}) {
+    ASSERT_TRUE(io::WaitForMatches(*w, true, 1, std::chrono::seconds(60)));
+  }
+  for (const io::DdsEntity* r : {&pose->reader(), &tf->reader(), &diagnostics->reader()}) {
+    ASSERT_TRUE(io::WaitForMatches(*r, false, 1, std::chrono::seconds(60)));
+  }
+  const auto status_until = [&](const std::function<bool(const nlohmann::ordered_json&)>& done) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (done((*service)->StatusJson())) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  };
+  // Straight at 1 m/s: 1 cm of both wheels per 10 ms.
+  const double radius_m = 0.125;  // the simulated vehicle's
+  constexpr double kT0 = 1000.0;
+  const auto publish_readings = [&](int from, int to) {
+    for (int k = from; k < to; ++k) {
+      io::WheelJointState js;
+      js.stamp_s = kT0 + 0.01 * k;
+      js.names = {"left_wheel_joint", "right_wheel_joint"};
+      js.position_rad = {0.01 * k / radius_m, 0.01 * k / radius_m};
+      ASSERT_TRUE(joints->Write(io::ToJointState(js).msg()).ok());
+    }
+  };
+  const auto readings_taken = [](long n) {
+    return [n](const nlohmann::ordered_json& j) {
+      return j["counters"]["wheel_readings"].get<long>() >= n;
+    };
+  };
+  publish_readings(0, 51);
+  ASSERT_TRUE(status_until(readings_taken(51)));
+  EXPECT_FALSE((*service)->StatusJson()["started"].get<bool>());
+  io::PlanarPoseStamped start;
+  start.stamp_s = kT0 + 0.505;
+  start.frame_id = "map";
+  start.T_frame_base = core::SE2(2.0, 3.0, std::numbers::pi / 2);
+  start.covariance = core::Vector3(0.01, 0.01, 0.001).asDiagonal();
+  ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(start).msg()).ok());
+  ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
+    return j["dds"]["initial_poses"]["applied"].get<long>() == 1;
+  }));
+  publish_readings(51, 150);
+  ASSERT_TRUE(status_until(readings_taken(150)));
+  start.stamp_s = kT0 + 1.6;
+  ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(start).msg()).ok());
+  ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
+    return j["dds"]["initial_poses"]["refused"].get<long>() == 1;
+  }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a diagnostics period or two
+  publish_readings(150, 160);
+  ASSERT_TRUE(status_until(readings_taken(160)));
+  stop.store(true);
+  run.join();
+  ASSERT_TRUE(summary.ok()) << summary.message();
+
+  // From the start pose 1.09 m along its heading (readings 51..159).
+  const nlohmann::ordered_json& end = *summary;
+  EXPECT_NEAR(end["pose"]["x_m"].get<double>(), 2.0, 1e-6);
+  EXPECT_NEAR(end["pose"]["y_m"].get<double>(), 3.0 + 1.09, 1e-6);
+  EXPECT_NEAR(end["pose"]["yaw_deg"].get<double>(), 90.0, 1e-6);
+  EXPECT_EQ(end["counters"]["wheel_before_start"].get<long>(), 51);
+  EXPECT_NE(end["dds"]["initial_poses"]["last_error"].get<std::string>().find("already started"),
+            std::string::npos);
+
+  // The outputs arrived: keyframe poses, map -> odom consistent with the
+  // service's own odometry frame (the joint states integrated from the
+  // first, 1.59 m straight), diagnostics naming the localizer.
+  std::vector<io::PlanarPoseStamped> poses;
+  ASSERT_TRUE(pose->Take([&](const io::RosPoseWithCovarianceStamped& m) {
+                    poses.push_back(io::FromPoseWithCovarianceStamped(m));
+                  })
+                  .ok());
+  ASSERT_FALSE(poses.empty());  // transient local, depth 1: at least the last
+  EXPECT_GT(poses.back().T_frame_base.y(), 3.5);
+  EXPECT_NEAR(poses.back().T_frame_base.x(), 2.0, 1e-6);
+  core::SE2 T_map_odom;
+  int transforms = 0;
+  ASSERT_TRUE(tf->Take([&](const io::RosTfMessage& m) {
+                  for (std::uint32_t i = 0; i < m.transforms._length; ++i) {
+                    const auto& t = m.transforms._buffer[i];
+                    EXPECT_STREQ(t.header.frame_id, "map");
+                    EXPECT_STREQ(t.child_frame_id, "odom");
+                    const auto& q = t.transform.rotation;
+                    T_map_odom = core::SE2(t.transform.translation.x, t.transform.translation.y,
+                                           2.0 * std::atan2(q.z, q.w));
+                    ++transforms;
+                  }
+                }).ok());
+  EXPECT_EQ(transforms, end["dds"]["outputs"]["tf"].get<int>());
+  EXPECT_EQ(transforms, 160 - 51);  // one per reading after the start
+  const core::SE2 T_odom_base(1.59, 0.0, 0.0);
+  EXPECT_TRUE((T_map_odom * T_odom_base)
+                  .IsApprox(core::SE2(2.0, 3.0 + 1.09, std::numbers::pi / 2), 1e-6, 1e-6));
+  bool localizer_seen = false;
+  ASSERT_TRUE(diagnostics
+                  ->Take([&](const io::RosDiagnosticArray& m) {
+                    for (std::uint32_t i = 0; i < m.status._length; ++i) {
+                      if (std::string(m.status._buffer[i].name) == "groundline: localizer")
+                        localizer_seen = true;
+                    }
+                  })
+                  .ok());
+  EXPECT_TRUE(localizer_seen);
 }
 
 }  // namespace

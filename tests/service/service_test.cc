@@ -46,6 +46,22 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nstart: {initial_pose: [1, 2]}\n",
        "start.initial_pose"},
       {"inputs:\n  replay: {dataset: d}\n", "output"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {odometry: wheels}\noutput: {dir: o}\n",
+       "inputs.dds.odometry"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {qos: fast}\noutput: {dir: o}\n", "inputs.dds.qos"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {stamp_check: later}\noutput: {dir: o}\n",
+       "inputs.dds.stamp_check"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {topics: x}\noutput: {dir: o}\n", "topics"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {namespace: /agv7}\noutput: {dir: o}\n",
+       "inputs.dds.namespace"},
+      {"inputs:\n  replay: {dataset: d}\n  dds: {scan: yes please}\noutput: {dir: o}\n",
+       "inputs.dds.scan"},
+      {"inputs:\n  replay: {dataset: d}\noutput:\n  dir: o\n  dds: {transform_tolerance_s: 5}\n",
+       "output.dds.transform_tolerance_s"},
+      {"inputs:\n  replay: {dataset: d}\noutput:\n  dir: o\n  dds: {pose: maybe}\n",
+       "output.dds.pose"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nstart: {wait_for_initial_pose: true}\n",
+       "start.wait_for_initial_pose"},
   };
   for (const Case& c : cases) {
     const core::Result<ServiceConfig> read = ReadServiceConfig(WriteConfig(dir, c.text));
@@ -63,6 +79,41 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
   ASSERT_TRUE(ok.ok()) << ok.message();
   EXPECT_EQ(ok->replay_dataset, (dir / "d").string());
   EXPECT_EQ(ok->http_address, "127.0.0.1");
+  EXPECT_FALSE(ok->dds_inputs.enabled);
+  EXPECT_FALSE(ok->dds_outputs.enabled);
+  // DDS: the line of a bad value, and the keys as read.
+  const core::Result<ServiceConfig> bad_line =
+      ReadServiceConfig(WriteConfig(dir,
+                                    "inputs:\n  replay: {dataset: d}\n  dds:\n    odometry: odom\n"
+                                    "    qos: fast\noutput: {dir: o}\n"));
+  ASSERT_FALSE(bad_line.ok());
+  EXPECT_NE(bad_line.message().find(":5:"), std::string::npos) << bad_line.message();
+  const core::Result<ServiceConfig> dds = ReadServiceConfig(WriteConfig(
+      dir,
+      "inputs:\n  replay: {dataset: d}\n  dds: {odometry: joint_states, image: true, namespace: "
+      "agv7, stamp_check: newest, qos: lossless}\noutput:\n  dir: o\n  dds: {tf: false, "
+      "map_frame: world}\nstart: {wait_for_initial_pose: true}\n"));
+  ASSERT_TRUE(dds.ok()) << dds.message();
+  EXPECT_TRUE(dds->dds_inputs.enabled);
+  EXPECT_EQ(dds->dds_inputs.odometry, "joint_states");
+  EXPECT_TRUE(dds->dds_inputs.image);
+  EXPECT_TRUE(dds->dds_inputs.scan);
+  EXPECT_EQ(dds->dds_inputs.ros_namespace, "agv7");
+  EXPECT_EQ(dds->dds_inputs.stamp_check, "newest");
+  EXPECT_EQ(dds->dds_inputs.qos, "lossless");
+  EXPECT_TRUE(dds->dds_outputs.enabled);
+  EXPECT_FALSE(dds->dds_outputs.tf);
+  EXPECT_TRUE(dds->dds_outputs.pose);
+  EXPECT_EQ(dds->dds_outputs.map_frame, "world");
+  EXPECT_DOUBLE_EQ(dds->dds_outputs.transform_tolerance_s, 0.1);
+  EXPECT_TRUE(dds->wait_for_initial_pose);
+  // `dds:` alone: every default.
+  const core::Result<ServiceConfig> bare = ReadServiceConfig(
+      WriteConfig(dir, "inputs:\n  replay: {dataset: d}\n  dds:\noutput: {dir: o}\n"));
+  ASSERT_TRUE(bare.ok()) << bare.message();
+  EXPECT_TRUE(bare->dds_inputs.enabled);
+  EXPECT_EQ(bare->dds_inputs.odometry, "odom");
+  EXPECT_EQ(bare->dds_inputs.qos, "sensor_data");
 }
 
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
