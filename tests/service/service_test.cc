@@ -116,6 +116,19 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
   EXPECT_EQ(bare->dds_inputs.qos, "sensor_data");
 }
 
+TEST(ServiceConfig, TheSampleConfigsAreValid) {
+  for (const char* name : {"serve_replay.yaml", "serve_dds.yaml"}) {
+    const core::Result<ServiceConfig> read =
+        ReadServiceConfig(std::filesystem::path(GROUNDLINE_SAMPLES_DIR) / "config" / name);
+    EXPECT_TRUE(read.ok()) << name << ": " << read.message();
+  }
+  const core::Result<ServiceConfig> dds = ReadServiceConfig(
+      std::filesystem::path(GROUNDLINE_SAMPLES_DIR) / "config" / "serve_dds.yaml");
+  ASSERT_TRUE(dds.ok());
+  EXPECT_TRUE(dds->dds_inputs.enabled && dds->dds_outputs.enabled);
+  EXPECT_EQ(dds->dds_inputs.qos, "sensor_data");
+}
+
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
 #ifdef __SANITIZE_ADDRESS__
   GTEST_SKIP()
