@@ -109,8 +109,14 @@ std::vector<LineObservation> LidarStage::WallObservations(double stamp_s) const 
   // A rotating mirror: one revolution per scan period, rays in angle order.
   const double time_increment_s =
       std::abs(scan.angle_increment_rad) / (setup_.rate_hz * 2.0 * std::numbers::pi);
+  // Each ray is moved from its own time, counted from the first ray's.
+  const double first_ray_s =
+      setup_.stamp == core::LidarStamp::kFirstRay
+          ? scan.stamp_s
+          : scan.stamp_s - lidar::MidSweepOffsetS(scan.ranges_m.size(), scan.angle_increment_rad,
+                                                  setup_.rate_hz);
   const std::vector<lidar::RangePoint> points = lidar::RangePointsAt(
-      scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, scan.stamp_s, time_increment_s,
+      scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, first_ray_s, time_increment_s,
       setup_.T_base_lidar, OdometryAt(stamp_s), [this](double t) { return OdometryAt(t); },
       std::max(wall_options_.min_range_m, scan.range_min_m),
       std::min(wall_options_.max_range_m, scan.range_max_m));
