@@ -20,7 +20,11 @@ constexpr char kHelp[] =
     R"(Runs the localizer as a service: one process, one YAML config (every key
 and its default: docs/service.md). Inputs: a dataset replayed at its own
 timestamps (inputs.replay.speed: 1 real time, N times faster, 0 as fast as
-possible). Stages on their own threads with bounded queues: a slow camera
+possible), or ROS 2 topics over DDS (inputs.dds: /odom or /joint_states,
+/scan, /camera/image_raw, /initialpose; the dataset then only gives the
+calibration, the floor map and the start pose). Outputs on ROS 2 topics with
+output.dds: /groundline/pose, /tf (map -> odom), /diagnostics. Domain:
+ROS_DOMAIN_ID; network: CYCLONEDDS_URI (unset: loopback only). Stages on their own threads with bounded queues: a slow camera
 stage drops frames and counts them, and never blocks the odometry.
 
 Outputs in output.dir: trajectory.tum (keyframes), trajectory_odometry_rate.tum,
@@ -42,6 +46,7 @@ Example config (samples/config/serve_replay.yaml):
 
 Examples:
   groundline serve --config samples/config/serve_replay.yaml
+  ROS_DOMAIN_ID=7 groundline serve --config samples/config/serve_dds.yaml
   groundline serve --config site.yaml --speed 0      # replay as fast as possible)";
 
 }  // namespace
@@ -86,7 +91,7 @@ CLI::App* AddServeCommand(CLI::App& parent, CommandRunner* run) {
         return 1;
       }
       std::printf("groundline serve: %s; outputs in %s\n",
-                  g_stop.load() ? "stopped by a signal, state saved" : "replay finished",
+                  g_stop.load() ? "stopped by a signal, state saved" : "inputs ended",
                   config->output_dir.c_str());
       return 0;
     };

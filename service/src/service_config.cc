@@ -142,7 +142,7 @@ core::Status ServiceConfig::Validate() const {
       return core::Status::Error(at + ": expected 0 <= from_s < to_s");
     }
   }
-  if (!camera_uri.empty() && replay_speed == 0.0) {
+  if (!camera_uri.empty() && replay_speed == 0.0 && !dds_inputs.enabled) {
     return core::Status::Error(
         "inputs.camera.uri: a camera delivers frames at its own pace: set inputs.replay.speed "
         "> 0 (the replay's odometry and scans then follow the wall clock too)");

@@ -1,6 +1,8 @@
 // The service's DDS edge: ROS 2 topics in (io::DdsInputs -> the estimator's
 // event queue, in arrival order, the same path the replay feeds) and out
 // (io::DdsOutputs: pose, map -> odom, diagnostics).
+#include <cstdio>
+
 #include "service_impl.h"
 
 namespace groundline::service {

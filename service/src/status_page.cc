@@ -77,6 +77,14 @@ async function tick() {
       row('solve [ms] (last)', k.solve_ms === undefined ? '-' : k.solve_ms.toFixed(2)) +
       row('latency median / p99 [ms]', h.latency_ms.median.toFixed(2) + ' / ' + h.latency_ms.p99.toFixed(2)) +
       row('keyframes', c.keyframes);
+    const dds = h.dds || {};
+    for (const [name, d] of Object.entries(dds.inputs || {})) {
+      if (d.received || d.matched_writers) {
+        t += row('DDS ' + name + ' received / dropped', d.received + ' / ' + d.dropped + (d.dropped ? ' (' + d.last_drop_reason.replace(/</g, '&lt;') + ')' : ''), d.dropped ? 'bad' : '');
+      }
+    }
+    if (dds.initial_poses) t += row('DDS initial poses applied / refused', dds.initial_poses.applied + ' / ' + dds.initial_poses.refused);
+    if (dds.outputs) t += row('DDS out poses / tf / diagnostics', dds.outputs.poses + ' / ' + dds.outputs.tf + ' / ' + dds.outputs.diagnostics, dds.outputs.write_errors ? 'bad' : '');
     document.getElementById('health').innerHTML = t;
     draw(h);
     last = h; lastT = now;

@@ -1,6 +1,6 @@
 // io_dds_listener: subscribes to the standard groundline input topics
-// through DdsInputs and prints what arrived, for scripts/dds_demo.sh (the
-// service will take its place). Exits once no message came for --idle
+// through DdsInputs and prints what arrived per topic (a check of a replay or
+// a robot's topics before the service is pointed at them). Exits once no message came for --idle
 // seconds after the first one, or after --timeout seconds.
 //   io_dds_listener [--idle S] [--timeout S] [--lossless]
 // Exit codes: 0 odometry, joint states and scans received; 1 something
