@@ -73,7 +73,7 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
     if (auto out = noisy->AddWheelReading(Straight(k))) noisy_out.push_back(*out);
     if (k % 50 == 0) {
       EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));                       // duplicate
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 3)));                   // out of order
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 10)));  // 0.1 s behind: out of order
       EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS + 0.001, nan, 0.0}));  // NaN
       EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));                   // NaN stamp
     }
@@ -87,9 +87,91 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
   }
   const LocalizerCounters& c = noisy->counters();
   EXPECT_EQ(c.wheel_readings, 300 + 6 * 4);
-  EXPECT_EQ(c.wheel_dropped_out_of_order, 6 * 2);
+  EXPECT_EQ(c.wheel_dropped_duplicate, 6);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 6);
+  EXPECT_EQ(c.clock_jumps, 0);
   EXPECT_EQ(c.wheel_dropped_non_finite, 6 * 2);
   EXPECT_NEAR(noisy->Current().T_map_base.x(), 3.0, 1e-9);
+}
+
+TEST(Localizer, LateReadingsWithinTheToleranceAreMergedSoThatNoMotionIsLost) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  // Every 7th pair of readings swapped in transport; the second of a swapped
+  // pair is late by one reading (10 ms, tolerance 50 ms), then sent again.
+  int swapped = 0;
+  for (int k = 1; k <= 300; ++k) {
+    if (k % 7 == 0 && k < 300) {
+      localizer->AddWheelReading(Straight(k + 1));
+      localizer->AddWheelReading(Straight(k));
+      localizer->AddWheelReading(Straight(k));  // a duplicate of the late one
+      ++swapped;
+      ++k;
+      continue;
+    }
+    localizer->AddWheelReading(Straight(k));
+  }
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.wheel_late_merged, swapped);
+  EXPECT_EQ(c.wheel_dropped_duplicate, swapped);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 0);
+  // Each late reading's centimetre joined the next one: 3 m in all.
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 3.0);
+}
+
+TEST(Localizer, ABackwardClockJumpKeepsTheEstimateContinuousOnTheSourcesNewClock) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLines;
+  options.blind_keyframe_m = 0.5;
+  std::unique_ptr<Localizer> localizer = std::move(Localizer::Create(options, Vehicle())).value();
+  ASSERT_TRUE(localizer->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  std::vector<KeyframeOutput> keyframes;
+  for (int k = 1; k <= 200; ++k) {
+    if (auto out = localizer->AddWheelReading(Straight(k))) keyframes.push_back(*out);
+  }
+  // A few stray old readings are not a jump: dropped.
+  for (int k = 100; k < 103; ++k) localizer->AddWheelReading(Straight(k));
+  localizer->AddWheelReading(Straight(201));
+  EXPECT_EQ(localizer->counters().wheel_dropped_out_of_order, 3);
+  EXPECT_EQ(localizer->counters().clock_jumps, 0);
+  const std::size_t before_jump = keyframes.size();
+  // At 2.01 s the source's clock steps back by 1000 s; the drive goes on.
+  constexpr double kJumpS = 1000.0;
+  for (int k = 202; k <= 400; ++k) {
+    core::WheelEncoderReading r = Straight(k);
+    r.stamp_s -= kJumpS;
+    if (auto out = localizer->AddWheelReading(r)) keyframes.push_back(*out);
+    if (k == 280) {
+      // A frame on the new clock is used; one still on the old clock is
+      // far ahead of the odometry: dropped.
+      ConvertedObservations seen;
+      seen.observations.stamp_s = 2.805 - kJumpS;
+      localizer->AddFloorObservations(seen);
+      seen.observations.stamp_s = 2.815;
+      localizer->AddFloorObservations(seen);
+    }
+  }
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.clock_jumps, 1);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 3);
+  EXPECT_EQ(c.frames_dropped_ahead, 1);
+  EXPECT_EQ(c.frames_used, 1);
+  // No motion lost over the jump (the readings that revealed it are taken),
+  // and the outputs carry the new clock.
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 4.0, 1e-9);
+  EXPECT_NEAR(localizer->Current().stamp_s, 4.0 - kJumpS, 1e-9);
+  ASSERT_GE(keyframes.size(), before_jump + 3);
+  for (std::size_t i = before_jump; i < keyframes.size(); ++i) {
+    EXPECT_LT(keyframes[i].stamp_s, 4.0 - kJumpS + 1e-9);
+    EXPECT_NEAR(keyframes[i].pose.T_map_base.x(), keyframes[i].stamp_s + kJumpS, 1e-6);
+    if (i > before_jump) {
+      EXPECT_GT(keyframes[i].stamp_s, keyframes[i - 1].stamp_s);
+    }
+  }
+  const std::optional<PoseEstimate> mid = localizer->PoseAt(3.555 - kJumpS);
+  ASSERT_TRUE(mid.has_value());
+  EXPECT_NEAR(mid->T_map_base.x(), 3.555, 1e-9);
+  EXPECT_DOUBLE_EQ(mid->stamp_s, 3.555 - kJumpS);
 }
 
 TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion) {
