@@ -36,6 +36,10 @@ core::Status LocalizerOptions::Validate() const {
                                  ": expected a finite number > 0, got " + std::to_string(value));
     }
   }
+  if (!(std::isfinite(max_coast_s) && max_coast_s >= 0.0)) {
+    return core::Status::Error("localizer option max_coast_s: expected >= 0, got " +
+                               std::to_string(max_coast_s));
+  }
   if (!(std::isfinite(reorder_tolerance_s) && reorder_tolerance_s >= 0.0)) {
     return core::Status::Error("localizer option reorder_tolerance_s: expected >= 0, got " +
                                std::to_string(reorder_tolerance_s));

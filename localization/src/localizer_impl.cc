@@ -111,17 +111,49 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
 std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(
     const core::WheelEncoderReading& source) {
   ++counters.wheel_readings;
-  if (!std::isfinite(source.stamp_s) || !std::isfinite(source.left_delta_rad) ||
-      !std::isfinite(source.right_delta_rad)) {
+  const bool finite_increments =
+      std::isfinite(source.left_delta_rad) && std::isfinite(source.right_delta_rad);
+  if (!std::isfinite(source.stamp_s) || !finite_increments) {
     ++counters.wheel_dropped_non_finite;
     odometry_fault_pending = true;  // the odometry is unknown until the next good reading
-    return std::nullopt;
+    // A finite stamp still tells the time: the estimate coasts over it.
+    if (!std::isfinite(source.stamp_s)) return std::nullopt;
+    const double stamp_s = source.stamp_s + clock_offset_s;
+    if (last_reading_s && !(stamp_s > *last_reading_s)) return std::nullopt;
+    return Coast(stamp_s);
   }
   core::WheelEncoderReading r = source;
   r.stamp_s += clock_offset_s;
   if (last_reading_s && !(r.stamp_s > *last_reading_s)) return BehindReading(r);
   jump_run.clear();  // in order again: the out-of-order readings were stray, not a jump
   return TakeReading(r);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Coast(double stamp_s) {
+  if (!started || !last_reading_s || !(options.max_coast_s > 0.0)) return std::nullopt;
+  const double dt_s = stamp_s - *last_reading_s;
+  const double since_s = coasting ? coast_since_s : *last_reading_s;
+  if (stamp_s - since_s > options.max_coast_s || dt_s > options.max_odometry_gap_s) {
+    coasting = true;  // too long: the motion is a gap when good readings return
+    coast_since_s = since_s;
+    return std::nullopt;
+  }
+  coasting = true;
+  coast_since_s = since_s;
+  ++counters.wheel_coasted;
+  // The wheel speeds of the last good reading, and a speed error that grows
+  // linearly with the time since it (variance (sigma_v T)^2 at T).
+  core::WheelEncoderReading guess{stamp_s, last_left_radps * dt_s, last_right_radps * dt_s};
+  const double t1 = stamp_s - coast_since_s, t0 = t1 - dt_s;
+  const double dv2 = t1 * t1 - t0 * t0;
+  OdometryIncrement unknown;
+  unknown.covariance =
+      core::Vector3(options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
+                    options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
+                    options.odometry_gap_yaw_rate_radps * options.odometry_gap_yaw_rate_radps * dv2)
+          .asDiagonal();
+  odometry->Integrate(unknown);
+  return Advance(guess, *last_reading_s);
 }
 
 std::optional<KeyframeOutput> LocalizerImpl::BehindReading(const core::WheelEncoderReading& r) {
@@ -198,20 +230,29 @@ std::optional<KeyframeOutput> LocalizerImpl::TakeReading(core::WheelEncoderReadi
   const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
   // Frozen encoders: exactly no motion right after driving faster than
   // frozen_speed_mps, a deceleration no vehicle makes in one reading. Such
-  // readings are dropped (the motion over them is unknown: a gap) until the
+  // readings are dropped, the estimate coasting over them (Coast), until the
   // wheels report motion again.
   const bool still = r.left_delta_rad == 0.0 && r.right_delta_rad == 0.0;
   if (still && (odometry_frozen || (gap_s > 0.0 && last_speed_mps > options.frozen_speed_mps))) {
     odometry_frozen = true;
     last_odometry_fault_s = r.stamp_s;
     ++counters.wheel_dropped_frozen;
-    return std::nullopt;
+    return Coast(r.stamp_s);
   }
   odometry_frozen = false;
+  coasting = false;
   if (gap_s > 0.0) {
     const double ds_m = 0.5 * setup.drive.wheel_radius_m * (r.left_delta_rad + r.right_delta_rad);
     last_speed_mps = std::abs(ds_m) / gap_s;
+    last_left_radps = r.left_delta_rad / gap_s;
+    last_right_radps = r.right_delta_rad / gap_s;
   }
+  return Advance(r, previous_s);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Advance(const core::WheelEncoderReading& r,
+                                                     std::optional<double> previous_s) {
+  const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
   if (gap_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
   last_reading_s = r.stamp_s;
   if (relocalizer && !relocalizer_done_) {
@@ -492,7 +533,8 @@ SensorState LocalizerImpl::Sensors() const {
   s.camera_ok = uses_camera && s.camera_age_s >= 0.0 && s.camera_age_s <= options.stale_after_s;
   s.lidar_ok = lidar && s.lidar_age_s >= 0.0 && s.lidar_age_s <= options.stale_after_s;
   s.odometry_frozen = odometry_frozen;
-  s.odometry_ok = !odometry_frozen && !(now_s - last_odometry_fault_s <= options.stale_after_s);
+  s.odometry_ok = !odometry_frozen && !coasting &&
+                  !(now_s - last_odometry_fault_s <= options.stale_after_s);
   const bool wants_camera = uses_camera;
   const bool wants_lidar = lidar != nullptr;
   if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok) && s.odometry_ok) {

@@ -67,6 +67,10 @@ class LocalizerImpl {
   // The newest reading's time when one was not finite or frozen.
   double last_odometry_fault_s = -std::numeric_limits<double>::infinity();
   bool odometry_fault_pending = false;
+  // Coasting (Coast): since when, and the wheel speeds of the last good reading.
+  bool coasting = false;
+  double coast_since_s = 0.0;
+  double last_left_radps = 0.0, last_right_radps = 0.0;
   long keyframe_index = 0;
   bool relocalizer_done_ = false;  // committed: the relocalizer is kept for its status
 
@@ -87,6 +91,14 @@ class LocalizerImpl {
   std::optional<KeyframeOutput> BehindReading(const core::WheelEncoderReading& reading);
   // A reading after the newest one (localizer time).
   std::optional<KeyframeOutput> TakeReading(core::WheelEncoderReading reading);
+  // A reading whose increments are not finite or frozen: the estimate
+  // coasts on the last wheel speeds with a growing covariance
+  // (LocalizerOptions::max_coast_s), so that the outputs, the LiDAR and the
+  // lines go on.
+  std::optional<KeyframeOutput> Coast(double stamp_s);
+  // Integrates a reading taken (or coasted), the keyframe decision, the outputs.
+  std::optional<KeyframeOutput> Advance(const core::WheelEncoderReading& reading,
+                                        std::optional<double> previous_s);
   // Integrates `fraction` of the reading's increments, up to stamp_s.
   void Integrate(const core::WheelEncoderReading& reading, double fraction, double stamp_s);
   // The keyframe decision at stamp_s, with the frame whose turn it is.

@@ -74,7 +74,7 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
     if (k % 50 == 0) {
       EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));                       // duplicate
       EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 10)));  // 0.1 s behind: out of order
-      EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS + 0.001, nan, 0.0}));  // NaN
+      EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS, nan, 0.0}));  // NaN at a taken stamp
       EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));                   // NaN stamp
     }
   }
@@ -188,17 +188,26 @@ TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion
   EXPECT_GT(std::sqrt(localizer->Current().covariance(2, 2)), 1.9);
 }
 
-TEST(Localizer, FrozenEncodersAreDroppedAndTheMotionOverThemWidensTheOdometry) {
+TEST(Localizer, FrozenEncodersAreDroppedAndTheEstimateCoastsOverThemWithAGrowingCovariance) {
   std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
   for (int k = 1; k <= 50; ++k) localizer->AddWheelReading(Straight(k));  // 1 m/s
   const double before_m2 = localizer->Current().covariance(0, 0);
   for (int k = 51; k <= 150; ++k) localizer->AddWheelReading({k * kPeriodS, 0.0, 0.0});
   EXPECT_EQ(localizer->counters().wheel_dropped_frozen, 100);
+  EXPECT_EQ(localizer->counters().wheel_coasted, 100);
   EXPECT_TRUE(localizer->Sensors().odometry_frozen);
+  EXPECT_FALSE(localizer->Sensors().odometry_ok);
+  // The outputs went on at the last wheel speeds: 1 m/s for the frozen second.
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 1.50);
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 1.50, 1e-9);
+  // The speed error grows with the time since the last good reading: 2 m/s x 1 s.
+  const LocalizerOptions defaults;
+  EXPECT_NEAR(std::sqrt(localizer->Current().covariance(0, 0) - before_m2),
+              defaults.odometry_gap_speed_mps * 1.0, 0.05);
   localizer->AddWheelReading(Straight(151));  // the wheels report again
   EXPECT_FALSE(localizer->Sensors().odometry_frozen);
-  EXPECT_EQ(localizer->counters().odometry_gaps, 1);
-  EXPECT_GT(localizer->Current().covariance(0, 0) - before_m2, 1.0);  // ~2 m sigma over 1 s
+  EXPECT_EQ(localizer->counters().odometry_gaps, 0);
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 1.51, 1e-9);
 
   // A real stop decelerates: zero increments after a slow reading are kept.
   std::unique_ptr<Localizer> stopping = Make(LocalizerMode::kOdometry);
@@ -207,6 +216,34 @@ TEST(Localizer, FrozenEncodersAreDroppedAndTheMotionOverThemWidensTheOdometry) {
   for (int k = 2; k <= 100; ++k) stopping->AddWheelReading({k * kPeriodS, 0.0, 0.0});
   EXPECT_EQ(stopping->counters().wheel_dropped_frozen, 0);
   EXPECT_FALSE(stopping->Sensors().odometry_frozen);
+}
+
+TEST(Localizer, NonFiniteReadingsWithStampsAreCoastedOverUpToMaxCoastThenAreAGap) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  for (int k = 101; k <= 150; ++k) localizer->AddWheelReading({k * kPeriodS, nan, nan});
+  EXPECT_EQ(localizer->counters().wheel_dropped_non_finite, 50);
+  EXPECT_EQ(localizer->counters().wheel_coasted, 50);
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 1.50);
+  EXPECT_EQ(localizer->Sensors().degraded_mode, "none");  // nothing measures the motion
+  for (int k = 151; k <= 300; ++k) localizer->AddWheelReading(Straight(k));
+  EXPECT_TRUE(localizer->Sensors().odometry_ok);
+  EXPECT_EQ(localizer->Sensors().degraded_mode, "full");
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 3.0, 1e-9);
+
+  // Longer than max_coast_s: the outputs stop there; the rest is a gap.
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kOdometry;
+  options.max_coast_s = 0.2;
+  std::unique_ptr<Localizer> brief = std::move(Localizer::Create(options, Vehicle())).value();
+  ASSERT_TRUE(brief->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  for (int k = 1; k <= 100; ++k) brief->AddWheelReading(Straight(k));
+  for (int k = 101; k <= 200; ++k) brief->AddWheelReading({k * kPeriodS, nan, nan});
+  EXPECT_EQ(brief->counters().wheel_coasted, 20);
+  EXPECT_DOUBLE_EQ(brief->Current().stamp_s, 1.20);
+  brief->AddWheelReading(Straight(201));
+  EXPECT_EQ(brief->counters().odometry_gaps, 1);
 }
 
 TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {

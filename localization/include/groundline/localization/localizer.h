@@ -103,6 +103,12 @@ struct LocalizerOptions {
   // Exactly zero wheel increments right after a speed above this are frozen
   // encoders, not a stop (dropped and counted until the wheels turn again).
   double frozen_speed_mps = 0.2;
+  // Wheel readings with non-finite or frozen increments but a valid stamp:
+  // for up to this long the estimate coasts on the last good wheel speeds,
+  // its covariance growing as odometry_gap_speed_mps / _yaw_rate_radps times
+  // the time since, so that keyframes, the LiDAR and the lines go on (the
+  // degraded mode "lines+lidar"); longer outages are a gap [s]. 0: no coasting.
+  double max_coast_s = 5.0;
   // Odometry kept for interpolation at scan, ray and query times [s].
   double odometry_history_s = 3.0;
   // Wheel readings further apart than this are counted as a gap (a stalled
@@ -165,6 +171,7 @@ struct LocalizerCounters {
   long clock_jumps = 0;                 // the source clock jumped back (clock_jump_readings)
   long wheel_before_start = 0;          // before the start pose was known
   long wheel_dropped_frozen = 0;        // zero increments right after driving (frozen encoders)
+  long wheel_coasted = 0;               // non-finite or frozen readings the estimate coasted over
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
