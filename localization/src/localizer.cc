@@ -28,12 +28,25 @@ core::Status LocalizerOptions::Validate() const {
       {"max_scan_gap_s", max_scan_gap_s},
       {"odometry_gap_speed_mps", odometry_gap_speed_mps},
       {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps},
-      {"frozen_speed_mps", frozen_speed_mps}};
+      {"frozen_speed_mps", frozen_speed_mps},
+      {"max_sensor_lead_s", max_sensor_lead_s}};
   for (const auto& [name, value] : positive) {
     if (!(std::isfinite(value) && value > 0.0)) {
       return core::Status::Error(std::string("localizer option ") + name +
                                  ": expected a finite number > 0, got " + std::to_string(value));
     }
+  }
+  if (!(std::isfinite(max_coast_s) && max_coast_s >= 0.0)) {
+    return core::Status::Error("localizer option max_coast_s: expected >= 0, got " +
+                               std::to_string(max_coast_s));
+  }
+  if (!(std::isfinite(reorder_tolerance_s) && reorder_tolerance_s >= 0.0)) {
+    return core::Status::Error("localizer option reorder_tolerance_s: expected >= 0, got " +
+                               std::to_string(reorder_tolerance_s));
+  }
+  if (clock_jump_readings < 2) {
+    return core::Status::Error("localizer option clock_jump_readings: expected >= 2, got " +
+                               std::to_string(clock_jump_readings));
   }
   if (!(std::isfinite(wheel_variance_m2_per_m) && wheel_variance_m2_per_m >= 0.0)) {
     return core::Status::Error("localizer option wheel_variance_m2_per_m: expected >= 0, got " +
@@ -69,7 +82,7 @@ core::Result<std::unique_ptr<Localizer>> Localizer::Create(const LocalizerOption
 
 core::Status Localizer::SetInitialPose(double stamp_s, const core::SE2& T_map_base,
                                        const core::Matrix3& covariance) {
-  return impl_->SetInitialPose(stamp_s, T_map_base, covariance);
+  return impl_->SetInitialPose(stamp_s + impl_->clock_offset_s, T_map_base, covariance);
 }
 core::Status Localizer::RequestRelocalization() { return impl_->RequestRelocalization(); }
 bool Localizer::started() const { return impl_->started; }
@@ -77,8 +90,12 @@ const std::optional<PoseEstimate>& Localizer::relocalized() const { return impl_
 const RelocalizerStatus* Localizer::relocalizer_status() const {
   return impl_->relocalizer ? &impl_->relocalizer->status() : nullptr;
 }
+// The implementation runs on its own continuous time (localizer_impl.h,
+// clock_offset_s); the stamps the caller sees are the source's.
 std::optional<KeyframeOutput> Localizer::AddWheelReading(const core::WheelEncoderReading& r) {
-  return impl_->AddWheelReading(r);
+  std::optional<KeyframeOutput> out = impl_->AddWheelReading(r);
+  if (out) impl_->ToSourceTime(*out);
+  return out;
 }
 std::optional<KeyframeOutput> Localizer::AddOdometryIncrement(double stamp_s,
                                                               const core::SE2& T_prev_curr) {
@@ -86,16 +103,26 @@ std::optional<KeyframeOutput> Localizer::AddOdometryIncrement(double stamp_s,
   return impl_->AddWheelReading({stamp_s, wheels.left_rad, wheels.right_rad});
 }
 void Localizer::AddFrame(double stamp_s, FrameLoader load) {
-  impl_->AddFrame(stamp_s, std::move(load), std::nullopt);
+  impl_->AddFrame(stamp_s + impl_->clock_offset_s, std::move(load), std::nullopt);
 }
 void Localizer::AddFloorObservations(ConvertedObservations observations) {
+  observations.observations.stamp_s += impl_->clock_offset_s;
   const double stamp_s = observations.observations.stamp_s;
   impl_->AddFrame(stamp_s, nullptr, std::move(observations));
 }
-void Localizer::AddScan(core::LaserScan scan) { impl_->AddScan(std::move(scan)); }
-PoseEstimate Localizer::Current() const { return impl_->current; }
+void Localizer::AddScan(core::LaserScan scan) {
+  scan.stamp_s += impl_->clock_offset_s;
+  impl_->AddScan(std::move(scan));
+}
+PoseEstimate Localizer::Current() const {
+  PoseEstimate p = impl_->current;
+  p.stamp_s -= impl_->clock_offset_s;
+  return p;
+}
 std::optional<PoseEstimate> Localizer::PoseAt(double stamp_s) const {
-  return impl_->PoseAt(stamp_s);
+  std::optional<PoseEstimate> p = impl_->PoseAt(stamp_s + impl_->clock_offset_s);
+  if (p) p->stamp_s = stamp_s;
+  return p;
 }
 RelativeMotion Localizer::SinceKeyframe() const {
   return impl_->odometry ? impl_->odometry->SinceKeyframe() : RelativeMotion();

@@ -1,6 +1,7 @@
 #include "localizer_impl.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <string>
@@ -107,34 +108,151 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
   }
 }
 
-std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(const core::WheelEncoderReading& r) {
+std::optional<KeyframeOutput> LocalizerImpl::AddWheelReading(
+    const core::WheelEncoderReading& source) {
   ++counters.wheel_readings;
-  if (!std::isfinite(r.stamp_s) || !std::isfinite(r.left_delta_rad) ||
-      !std::isfinite(r.right_delta_rad)) {
+  const bool finite_increments =
+      std::isfinite(source.left_delta_rad) && std::isfinite(source.right_delta_rad);
+  if (!std::isfinite(source.stamp_s) || !finite_increments) {
     ++counters.wheel_dropped_non_finite;
+    odometry_fault_pending = true;  // the odometry is unknown until the next good reading
+    // A finite stamp still tells the time: the estimate coasts over it.
+    if (!std::isfinite(source.stamp_s)) return std::nullopt;
+    const double stamp_s = source.stamp_s + clock_offset_s;
+    if (last_reading_s && !(stamp_s > *last_reading_s)) return std::nullopt;
+    return Coast(stamp_s);
+  }
+  core::WheelEncoderReading r = source;
+  r.stamp_s += clock_offset_s;
+  if (last_reading_s && !(r.stamp_s > *last_reading_s)) return BehindReading(r);
+  jump_run.clear();  // in order again: the out-of-order readings were stray, not a jump
+  return TakeReading(r);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Coast(double stamp_s) {
+  if (!started || !last_reading_s || !(options.max_coast_s > 0.0)) return std::nullopt;
+  const double dt_s = stamp_s - *last_reading_s;
+  const double since_s = coasting ? coast_since_s : *last_reading_s;
+  if (stamp_s - since_s > options.max_coast_s || dt_s > options.max_odometry_gap_s) {
+    coasting = true;  // too long: the motion is a gap when good readings return
+    coast_since_s = since_s;
     return std::nullopt;
+  }
+  coasting = true;
+  coast_since_s = since_s;
+  ++counters.wheel_coasted;
+  // The wheel speeds of the last good reading, and a speed error that grows
+  // linearly with the time since it (variance (sigma_v T)^2 at T).
+  core::WheelEncoderReading guess{stamp_s, last_left_radps * dt_s, last_right_radps * dt_s};
+  const double t1 = stamp_s - coast_since_s, t0 = t1 - dt_s;
+  const double dv2 = t1 * t1 - t0 * t0;
+  OdometryIncrement unknown;
+  unknown.covariance =
+      core::Vector3(options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
+                    options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
+                    options.odometry_gap_yaw_rate_radps * options.odometry_gap_yaw_rate_radps * dv2)
+          .asDiagonal();
+  odometry->Integrate(unknown);
+  return Advance(guess, *last_reading_s);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::BehindReading(const core::WheelEncoderReading& r) {
+  const bool duplicate = std::any_of(recent_stamps.begin(), recent_stamps.end(), [&](double t) {
+    return std::abs(t - r.stamp_s) <= kSameInstantS;
+  });
+  if (duplicate) {
+    ++counters.wheel_dropped_duplicate;
+    return std::nullopt;
+  }
+  if (*last_reading_s - r.stamp_s <= options.reorder_tolerance_s) {
+    // Its interval lies before the newest reading's: the motion joins the next one.
+    late_left_rad += r.left_delta_rad;
+    late_right_rad += r.right_delta_rad;
+    recent_stamps.push_back(r.stamp_s);
+    ++counters.wheel_late_merged;
+    return std::nullopt;
+  }
+  // Counted as dropped until a run of them reveals a jump (then taken after all).
+  ++counters.wheel_dropped_out_of_order;
+  if (!jump_run.empty() && !(r.stamp_s > jump_run.back().stamp_s)) jump_run.clear();
+  jump_run.push_back(r);
+  if (static_cast<int>(jump_run.size()) < options.clock_jump_readings) return std::nullopt;
+  counters.wheel_dropped_out_of_order -= static_cast<long>(jump_run.size());
+  // The clock jumped back: continue the localizer's time from the newest
+  // reading, one mean reading interval of the run later.
+  const double interval_s =
+      (jump_run.back().stamp_s - jump_run.front().stamp_s) / static_cast<double>(jump_run.size() - 1);
+  const double shift_s = *last_reading_s + interval_s - jump_run.front().stamp_s;
+  clock_offset_s += shift_s;
+  ++counters.clock_jumps;
+  recent_stamps.clear();
+  std::vector<core::WheelEncoderReading> run = std::move(jump_run);
+  jump_run.clear();
+  std::optional<KeyframeOutput> out;
+  for (core::WheelEncoderReading& reading : run) {
+    reading.stamp_s += shift_s;
+    std::optional<KeyframeOutput> k = TakeReading(reading);
+    if (k) {
+      // Only one output per call: keep the newest (the earlier ones are in the counters).
+      out = std::move(k);
+    }
+  }
+  return out;
+}
+
+void LocalizerImpl::ToSourceTime(KeyframeOutput& k) const {
+  const double d = clock_offset_s;
+  if (d == 0.0) return;
+  k.stamp_s -= d;
+  k.pose.stamp_s -= d;
+  k.predicted.stamp_s -= d;
+  if (k.frame_stamp_s) *k.frame_stamp_s -= d;
+  k.floor.stamp_s -= d;
+  if (k.smoother) k.smoother->stamp_s -= d;
+  if (k.lidar) k.lidar->stamp_s -= d;
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::TakeReading(core::WheelEncoderReading r) {
+  if (odometry_fault_pending) {
+    last_odometry_fault_s = r.stamp_s;
+    odometry_fault_pending = false;
+  }
+  r.left_delta_rad += late_left_rad;
+  r.right_delta_rad += late_right_rad;
+  late_left_rad = late_right_rad = 0.0;
+  recent_stamps.push_back(r.stamp_s);
+  while (recent_stamps.size() > 256 ||
+         (recent_stamps.size() > 1 &&
+          recent_stamps.front() < r.stamp_s - options.reorder_tolerance_s - kSameInstantS)) {
+    recent_stamps.pop_front();
   }
   const std::optional<double> previous_s = last_reading_s;
-  if (previous_s && !(r.stamp_s > *previous_s)) {
-    ++counters.wheel_dropped_out_of_order;
-    return std::nullopt;
-  }
   const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
   // Frozen encoders: exactly no motion right after driving faster than
   // frozen_speed_mps, a deceleration no vehicle makes in one reading. Such
-  // readings are dropped (the motion over them is unknown: a gap) until the
+  // readings are dropped, the estimate coasting over them (Coast), until the
   // wheels report motion again.
   const bool still = r.left_delta_rad == 0.0 && r.right_delta_rad == 0.0;
   if (still && (odometry_frozen || (gap_s > 0.0 && last_speed_mps > options.frozen_speed_mps))) {
     odometry_frozen = true;
+    last_odometry_fault_s = r.stamp_s;
     ++counters.wheel_dropped_frozen;
-    return std::nullopt;
+    return Coast(r.stamp_s);
   }
   odometry_frozen = false;
+  coasting = false;
   if (gap_s > 0.0) {
     const double ds_m = 0.5 * setup.drive.wheel_radius_m * (r.left_delta_rad + r.right_delta_rad);
     last_speed_mps = std::abs(ds_m) / gap_s;
+    last_left_radps = r.left_delta_rad / gap_s;
+    last_right_radps = r.right_delta_rad / gap_s;
   }
+  return Advance(r, previous_s);
+}
+
+std::optional<KeyframeOutput> LocalizerImpl::Advance(const core::WheelEncoderReading& r,
+                                                     std::optional<double> previous_s) {
+  const double gap_s = previous_s ? r.stamp_s - *previous_s : 0.0;
   if (gap_s > options.max_odometry_gap_s) ++counters.odometry_gaps;
   last_reading_s = r.stamp_s;
   if (relocalizer && !relocalizer_done_) {
@@ -367,6 +485,10 @@ void LocalizerImpl::AddFrame(double stamp_s, Localizer::FrameLoader load,
     ++counters.frames_unreadable;
     return;
   }
+  if (last_reading_s && stamp_s > *last_reading_s + options.max_sensor_lead_s) {
+    ++counters.frames_dropped_ahead;
+    return;
+  }
   last_frame_s = stamp_s;
   if (waiting || (last_reading_s && stamp_s < *last_reading_s - options.max_frame_lag_s)) {
     ++counters.frames_dropped_late;
@@ -378,6 +500,12 @@ void LocalizerImpl::AddFrame(double stamp_s, Localizer::FrameLoader load,
 
 void LocalizerImpl::AddScan(core::LaserScan scan) {
   if (!lidar) return;
+  if (last_reading_s && std::isfinite(scan.stamp_s) &&
+      scan.stamp_s > *last_reading_s + options.max_sensor_lead_s) {
+    ++counters.scans;
+    ++counters.scans_dropped_ahead;
+    return;
+  }
   lidar->AddScan(std::move(scan), &counters);
 }
 
@@ -405,16 +533,22 @@ SensorState LocalizerImpl::Sensors() const {
   s.camera_ok = uses_camera && s.camera_age_s >= 0.0 && s.camera_age_s <= options.stale_after_s;
   s.lidar_ok = lidar && s.lidar_age_s >= 0.0 && s.lidar_age_s <= options.stale_after_s;
   s.odometry_frozen = odometry_frozen;
+  s.odometry_ok = !odometry_frozen && !coasting &&
+                  !(now_s - last_odometry_fault_s <= options.stale_after_s);
   const bool wants_camera = uses_camera;
   const bool wants_lidar = lidar != nullptr;
-  if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok)) {
+  if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok) && s.odometry_ok) {
     s.degraded_mode = "full";
-  } else if (s.camera_ok) {
-    s.degraded_mode = "lines+odometry";
-  } else if (s.lidar_ok) {
-    s.degraded_mode = "lidar+odometry";
   } else {
-    s.degraded_mode = "odometry";
+    // What the estimate rests on now, e.g. "lidar+odometry" (the camera is
+    // blind), "lines+lidar" (the odometry is frozen or not finite).
+    for (const auto& [ok, name] : {std::pair{s.camera_ok, "lines"}, std::pair{s.lidar_ok, "lidar"},
+                                   std::pair{s.odometry_ok, "odometry"}}) {
+      if (!ok) continue;
+      if (!s.degraded_mode.empty()) s.degraded_mode += "+";
+      s.degraded_mode += name;
+    }
+    if (s.degraded_mode.empty()) s.degraded_mode = "none";
   }
   return s;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "groundline/localization/localizer.h"
 #include "groundline/localization/odometry_integrator.h"
@@ -21,7 +22,10 @@ class LocalizerImpl {
   core::Status SetInitialPose(double stamp_s, const core::SE2& T_map_base,
                               const core::Matrix3& covariance);
   core::Status RequestRelocalization();
+  // The reading in source time; its output in the localizer's time.
   std::optional<KeyframeOutput> AddWheelReading(const core::WheelEncoderReading& reading);
+  // Moves an output's stamps from the localizer's time to the source's.
+  void ToSourceTime(KeyframeOutput& k) const;
   void AddFrame(double stamp_s, Localizer::FrameLoader load,
                 std::optional<ConvertedObservations> observations);
   void AddScan(core::LaserScan scan);
@@ -60,12 +64,41 @@ class LocalizerImpl {
   double path_length_m = 0.0;
   double last_speed_mps = 0.0;  // of the last accepted reading
   bool odometry_frozen = false;
+  // The newest reading's time when one was not finite or frozen.
+  double last_odometry_fault_s = -std::numeric_limits<double>::infinity();
+  bool odometry_fault_pending = false;
+  // Coasting (Coast): since when, and the wheel speeds of the last good reading.
+  bool coasting = false;
+  double coast_since_s = 0.0;
+  double last_left_radps = 0.0, last_right_radps = 0.0;
   long keyframe_index = 0;
   bool relocalizer_done_ = false;  // committed: the relocalizer is kept for its status
+
+  // Time (LocalizerOptions::clock_jump_readings): the localizer's time is
+  // the source's plus clock_offset_s, which grows by each backward jump, so
+  // that every stamp inside stays increasing. Stamps below are the localizer's.
+  double clock_offset_s = 0.0;
+  std::deque<double> recent_stamps;  // of the readings taken, reorder_tolerance_s back
+  double late_left_rad = 0.0, late_right_rad = 0.0;  // late increments for the next reading
+  // Out-of-order readings in order among themselves: a jump, once long enough.
+  std::vector<core::WheelEncoderReading> jump_run;
 
  private:
   void Start(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
   std::optional<KeyframeOutput> Relocalize(const core::WheelEncoderReading& reading);
+  // A reading at or before the newest one: a duplicate, late (merged), out
+  // of order, or part of a backward clock jump.
+  std::optional<KeyframeOutput> BehindReading(const core::WheelEncoderReading& reading);
+  // A reading after the newest one (localizer time).
+  std::optional<KeyframeOutput> TakeReading(core::WheelEncoderReading reading);
+  // A reading whose increments are not finite or frozen: the estimate
+  // coasts on the last wheel speeds with a growing covariance
+  // (LocalizerOptions::max_coast_s), so that the outputs, the LiDAR and the
+  // lines go on.
+  std::optional<KeyframeOutput> Coast(double stamp_s);
+  // Integrates a reading taken (or coasted), the keyframe decision, the outputs.
+  std::optional<KeyframeOutput> Advance(const core::WheelEncoderReading& reading,
+                                        std::optional<double> previous_s);
   // Integrates `fraction` of the reading's increments, up to stamp_s.
   void Integrate(const core::WheelEncoderReading& reading, double fraction, double stamp_s);
   // The keyframe decision at stamp_s, with the frame whose turn it is.

@@ -94,6 +94,7 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
                      {"camera_age_s", k.sensors.camera_age_s},
                      {"lidar_age_s", k.sensors.lidar_age_s},
                      {"odometry_frozen", k.sensors.odometry_frozen},
+                     {"odometry_ok", k.sensors.odometry_ok},
                      {"degraded_mode", k.sensors.degraded_mode}};
   return line;
 }
@@ -102,8 +103,12 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
   return {{"wheel_readings", c.wheel_readings},
           {"wheel_dropped_non_finite", c.wheel_dropped_non_finite},
           {"wheel_dropped_out_of_order", c.wheel_dropped_out_of_order},
+          {"wheel_dropped_duplicate", c.wheel_dropped_duplicate},
+          {"wheel_late_merged", c.wheel_late_merged},
+          {"clock_jumps", c.clock_jumps},
           {"wheel_before_start", c.wheel_before_start},
           {"wheel_dropped_frozen", c.wheel_dropped_frozen},
+          {"wheel_coasted", c.wheel_coasted},
           {"odometry_gaps", c.odometry_gaps},
           {"frames", c.frames},
           {"frames_used", c.frames_used},
@@ -111,10 +116,12 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"frames_superseded", c.frames_superseded},
           {"frames_unreadable", c.frames_unreadable},
           {"frames_dropped_late", c.frames_dropped_late},
+          {"frames_dropped_ahead", c.frames_dropped_ahead},
           {"scans", c.scans},
           {"scans_dropped_bad", c.scans_dropped_bad},
           {"scans_dropped_out_of_order", c.scans_dropped_out_of_order},
           {"scans_before_start", c.scans_before_start},
+          {"scans_dropped_ahead", c.scans_dropped_ahead},
           {"scans_matched", c.scans_matched},
           {"keyframes", c.keyframes},
           {"solve_failures", c.solve_failures},

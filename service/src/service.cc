@@ -165,6 +165,16 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     }
     return nullptr;
   };
+  // The injected clock steps of all sensors at a data time.
+  const auto clock_shift_s = [&m, first_s](double stamp_s) {
+    double shift_s = 0.0;
+    for (const InjectedFault& f : m.config.faults) {
+      if (f.sensor == InjectedFault::Sensor::kClock && stamp_s - first_s >= f.from_s)
+        shift_s += f.by_s;
+    }
+    return shift_s;
+  };
+  std::optional<EstimatorEvent> swapped;  // odometry "reorder": held for one reading
   if (m.dds_inputs) m.DdsInputLoop(stop);
   for (int pass = 0; pass < m.config.replay_loops && replayed.ok() && !stop.load() && !m.dds_inputs;
        ++pass) {
@@ -174,12 +184,13 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
       replayed = streams.status();
       break;
     }
-    const double shift_s = pass * period_s;
+    const double pass_s = pass * period_s;
     ReplayOptions options;
     options.speed = m.config.replay_speed;
-    options.start_after_s = m.resume_after_s - shift_s;
+    options.start_after_s = m.resume_after_s - pass_s;
     options.stop = [&stop] { return stop.load(); };
     core::Result<ReplayStats> stats = ReplayEvents(*streams, options, [&](core::DatasetEvent& e) {
+      const double shift_s = pass_s + clock_shift_s(e.stamp_s);
       m.replay_now_s.store(e.stamp_s + shift_s);
       if (e.kind == core::DatasetEvent::Kind::kFrame && !m.config.camera_uri.empty()) return;
       switch (e.kind) {
@@ -187,11 +198,21 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
           EstimatorEvent event;
           event.wheel = e.wheel;
           event.wheel.stamp_s += shift_s;
-          if (const InjectedFault* f = faulty(InjectedFault::Sensor::kOdometry, e.stamp_s)) {
+          const InjectedFault* f = faulty(InjectedFault::Sensor::kOdometry, e.stamp_s);
+          if (f && (f->kind == "nan" || f->kind == "frozen")) {
             const double value = f->kind == "nan" ? std::numeric_limits<double>::quiet_NaN() : 0.0;
             event.wheel.left_delta_rad = event.wheel.right_delta_rad = value;
           }
+          if (f && f->kind == "duplicate") m.events.PushWait(EstimatorEvent(event));
+          if (f && f->kind == "reorder" && !swapped) {
+            swapped = std::move(event);  // delivered after the next reading
+            break;
+          }
           m.events.PushWait(std::move(event));
+          if (swapped) {
+            m.events.PushWait(std::move(*swapped));
+            swapped.reset();
+          }
           break;
         }
         case core::DatasetEvent::Kind::kScan: {
@@ -217,6 +238,10 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
         }
       }
     });
+    if (swapped) {
+      m.events.PushWait(std::move(*swapped));
+      swapped.reset();
+    }
     replayed = stats.status();
   }
   const double cpu_replay_s = ThreadCpuSeconds() - cpu_start_s;
@@ -293,6 +318,7 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
     const Impl::FaultTrack& t = m.fault_tracks[i];
     const char* sensor = f.sensor == InjectedFault::Sensor::kCamera  ? "camera"
                          : f.sensor == InjectedFault::Sensor::kLidar ? "lidar"
+                         : f.sensor == InjectedFault::Sensor::kClock ? "clock"
                                                                      : "odometry";
     j["faults"].push_back(
         {{"sensor", sensor},

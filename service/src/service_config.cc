@@ -126,19 +126,28 @@ core::Status ServiceConfig::Validate() const {
   for (std::size_t i = 0; i < faults.size(); ++i) {
     const InjectedFault& f = faults[i];
     const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
-    const bool known = f.sensor == InjectedFault::Sensor::kCamera
-                           ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
-                       : f.sensor == InjectedFault::Sensor::kLidar
-                           ? f.kind == "silent"
-                           : (f.kind == "nan" || f.kind == "frozen");
+    using Sensor = InjectedFault::Sensor;
+    const bool known =
+        f.sensor == Sensor::kCamera
+            ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
+        : f.sensor == Sensor::kLidar ? f.kind == "silent"
+        : f.sensor == Sensor::kClock
+            ? f.kind == "jump"
+            : (f.kind == "nan" || f.kind == "frozen" || f.kind == "reorder" ||
+               f.kind == "duplicate");
     if (!known) {
       return core::Status::Error(at +
                                  ".kind: expected camera silent|blackout|corrupt, lidar "
-                                 "silent, odometry nan|frozen, got '" +
+                                 "silent, odometry nan|frozen|reorder|duplicate, clock jump, got '" +
                                  f.kind + "'");
     }
-    if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 &&
-          f.to_s > f.from_s)) {
+    if (f.sensor == Sensor::kClock) {
+      if (!(std::isfinite(f.from_s) && f.from_s >= 0.0 && std::isfinite(f.by_s) &&
+            f.by_s != 0.0 && std::abs(f.by_s) <= 1e7)) {
+        return core::Status::Error(at + ": expected from_s >= 0 and a finite by_s != 0 [s]");
+      }
+    } else if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 &&
+                 f.to_s > f.from_s)) {
       return core::Status::Error(at + ": expected 0 <= from_s < to_s");
     }
   }
@@ -231,7 +240,7 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
         for (std::size_t i = 0; i < faults.size() && y.ok(); ++i) {
           const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
           if (!y.ExpectMap(faults[i], at)) break;
-          y.CheckKeys(faults[i], at, {"sensor", "kind", "from_s", "to_s"});
+          y.CheckKeys(faults[i], at, {"sensor", "kind", "from_s", "to_s", "by_s"});
           InjectedFault f;
           const std::string sensor = y.Text(faults[i], at, "sensor");
           if (sensor == "camera") {
@@ -240,12 +249,19 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
             f.sensor = InjectedFault::Sensor::kLidar;
           } else if (sensor == "odometry") {
             f.sensor = InjectedFault::Sensor::kOdometry;
+          } else if (sensor == "clock") {
+            f.sensor = InjectedFault::Sensor::kClock;
           } else if (y.ok()) {
-            y.Fail(faults[i]["sensor"], at + ".sensor", "camera, lidar or odometry", sensor);
+            y.Fail(faults[i]["sensor"], at + ".sensor", "camera, lidar, odometry or clock",
+                   sensor);
           }
           f.kind = y.Text(faults[i], at, "kind");
           f.from_s = y.Number(faults[i], at, "from_s");
-          f.to_s = y.Number(faults[i], at, "to_s");
+          if (f.sensor == InjectedFault::Sensor::kClock) {
+            f.by_s = y.Number(faults[i], at, "by_s");
+          } else {
+            f.to_s = y.Number(faults[i], at, "to_s");
+          }
           c.faults.push_back(f);
         }
       }

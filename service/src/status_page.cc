@@ -69,8 +69,10 @@ async function tick() {
       row('odometry in', rate('wheel_readings')) + row('frames in', rate('frames')) + row('scans in', rate('scans')) +
       row('frames dropped (queue full)', h.camera_stage.dropped_queue_full, h.camera_stage.dropped_queue_full ? 'bad' : '') +
       row('frames unreadable', c.frames_unreadable + h.camera_stage.unreadable) +
-      row('readings dropped', c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order) +
-      row('scans dropped', c.scans_dropped_bad + c.scans_dropped_out_of_order) +
+      row('readings dropped', c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order + c.wheel_dropped_duplicate + c.wheel_dropped_frozen) +
+      row('readings late (merged)', c.wheel_late_merged) +
+      row('clock jumps', c.clock_jumps, c.clock_jumps ? 'bad' : '') +
+      row('scans dropped', c.scans_dropped_bad + c.scans_dropped_out_of_order + c.scans_dropped_ahead) +
       row('lines used / rejected (last)', (k.lines_used ?? '-') + ' / ' + (k.lines_rejected ?? '-')) +
       row('LiDAR degenerate (last)', k.lidar_degenerate === undefined ? '-' : k.lidar_degenerate, k.lidar_degenerate ? 'bad' : 'ok') +
       row('walls used (last)', k.walls_used ?? '-') +

@@ -75,8 +75,8 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
     if (auto out = noisy->AddWheelReading(Straight(k))) noisy_out.push_back(*out);
     if (k % 50 == 0) {
       EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));                       // duplicate
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 3)));                   // out of order
-      EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS + 0.001, nan, 0.0}));  // NaN
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 10)));  // 0.1 s behind: out of order
+      EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS, nan, 0.0}));  // NaN at a taken stamp
       EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));                   // NaN stamp
     }
   }
@@ -89,9 +89,91 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
   }
   const LocalizerCounters& c = noisy->counters();
   EXPECT_EQ(c.wheel_readings, 300 + 6 * 4);
-  EXPECT_EQ(c.wheel_dropped_out_of_order, 6 * 2);
+  EXPECT_EQ(c.wheel_dropped_duplicate, 6);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 6);
+  EXPECT_EQ(c.clock_jumps, 0);
   EXPECT_EQ(c.wheel_dropped_non_finite, 6 * 2);
   EXPECT_NEAR(noisy->Current().T_map_base.x(), 3.0, 1e-9);
+}
+
+TEST(Localizer, LateReadingsWithinTheToleranceAreMergedSoThatNoMotionIsLost) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  // Every 7th pair of readings swapped in transport; the second of a swapped
+  // pair is late by one reading (10 ms, tolerance 50 ms), then sent again.
+  int swapped = 0;
+  for (int k = 1; k <= 300; ++k) {
+    if (k % 7 == 0 && k < 300) {
+      localizer->AddWheelReading(Straight(k + 1));
+      localizer->AddWheelReading(Straight(k));
+      localizer->AddWheelReading(Straight(k));  // a duplicate of the late one
+      ++swapped;
+      ++k;
+      continue;
+    }
+    localizer->AddWheelReading(Straight(k));
+  }
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.wheel_late_merged, swapped);
+  EXPECT_EQ(c.wheel_dropped_duplicate, swapped);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 0);
+  // Each late reading's centimetre joined the next one: 3 m in all.
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 3.0);
+}
+
+TEST(Localizer, ABackwardClockJumpKeepsTheEstimateContinuousOnTheSourcesNewClock) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLines;
+  options.blind_keyframe_m = 0.5;
+  std::unique_ptr<Localizer> localizer = std::move(Localizer::Create(options, Vehicle())).value();
+  ASSERT_TRUE(localizer->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  std::vector<KeyframeOutput> keyframes;
+  for (int k = 1; k <= 200; ++k) {
+    if (auto out = localizer->AddWheelReading(Straight(k))) keyframes.push_back(*out);
+  }
+  // A few stray old readings are not a jump: dropped.
+  for (int k = 100; k < 103; ++k) localizer->AddWheelReading(Straight(k));
+  localizer->AddWheelReading(Straight(201));
+  EXPECT_EQ(localizer->counters().wheel_dropped_out_of_order, 3);
+  EXPECT_EQ(localizer->counters().clock_jumps, 0);
+  const std::size_t before_jump = keyframes.size();
+  // At 2.01 s the source's clock steps back by 1000 s; the drive goes on.
+  constexpr double kJumpS = 1000.0;
+  for (int k = 202; k <= 400; ++k) {
+    core::WheelEncoderReading r = Straight(k);
+    r.stamp_s -= kJumpS;
+    if (auto out = localizer->AddWheelReading(r)) keyframes.push_back(*out);
+    if (k == 280) {
+      // A frame on the new clock is used; one still on the old clock is
+      // far ahead of the odometry: dropped.
+      ConvertedObservations seen;
+      seen.observations.stamp_s = 2.805 - kJumpS;
+      localizer->AddFloorObservations(seen);
+      seen.observations.stamp_s = 2.815;
+      localizer->AddFloorObservations(seen);
+    }
+  }
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.clock_jumps, 1);
+  EXPECT_EQ(c.wheel_dropped_out_of_order, 3);
+  EXPECT_EQ(c.frames_dropped_ahead, 1);
+  EXPECT_EQ(c.frames_used, 1);
+  // No motion lost over the jump (the readings that revealed it are taken),
+  // and the outputs carry the new clock.
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 4.0, 1e-9);
+  EXPECT_NEAR(localizer->Current().stamp_s, 4.0 - kJumpS, 1e-9);
+  ASSERT_GE(keyframes.size(), before_jump + 3);
+  for (std::size_t i = before_jump; i < keyframes.size(); ++i) {
+    EXPECT_LT(keyframes[i].stamp_s, 4.0 - kJumpS + 1e-9);
+    EXPECT_NEAR(keyframes[i].pose.T_map_base.x(), keyframes[i].stamp_s + kJumpS, 1e-6);
+    if (i > before_jump) {
+      EXPECT_GT(keyframes[i].stamp_s, keyframes[i - 1].stamp_s);
+    }
+  }
+  const std::optional<PoseEstimate> mid = localizer->PoseAt(3.555 - kJumpS);
+  ASSERT_TRUE(mid.has_value());
+  EXPECT_NEAR(mid->T_map_base.x(), 3.555, 1e-9);
+  EXPECT_DOUBLE_EQ(mid->stamp_s, 3.555 - kJumpS);
 }
 
 TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion) {
@@ -108,17 +190,26 @@ TEST(Localizer, AGapInTheReadingsIsCountedAndWidensTheOdometryByTheUnknownMotion
   EXPECT_GT(std::sqrt(localizer->Current().covariance(2, 2)), 1.9);
 }
 
-TEST(Localizer, FrozenEncodersAreDroppedAndTheMotionOverThemWidensTheOdometry) {
+TEST(Localizer, FrozenEncodersAreDroppedAndTheEstimateCoastsOverThemWithAGrowingCovariance) {
   std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
   for (int k = 1; k <= 50; ++k) localizer->AddWheelReading(Straight(k));  // 1 m/s
   const double before_m2 = localizer->Current().covariance(0, 0);
   for (int k = 51; k <= 150; ++k) localizer->AddWheelReading({k * kPeriodS, 0.0, 0.0});
   EXPECT_EQ(localizer->counters().wheel_dropped_frozen, 100);
+  EXPECT_EQ(localizer->counters().wheel_coasted, 100);
   EXPECT_TRUE(localizer->Sensors().odometry_frozen);
+  EXPECT_FALSE(localizer->Sensors().odometry_ok);
+  // The outputs went on at the last wheel speeds: 1 m/s for the frozen second.
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 1.50);
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 1.50, 1e-9);
+  // The speed error grows with the time since the last good reading: 2 m/s x 1 s.
+  const LocalizerOptions defaults;
+  EXPECT_NEAR(std::sqrt(localizer->Current().covariance(0, 0) - before_m2),
+              defaults.odometry_gap_speed_mps * 1.0, 0.05);
   localizer->AddWheelReading(Straight(151));  // the wheels report again
   EXPECT_FALSE(localizer->Sensors().odometry_frozen);
-  EXPECT_EQ(localizer->counters().odometry_gaps, 1);
-  EXPECT_GT(localizer->Current().covariance(0, 0) - before_m2, 1.0);  // ~2 m sigma over 1 s
+  EXPECT_EQ(localizer->counters().odometry_gaps, 0);
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 1.51, 1e-9);
 
   // A real stop decelerates: zero increments after a slow reading are kept.
   std::unique_ptr<Localizer> stopping = Make(LocalizerMode::kOdometry);
@@ -163,6 +254,34 @@ TEST(Localizer, OdometryIncrementsDriveItAsTheWheelReadingsTheyCameFrom) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(increments->AddOdometryIncrement(4.5, core::SE2(nan, 0.0, 0.0)));
   EXPECT_EQ(increments->counters().wheel_dropped_non_finite, 1);
+}
+
+TEST(Localizer, NonFiniteReadingsWithStampsAreCoastedOverUpToMaxCoastThenAreAGap) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  for (int k = 101; k <= 150; ++k) localizer->AddWheelReading({k * kPeriodS, nan, nan});
+  EXPECT_EQ(localizer->counters().wheel_dropped_non_finite, 50);
+  EXPECT_EQ(localizer->counters().wheel_coasted, 50);
+  EXPECT_DOUBLE_EQ(localizer->Current().stamp_s, 1.50);
+  EXPECT_EQ(localizer->Sensors().degraded_mode, "none");  // nothing measures the motion
+  for (int k = 151; k <= 300; ++k) localizer->AddWheelReading(Straight(k));
+  EXPECT_TRUE(localizer->Sensors().odometry_ok);
+  EXPECT_EQ(localizer->Sensors().degraded_mode, "full");
+  EXPECT_NEAR(localizer->Current().T_map_base.x(), 3.0, 1e-9);
+
+  // Longer than max_coast_s: the outputs stop there; the rest is a gap.
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kOdometry;
+  options.max_coast_s = 0.2;
+  std::unique_ptr<Localizer> brief = std::move(Localizer::Create(options, Vehicle())).value();
+  ASSERT_TRUE(brief->SetInitialPose(0.0, core::SE2(), StartCovariance()).ok());
+  for (int k = 1; k <= 100; ++k) brief->AddWheelReading(Straight(k));
+  for (int k = 101; k <= 200; ++k) brief->AddWheelReading({k * kPeriodS, nan, nan});
+  EXPECT_EQ(brief->counters().wheel_coasted, 20);
+  EXPECT_DOUBLE_EQ(brief->Current().stamp_s, 1.20);
+  brief->AddWheelReading(Straight(201));
+  EXPECT_EQ(brief->counters().odometry_gaps, 1);
 }
 
 TEST(Localizer, PoseAtInterpolatesTheOdometryRateHistory) {

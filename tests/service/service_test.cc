@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <fstream>
 #include <thread>
 
@@ -238,6 +239,56 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
       EXPECT_LT(error.norm(), 0.10);
     }
   }
+}
+
+TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP()
+      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+#endif
+  const auto dir = testing::ScratchDir("service_time");
+  const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(30.0, 9, dir / "drive");
+  ASSERT_TRUE(simulated.has_value());
+  constexpr double kJumpS = -500.0;  // the clock steps back 500 s at 10 s
+  const auto run = [&](const std::vector<InjectedFault>& faults, const std::string& name) {
+    ServiceConfig config;
+    config.replay_dataset = (dir / "drive").string();
+    config.replay_speed = 0.0;
+    config.output_dir = (dir / name).string();
+    config.http_enabled = false;
+    config.resume = false;
+    config.faults = faults;
+    core::Result<std::unique_ptr<Service>> service = Service::Create(config);
+    EXPECT_TRUE(service.ok()) << service.message();
+    std::atomic<bool> never{false};
+    core::Result<nlohmann::ordered_json> summary = (*service)->Run(never);
+    EXPECT_TRUE(summary.ok()) << summary.message();
+    return std::move(summary).value();
+  };
+  const auto error_m = [&](const nlohmann::ordered_json& end, double clock_s) {
+    const core::SE2 truth = core::InterpolatePose(simulated->dataset.ground_truth,
+                                                  end["stamp_s"].get<double>() - clock_s);
+    return std::hypot(end["pose"]["x_m"].get<double>() - truth.x(),
+                      end["pose"]["y_m"].get<double>() - truth.y());
+  };
+  const nlohmann::ordered_json clean = run({}, "clean");
+  InjectedFault reorder{InjectedFault::Sensor::kOdometry, "reorder", 3.0, 7.0};
+  InjectedFault duplicate{InjectedFault::Sensor::kOdometry, "duplicate", 12.0, 16.0};
+  InjectedFault jump{InjectedFault::Sensor::kClock, "jump", 10.0, 0.0, kJumpS};
+  const nlohmann::ordered_json faulty = run({reorder, duplicate, jump}, "faulty");
+  const nlohmann::ordered_json& c = faulty["counters"];
+  EXPECT_EQ(c["clock_jumps"].get<long>(), 1);
+  EXPECT_GE(c["wheel_late_merged"].get<long>(), 150);        // ~200 swapped pairs in 4 s
+  EXPECT_GE(c["wheel_dropped_duplicate"].get<long>(), 350);  // ~400 readings in 4 s
+  EXPECT_EQ(c["wheel_dropped_out_of_order"].get<long>(), 0);
+  EXPECT_LT(c["scans_dropped_out_of_order"].get<long>() + c["scans_dropped_ahead"].get<long>(), 5);
+  // The outputs follow the source's new clock, and the pose is as good as
+  // without the faults.
+  EXPECT_NEAR(faulty["stamp_s"].get<double>(), clean["stamp_s"].get<double>() + kJumpS, 0.05);
+  const double clean_m = error_m(clean, 0.0);
+  const double faulty_m = error_m(faulty, kJumpS);
+  EXPECT_LT(clean_m, 0.10);
+  EXPECT_LT(faulty_m, clean_m + 0.03) << "clean " << clean_m << " m";
 }
 
 }  // namespace

@@ -105,6 +105,12 @@ struct LocalizerOptions {
   // Exactly zero wheel increments right after a speed above this are frozen
   // encoders, not a stop (dropped and counted until the wheels turn again).
   double frozen_speed_mps = 0.2;
+  // Wheel readings with non-finite or frozen increments but a valid stamp:
+  // for up to this long the estimate coasts on the last good wheel speeds,
+  // its covariance growing as odometry_gap_speed_mps / _yaw_rate_radps times
+  // the time since, so that keyframes, the LiDAR and the lines go on (the
+  // degraded mode "lines+lidar"); longer outages are a gap [s]. 0: no coasting.
+  double max_coast_s = 5.0;
   // Odometry kept for interpolation at scan, ray and query times [s].
   double odometry_history_s = 3.0;
   // Wheel readings further apart than this are counted as a gap (a stalled
@@ -115,6 +121,23 @@ struct LocalizerOptions {
   double max_frame_lag_s = 0.5;
   // A sensor is reported stale in the health after this long without data [s].
   double stale_after_s = 1.0;
+  // Time. All sensors share one clock (the dataset's and ROS 2's convention).
+  // A wheel reading at most this far behind the newest one arrived late (a
+  // reordering transport): its increments join the next reading, so that no
+  // motion is lost; one at the time of a recent reading is a duplicate
+  // (dropped); one further behind is out of order (dropped) [s].
+  double reorder_tolerance_s = 0.05;
+  // This many consecutive out-of-order readings, each after the one before:
+  // the clock jumped back (a time step of the source). The localizer then
+  // keeps its own time continuous: every later stamp of every sensor is
+  // shifted by the jump on the way in and back on the way out (outputs carry
+  // the source's new clock). A forward jump cannot be told from lost
+  // readings: it is a gap (max_odometry_gap_s).
+  int clock_jump_readings = 10;
+  // A scan or frame stamped more than this after the newest wheel reading is
+  // dropped (counted): its clock is not the odometry's, e.g. a sensor still
+  // on the clock from before a jump [s].
+  double max_sensor_lead_s = 2.0;
 
   core::Status Validate() const;
   // The full system's preset: floor lines + odometry + the LiDAR in the
@@ -144,9 +167,13 @@ struct LocalizerSetup {
 struct LocalizerCounters {
   long wheel_readings = 0;
   long wheel_dropped_non_finite = 0;
-  long wheel_dropped_out_of_order = 0;  // stamp not after the previous one (duplicates too)
+  long wheel_dropped_out_of_order = 0;  // more than reorder_tolerance_s behind the newest
+  long wheel_dropped_duplicate = 0;     // the stamp of a reading already taken
+  long wheel_late_merged = 0;           // late within reorder_tolerance_s: merged, not lost
+  long clock_jumps = 0;                 // the source clock jumped back (clock_jump_readings)
   long wheel_before_start = 0;          // before the start pose was known
   long wheel_dropped_frozen = 0;        // zero increments right after driving (frozen encoders)
+  long wheel_coasted = 0;               // non-finite or frozen readings the estimate coasted over
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
@@ -154,10 +181,12 @@ struct LocalizerCounters {
   long frames_superseded = 0;    // a newer frame arrived before this one's turn
   long frames_unreadable = 0;    // the loader or the front end failed
   long frames_dropped_late = 0;  // max_frame_lag_s behind, or before the start
+  long frames_dropped_ahead = 0; // max_sensor_lead_s ahead of the odometry
   long scans = 0;
   long scans_dropped_bad = 0;
   long scans_dropped_out_of_order = 0;
   long scans_before_start = 0;
+  long scans_dropped_ahead = 0;  // max_sensor_lead_s ahead of the odometry
   long scans_matched = 0;
   long keyframes = 0;
   long solve_failures = 0;
@@ -190,7 +219,11 @@ struct SensorState {
   double camera_age_s = -1.0;  // since the last frame (-1: none yet)
   double lidar_age_s = -1.0;
   bool odometry_frozen = false;  // the encoders report no motion while driving
-  // "full", "lines+odometry", "lidar+odometry", "odometry", by what was used lately.
+  // No frozen or non-finite reading within stale_after_s.
+  bool odometry_ok = true;
+  // "full" when every configured sensor is ok; else the '+'-joined list of
+  // those that are ("lines", "lidar", "odometry"), e.g. "lidar+odometry" with
+  // a blind camera, "lines+lidar" with frozen encoders; "none".
   std::string degraded_mode;
 };
 

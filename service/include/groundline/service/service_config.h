@@ -18,13 +18,17 @@ namespace groundline::service {
 // vehicle's config has none): over [from_s, to_s) of data time after the
 // replay's first event.
 struct InjectedFault {
-  enum class Sensor { kCamera, kLidar, kOdometry } sensor = Sensor::kCamera;
+  enum class Sensor { kCamera, kLidar, kOdometry, kClock } sensor = Sensor::kCamera;
   // camera: silent (unplugged: no frames), blackout (black frames), corrupt
   // (undecodable frames); lidar: silent; odometry: nan (non-finite
-  // increments), frozen (zero increments while the vehicle moves).
+  // increments), frozen (zero increments while the vehicle moves), reorder
+  // (every other pair of readings swapped in transport), duplicate (every
+  // reading delivered twice); clock: jump (every stamp of every sensor from
+  // from_s on moves by by_s; to_s is not used).
   std::string kind;
   double from_s = 0.0;
   double to_s = 0.0;
+  double by_s = 0.0;  // clock jump [s] (< 0: back)
 };
 
 // inputs.dds: the sensor streams from ROS 2 topics over DDS (docs/dds.md)
