@@ -250,10 +250,11 @@ TEST(Localizer, OdometryIncrementsDriveItAsTheWheelReadingsTheyCameFrom) {
     EXPECT_TRUE(from_increments[i].pose.covariance.isApprox(from_wheels[i].pose.covariance, 1e-6));
   }
   EXPECT_TRUE(increments->Current().T_map_base.IsApprox(base_driver.T_odom_base(), 1e-9, 1e-9));
-  // A non-finite increment is dropped and counted like a non-finite reading.
+  // A non-finite increment is counted (and coasted over) as a non-finite reading.
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(increments->AddOdometryIncrement(4.5, core::SE2(nan, 0.0, 0.0)));
+  increments->AddOdometryIncrement(4.01, core::SE2(nan, 0.0, 0.0));
   EXPECT_EQ(increments->counters().wheel_dropped_non_finite, 1);
+  EXPECT_EQ(increments->counters().wheel_coasted, 1);
 }
 
 TEST(Localizer, NonFiniteReadingsWithStampsAreCoastedOverUpToMaxCoastThenAreAGap) {
