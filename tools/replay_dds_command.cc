@@ -263,11 +263,12 @@ int RunReplay(const ReplayFlags& f) {
       "replay-dds: published %zu wheel readings, %zu scans, %zu images over %.3f s of data\n",
       sent_wheels, sent_scans, sent_images, stats->last_stamp_s - stats->first_stamp_s);
   std::fflush(stdout);
-  // Reliable data still in flight is lost if the participant goes at once.
+  // Reliable data still in flight is lost if the participant goes at once
+  // (keep-all writers: a reader slowed by its host may take longer to acknowledge).
   for (const io::DdsEntity* w :
        {pub.odom ? &pub.odom->writer() : nullptr, pub.joints ? &pub.joints->writer() : nullptr,
         pub.scan ? &pub.scan->writer() : nullptr, pub.image ? &pub.image->writer() : nullptr}) {
-    if (w != nullptr) dds_wait_for_acks(w->get(), DDS_SECS(5));
+    if (w != nullptr) dds_wait_for_acks(w->get(), f.lossless ? DDS_SECS(60) : DDS_SECS(5));
   }
   return 0;
 }

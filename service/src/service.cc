@@ -253,7 +253,7 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   m.events.Close();
   estimator_thread.join();
   // The last pose and transform reach reliable subscribers before the exit.
-  if (m.dds_outputs) m.dds_outputs->WaitForAcknowledgements(std::chrono::seconds(2));
+  if (m.dds_outputs) m.dds_outputs->WaitForAcknowledgements(std::chrono::seconds(5));
   const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
   // The state a restart resumes from, and the summary.

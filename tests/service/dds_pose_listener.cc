@@ -1,12 +1,15 @@
 // service_dds_pose_listener: the ROS 2 side of the service's DDS outputs, for
 // the end-to-end test and scripts/dds_demo.sh. Subscribes to
-// <prefix>groundline/pose (reliable, transient local) and <prefix>tf
-// (map -> odom; read keep-all, so that a busy listener counts every one), writes the poses as TUM,
-// and prints how many arrived and how late: receive wall time minus the pose's stamp, and for map
-// -> odom minus its stamp less the transform tolerance (the odometry reading it was computed at).
-// The latencies mean something only for wall-clock stamps. Prints "listener: matched" once both
-// topics have a publisher. Ends on SIGINT/SIGTERM, after
-// --idle seconds without a message once one came, or after --timeout seconds.
+// <prefix>groundline/pose and <prefix>tf (map -> odom), both reliable
+// keep-all so that a busy listener still counts every message (a ROS 2 node
+// would read the pose transient local, depth 1: the latest). Writes the
+// poses as TUM and prints how many arrived and how late: receive wall time
+// minus the pose's stamp, and for map -> odom minus its stamp less the
+// transform tolerance (the odometry reading it was computed at). The
+// latencies mean something only for wall-clock stamps. Prints
+// "listener: matched" once both topics have a publisher. Ends on
+// SIGINT/SIGTERM, after --idle seconds without a message once one came, or
+// after --timeout seconds.
 //   service_dds_pose_listener --out FILE.tum [--prefix rt/] [--stamp-offset S]
 //       [--tf-tolerance S] [--idle S] [--timeout S]
 // --stamp-offset is subtracted from the stamps written to the TUM file
@@ -48,7 +51,7 @@ int Run(const std::string& out_path, const std::string& prefix, double offset_s,
     return 1;
   }
   auto pose = io::DdsSubscriber<io::RosPoseWithCovarianceStamped>::Create(
-      *participant, prefix + "groundline/pose", io::QosPreset::kPoseOutput);
+      *participant, prefix + "groundline/pose", io::QosPreset::kLossless);
   auto tf = io::DdsSubscriber<io::RosTfMessage>::Create(*participant, prefix + "tf",
                                                         io::QosPreset::kLossless);
   if (!pose.ok() || !tf.ok()) {
