@@ -2,7 +2,8 @@
 // small synthetic dataset over loopback DDS; this process receives it through
 // DdsInputs and checks every stream against the dataset: odometry equals the
 // causal diff-drive integration of the wheel readings, joint-state
-// increments equal the encoder deltas, scans equal the dataset's scans.
+// increments equal the encoder deltas, scans equal the dataset's scans
+// (stamped at their first ray).
 #include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -16,6 +17,7 @@
 #include "dds_test_env.h"
 #include "groundline/core/dataset.h"
 #include "groundline/io/dds_inputs.h"
+#include "groundline/localization/lidar/scan_odometry.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "test_data.h"
 
@@ -121,7 +123,14 @@ TEST(DdsReplayTest, ReplayedStreamsEqualTheDataset) {
     EXPECT_NEAR(wheels[i].right_delta_rad, i == 0 ? 0.0 : r.right_delta_rad, 1e-9);
   }
   ASSERT_EQ(scans.size(), d.scans.size());
+  ASSERT_TRUE(d.manifest.lidar.has_value());
   for (std::size_t i = 0; i < d.scans.size(); ++i) {
+    // ROS stamps a scan at its first ray; a mid-sweep dataset's is half a sweep later.
+    const double sweep_s = localization::lidar::MidSweepOffsetS(
+        d.scans[i].ranges_m.size(), d.scans[i].angle_increment_rad, d.manifest.lidar->rate_hz);
+    const bool mid_sweep = d.manifest.lidar->stamp == core::LidarStamp::kMidSweep;
+    EXPECT_NEAR(scans[i].stamp_s, d.scans[i].stamp_s - (mid_sweep ? sweep_s : 0.0), 1e-6)
+        << "scan " << i;
     ASSERT_EQ(scans[i].ranges_m.size(), d.scans[i].ranges_m.size());
     for (std::size_t k = 0; k < scans[i].ranges_m.size(); ++k) {
       // float32 on the wire: 1e-7 relative.
