@@ -49,6 +49,10 @@ const char* RosTypeOf(DdsInput input) {
 
 core::Status DdsInputsOptions::Validate() const {
   if (core::Status s = stamp_window.Validate(); !s.ok()) return s.WithContext("DdsInputsOptions");
+  if (clock_step_messages < 2) {
+    return core::Status::Error("DdsInputsOptions: clock_step_messages: expected >= 2, got " +
+                               std::to_string(clock_step_messages));
+  }
   const std::string* topics[] = {&odometry_topic, &joint_state_topic, &scan_topic, &image_topic,
                                  &initial_pose_topic};
   bool any = false;
@@ -81,6 +85,8 @@ struct DdsInputs::Impl {
   std::optional<DdsWaitSet> waitset;  // after the subscribers: destroyed first
   std::array<DdsInputCounters, kNumDdsInputs> counters;
   std::array<std::optional<double>, kNumDdsInputs> last_stamp_s;
+  // Per topic: the consecutive messages older than the newest accepted.
+  std::array<std::vector<double>, kNumDdsInputs> older_run;
   std::optional<double> newest_stamp_s;
   std::optional<std::pair<double, double>> last_wheel_angles_rad;
   // Accepted messages of one Poll, converted, waiting to be merged by stamp.
@@ -116,6 +122,17 @@ struct DdsInputs::Impl {
     core::Status s = valid;
     const double stamp_s = FromRosTime(header.stamp);
     std::optional<double>& last = last_stamp_s[static_cast<int>(which)];
+    std::vector<double>& run = older_run[static_cast<int>(which)];
+    if (s.ok() && last && stamp_s <= *last) {
+      if (!run.empty() && !(stamp_s > run.back())) run.clear();
+      run.push_back(stamp_s);
+      if (static_cast<int>(run.size()) >= options.clock_step_messages) {
+        ++c.clock_steps;  // the sender's clock stepped back: its order restarts here
+        last.reset();
+      }
+    } else if (s.ok()) {
+      run.clear();
+    }
     if (s.ok() && last && stamp_s <= *last) {
       s = core::Status::Error(std::string(RosTypeOf(which)) + ": field 'header.stamp': " +
                               std::to_string(stamp_s) + " s is not after the previous " +
@@ -127,6 +144,7 @@ struct DdsInputs::Impl {
       return false;
     }
     ++c.accepted;
+    if (!last) run.clear();
     last = stamp_s;
     if (!newest_stamp_s || stamp_s > *newest_stamp_s) newest_stamp_s = stamp_s;
     return true;

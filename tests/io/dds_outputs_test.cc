@@ -196,6 +196,38 @@ TEST_F(DdsOutputsTest, OnePollDeliversSensorDataInStampOrder) {
   EXPECT_EQ(order, want);
 }
 
+TEST_F(DdsOutputsTest, OlderMessagesAreDroppedUntilARunOfThemRevealsAClockStep) {
+  std::vector<double> stamps;
+  DdsInputCallbacks cb;
+  cb.on_odometry = [&](const PlanarOdometry& o) { stamps.push_back(o.stamp_s); };
+  DdsInputsOptions options;
+  options.odometry_topic = prefix_ + "odom_order";
+  options.joint_state_topic = options.scan_topic = options.image_topic =
+      options.initial_pose_topic = "";
+  options.stamp_reference = StampReference::kNone;
+  options.sensor_qos = QosPreset::kLossless;
+  options.clock_step_messages = 4;
+  core::Result<DdsInputs> inputs = DdsInputs::Create(*participant_, options, cb);
+  ASSERT_TRUE(inputs.ok()) << inputs.message();
+  auto odom = DdsPublisher<RosOdometry>::Create(*participant_, options.odometry_topic,
+                                                QosPreset::kLossless);
+  ASSERT_TRUE(odom.ok());
+  // 3.0 arrives after 4.0 (a reordering transport: an absolute pose older
+  // than the newest adds nothing), 4.0 twice; then the sender's clock steps
+  // back by 100 s and the drive goes on.
+  for (double t : {1.0, 2.0, 4.0, 3.0, 4.0, 5.0, -95.0, -94.0, -93.0, -92.0, -91.0, -90.0}) {
+    PlanarOdometry o;
+    o.stamp_s = t;
+    ASSERT_TRUE(odom->Write(ToOdometry(o).msg()).ok());
+    ASSERT_TRUE(inputs->Poll(std::chrono::milliseconds(1000)).ok());
+  }
+  const DdsInputCounters& c = inputs->counters(DdsInput::kOdometry);
+  EXPECT_EQ(c.received, 12u);
+  EXPECT_EQ(c.clock_steps, 1u);
+  EXPECT_EQ(c.dropped, 5u);  // 3.0, the second 4.0, and -95 .. -93 before the step is clear
+  EXPECT_EQ(stamps, (std::vector<double>{1.0, 2.0, 4.0, 5.0, -92.0, -91.0, -90.0}));
+}
+
 TEST(DdsOptionsTest, ValidateNamesTheProblem) {
   DdsInputsOptions in;
   EXPECT_TRUE(in.Validate().ok());

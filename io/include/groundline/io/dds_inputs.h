@@ -66,6 +66,14 @@ struct DdsInputsOptions {
   // tests against a kLossless writer.
   QosPreset sensor_qos = QosPreset::kSensorData;
   DdsStampWindow stamp_window;
+  // A message whose stamp is not after the previous one of its topic is
+  // dropped (counted): odometry and joint states are absolute, so an older
+  // one carries no motion the newer did not. But this many consecutive
+  // older messages, each after the one before, are the sender's clock
+  // stepping back: from the last of them on, the topic's order restarts
+  // (counted in clock_steps), and the consumer sees the step (the localizer
+  // absorbs it: docs/localization.md, "Time").
+  int clock_step_messages = 10;
 
   // Ok if the window is valid, at least one topic is set, topic names start
   // with "rt/" and the wheel joint names are distinct and non-empty.
@@ -89,6 +97,7 @@ struct DdsInputCounters {
   std::uint64_t accepted = 0;
   std::uint64_t dropped = 0;
   std::string last_drop_reason;  // the validation message of the last drop
+  std::uint64_t clock_steps = 0;  // the sender's clock stepped back (clock_step_messages)
 };
 
 class DdsInputs {
