@@ -74,8 +74,15 @@ core::Status RelocalizerOptions::Validate() const {
         "relocalizer: gate_chi2 must be > 0 and unmatched_log_likelihood < -gate_chi2 / 2 (a "
         "match must score better than no match)");
   }
-  if (near_m && (!(near_radius_m > 0.0) || !(near_drift_per_m >= 0.0))) {
-    return core::Status::Error("relocalizer: near_radius_m must be > 0, near_drift_per_m >= 0");
+  if (near_m && (!near_m->allFinite() || !(near_radius_m > 0.0) || !(near_drift_per_m >= 0.0) ||
+                 !std::isfinite(near_radius_m) || !std::isfinite(near_drift_per_m))) {
+    return core::Status::Error(
+        "relocalizer: near_m must be finite, near_radius_m a finite number > 0, "
+        "near_drift_per_m >= 0");
+  }
+  if (!(hint_tie_margin > 0.0) || !(hint_contradiction_margin >= hint_tie_margin)) {
+    return core::Status::Error(
+        "relocalizer: need hint_contradiction_margin >= hint_tie_margin > 0");
   }
   if (!(commit_margin > 0.0) || !(prune_margin > commit_margin) || !(min_travel_m >= 0.0) ||
       !(max_track_m > min_travel_m) || min_matched < 1 || !(min_match_share > 0.0) ||
@@ -174,6 +181,16 @@ const std::vector<std::size_t>& Relocalizer::JunctionsNear(const Eigen::Vector2d
   return cell_junctions_[CellIndex(p_m)];
 }
 
+Eigen::Vector2d Relocalizer::StartOf(const core::SE2& T_map_base) const {
+  return (T_map_base * T_first_current_.Inverse()).translation();
+}
+
+bool Relocalizer::PriorAllows(const core::SE2& T_map_base) const {
+  return !options_.near_m ||
+         (StartOf(T_map_base) - *options_.near_m).norm() <=
+             options_.near_radius_m + options_.near_drift_per_m * travel_total_m_;
+}
+
 bool Relocalizer::IsSamePose(const core::SE2& a, const core::SE2& b) const {
   return (a.translation() - b.translation()).norm() < options_.duplicate_m &&
          std::abs(core::WrapAngle(a.yaw() - b.yaw())) < options_.duplicate_rad;
@@ -192,10 +209,13 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
     status_.travel_since_seed_m += motion.path_length_m;
     for (Hypothesis& h : hypotheses_) Score(observations, &h);
     PruneAndUpdateStatus();
-    const bool lost = status_.best_matched + status_.best_unmatched > 0 &&
-                      hypotheses_.front().frames_scored >= 3 &&
-                      status_.best_matched < options_.min_match_share *
-                                                 (status_.best_matched + status_.best_unmatched);
+    // Lost: even the best hypothesis of all (front after the sort) does not
+    // explain the floor. A prior that only its exclusions explain is not
+    // lost: it is contradicted, and the search goes on to gather evidence.
+    const Hypothesis& front = hypotheses_.front();
+    const int front_seen = front.matched + front.unmatched;
+    const bool lost = front_seen > 0 && front.frames_scored >= 3 &&
+                      front.matched < options_.min_match_share * front_seen;
     if (std::optional<PoseEstimate> pose = TryCommit()) {
       committed_ = true;
       return pose;
@@ -230,25 +250,28 @@ void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
             const core::SE2 rotation(0.0, 0.0, yaw);
             const Eigen::Vector2d t = atlas_.junctions[j].point_m - rotation * seen.point_base_m;
             const core::SE2 T(t, yaw);
-            if (options_.near_m &&
-                ((T * T_first_current_.Inverse()).translation() - *options_.near_m).norm() >
-                    options_.near_radius_m + options_.near_drift_per_m * travel_total_m_) {
-              continue;
-            }
             const bool duplicate = std::any_of(born.begin(), born.end(), [&](const Hypothesis& h) {
               return IsSamePose(h.pose.T_map_base, T);
             });
-            if (!duplicate) born.push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+            if (!duplicate) {
+              born.push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0, PriorAllows(T)});
+            }
           }
         }
       }
     }
   }
   // Line seeds only early: the region they must cover grows with the travel.
-  if (born.empty() && options_.near_m && travel_total_m_ <= options_.max_track_m) {
+  const bool any_allowed =
+      std::any_of(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; });
+  if (!any_allowed && options_.near_m && travel_total_m_ <= options_.max_track_m) {
     SeedAlongLines(stamp_s, observations, &born);
   }
-  if (born.empty()) return;
+  // The hypotheses the prior excludes are kept only to check it against; a
+  // seed with nothing the prior allows waits for a later frame.
+  if (std::none_of(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; })) {
+    return;
+  }
   hypotheses_ = std::move(born);
   ++status_.seeds;
   status_.travel_since_seed_m = 0.0;
@@ -300,7 +323,7 @@ void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observ
             allowance_m) {
           continue;
         }
-        born->push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+        born->push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0, true});
       }
     }
   }
@@ -406,38 +429,93 @@ void Relocalizer::PruneAndUpdateStatus() {
   std::sort(hypotheses_.begin(), hypotheses_.end(), [](const Hypothesis& a, const Hypothesis& b) {
     return a.log_likelihood > b.log_likelihood;
   });
-  if (!hypotheses_.empty()) {
-    const double floor = hypotheses_.front().log_likelihood - options_.prune_margin;
-    while (hypotheses_.back().log_likelihood < floor) hypotheses_.pop_back();
+  // Pruned against the best of their own kind: the hypotheses the prior
+  // allows must survive however much better an excluded one does, so that
+  // the report can say how they compare.
+  double best_allowed = kNone;
+  for (const Hypothesis& h : hypotheses_) {
+    if (h.allowed) {
+      best_allowed = h.log_likelihood;
+      break;
+    }
   }
+  const double best_any = hypotheses_.empty() ? kNone : hypotheses_.front().log_likelihood;
+  std::erase_if(hypotheses_, [&](const Hypothesis& h) {
+    return h.log_likelihood < (h.allowed ? best_allowed : best_any) - options_.prune_margin;
+  });
   // The refinement pulls hypotheses born a little apart onto one pose; the
   // runner-up must be a different pose, so merge into the better one.
   std::vector<Hypothesis> distinct;
   distinct.reserve(hypotheses_.size());
   for (Hypothesis& h : hypotheses_) {
-    const bool duplicate = std::any_of(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
+    auto same = std::find_if(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
       return IsSamePose(k.pose.T_map_base, h.pose.T_map_base);
     });
-    if (!duplicate) distinct.push_back(std::move(h));
+    if (same == distinct.end()) {
+      distinct.push_back(std::move(h));
+    } else {
+      same->allowed = same->allowed || h.allowed;
+    }
   }
   hypotheses_ = std::move(distinct);
+
+  const Hypothesis* best = nullptr;
+  const Hypothesis* runner_up = nullptr;
+  for (const Hypothesis& h : hypotheses_) {
+    if (!h.allowed) continue;
+    if (best == nullptr) {
+      best = &h;
+    } else if (runner_up == nullptr) {
+      runner_up = &h;
+    }
+  }
+  const Hypothesis* overall = hypotheses_.empty() ? nullptr : &hypotheses_.front();
   status_.hypotheses = hypotheses_.size();
-  status_.best_log_likelihood = hypotheses_.empty() ? kNone : hypotheses_[0].log_likelihood;
-  status_.runner_up_log_likelihood = hypotheses_.size() < 2 ? kNone : hypotheses_[1].log_likelihood;
-  status_.best_matched = hypotheses_.empty() ? 0 : hypotheses_[0].matched;
-  status_.best_unmatched = hypotheses_.empty() ? 0 : hypotheses_[0].unmatched;
+  status_.best_log_likelihood = best ? best->log_likelihood : kNone;
+  status_.runner_up_log_likelihood = runner_up ? runner_up->log_likelihood : kNone;
+  status_.best_matched = best ? best->matched : 0;
+  status_.best_unmatched = best ? best->unmatched : 0;
+  status_.overall_log_likelihood = overall ? overall->log_likelihood : kNone;
+  status_.overall_matched = overall ? overall->matched : 0;
+  status_.overall_unmatched = overall ? overall->unmatched : 0;
+  status_.overall_start_m =
+      overall ? StartOf(overall->pose.T_map_base) : Eigen::Vector2d::Zero().eval();
+  // Rule 4 counts only an exclusion that is itself a good explanation
+  // (rule 3), not one that is merely less bad.
+  status_.hint_contradicted =
+      options_.near_m && overall != nullptr && !overall->allowed &&
+      overall->matched >= options_.min_matched &&
+      overall->matched >= options_.min_match_share * (overall->matched + overall->unmatched) &&
+      overall->log_likelihood - status_.best_log_likelihood >= options_.hint_contradiction_margin;
+  if (status_.hint_contradicted) {
+    ++status_.frames_hint_contradicted;
+    status_.contradicted_best_log_likelihood = status_.best_log_likelihood;
+    status_.contradicted_best_matched = status_.best_matched;
+    status_.contradicted_best_unmatched = status_.best_unmatched;
+    status_.contradicted_overall_log_likelihood = status_.overall_log_likelihood;
+    status_.contradicted_overall_matched = status_.overall_matched;
+    status_.contradicted_overall_unmatched = status_.overall_unmatched;
+    status_.contradicted_overall_start_from_hint_m =
+        (status_.overall_start_m - *options_.near_m).norm();
+  }
 }
 
 std::optional<PoseEstimate> Relocalizer::TryCommit() const {
-  if (hypotheses_.empty()) return std::nullopt;
-  const Hypothesis& best = hypotheses_.front();
-  const int seen = best.matched + best.unmatched;
+  // The evidence rule of RelocalizerOptions; the status holds rules 1 and 4.
+  if (status_.frames_hint_contradicted > 0) return std::nullopt;
+  if (status_.overall_log_likelihood - status_.best_log_likelihood >= options_.hint_tie_margin) {
+    return std::nullopt;
+  }
+  const auto best = std::find_if(hypotheses_.begin(), hypotheses_.end(),
+                                 [](const Hypothesis& h) { return h.allowed; });
+  if (best == hypotheses_.end()) return std::nullopt;
+  const int seen = best->matched + best->unmatched;
   const bool leads =
       status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;
   if (status_.travel_since_seed_m >= options_.min_travel_m && leads &&
-      best.matched >= options_.min_matched &&
-      best.matched >= options_.min_match_share * static_cast<double>(seen)) {
-    return best.pose;
+      best->matched >= options_.min_matched &&
+      best->matched >= options_.min_match_share * static_cast<double>(seen)) {
+    return best->pose;
   }
   return std::nullopt;
 }
