@@ -2,6 +2,7 @@
 // (localization/localizer.h): a dataset's streams replayed in time order
 // (service/replay.h), or a CARMEN log through the LiDAR SLAM; writes the run
 // outputs of EVAL.md (trajectory.tum, health.jsonl, summary.json).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -16,6 +17,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
 #include "groundline/core/run_timing.h"
+#include "groundline/core/text_parse.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
@@ -100,8 +102,9 @@ Writes into --out (created if missing; files replaced atomically):
   health.jsonl                 one JSON object per keyframe (docs/localization.md)
   summary.json                 counts of everything dropped or skipped, timings
                                (wall and CPU seconds, update median / p99, peak RSS)
-With ground truth in the dataset it also prints the accuracy (evaluation only;
-the full table: groundline eval --est OUT/trajectory.tum --ref ...).
+With ground truth in the dataset it also prints the accuracy, in a block headed
+'diagnostics (ground truth, not available on a vehicle)'; the full table:
+groundline eval --est OUT/trajectory.tum --ref ...
 
 Examples:
   groundline localize --dataset sample_zone_b --out run_odom
@@ -114,6 +117,31 @@ Examples:
 int Fail(const std::string& message) {
   std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
   return 1;
+}
+
+int Usage(const std::string& message) {
+  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
+  return 2;
+}
+
+// Evidence rule 4 of RelocalizerOptions, said to the user: the scores the
+// last time the hint was contradicted.
+std::string HintNotSupported(const std::string& dataset, const Eigen::Vector2d& near_m,
+                             const loc::RelocalizerStatus& s) {
+  char text[640];
+  std::snprintf(
+      text, sizeof(text),
+      "%s: --relocalize: the hint at (%.2f, %.2f) is not supported by the floor seen: the best "
+      "hypothesis near it scores %.1f (%d of %d observations matched), the best overall %.1f "
+      "(%d of %d), and that one's drive starts %.1f m from the hint (%zu frames disagreed with "
+      "the hint); nothing committed. Check --near X_M Y_M [RADIUS_M] (where the drive starts), "
+      "or give --initial-pose",
+      dataset.c_str(), near_m.x(), near_m.y(), s.contradicted_best_log_likelihood,
+      s.contradicted_best_matched, s.contradicted_best_matched + s.contradicted_best_unmatched,
+      s.contradicted_overall_log_likelihood, s.contradicted_overall_matched,
+      s.contradicted_overall_matched + s.contradicted_overall_unmatched,
+      s.contradicted_overall_start_from_hint_m, s.frames_hint_contradicted);
+  return text;
 }
 
 loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
@@ -159,10 +187,10 @@ int RunLocalize(const LocalizeFlags& flags) {
   setup_options.atlas_path = flags.atlas_path;
   const loc::LocalizerOptions& options = setup_options.localizer;
   if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
-    return Fail("--relocalize needs an atlas to recognize: use it with --mode lines");
+    return Usage("--relocalize needs an atlas to recognize: use it with --mode lines");
   }
   if (core::Status s = options.relocalizer.Validate(); !s.ok())
-    return Fail("--near: " + s.message());
+    return Usage("--near: " + s.message());
   core::Result<service::DatasetSetup> setup =
       service::SetupFromDataset(dir, *dataset, setup_options);
   if (!setup.ok()) return Fail(setup.message());
@@ -278,6 +306,9 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (!replayed.ok()) return Fail(replayed.message());
   if (flags.relocalize && !localizer.started()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
+    if (s != nullptr && s->frames_hint_contradicted > 0 && options.relocalizer.near_m) {
+      return Fail(HintNotSupported(flags.dataset_dir, *options.relocalizer.near_m, *s));
+    }
     return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
                 std::to_string(localizer.counters().frames_used) +
                 " frames: " + std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
@@ -333,6 +364,20 @@ int RunLocalize(const LocalizeFlags& flags) {
         {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
         {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
         {"junction_sightings", s ? s->seeds : 0}};
+    if (s != nullptr) {
+      // The evidence of the commit (RelocalizerOptions, the evidence rule).
+      const auto finite_or_null = [](double v) {
+        return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+      };
+      summary["relocalized"]["evidence"] = {
+          {"log_likelihood", s->best_log_likelihood},
+          {"runner_up_log_likelihood", finite_or_null(s->runner_up_log_likelihood)},
+          {"excluded_by_hint_lead", finite_or_null(s->excluded_lead)},
+          {"matched", s->best_matched},
+          {"observations", s->best_matched + s->best_unmatched},
+          {"hypotheses", s->hypotheses},
+          {"travel_since_seed_m", s->travel_since_seed_m}};
+    }
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
   }
   std::printf(
@@ -354,6 +399,37 @@ int RunLocalize(const LocalizeFlags& flags) {
     return Fail(s.message());
   }
   return 0;
+}
+
+// Numbers a user types, refused before anything is read or written (a usage
+// error, exit 2): a pose in a warehouse's map frame, an angle in degrees.
+constexpr double kMaxMapCoordinateM = 1e5;
+
+void CheckPoseFlags(const LocalizeFlags& flags) {
+  const auto got = [](const std::vector<double>& values) {
+    std::string text;
+    for (double v : values) text += (text.empty() ? "" : " ") + core::FormatShortestDouble(v);
+    return text;
+  };
+  const auto coordinate_ok = [](double v) {
+    return std::isfinite(v) && std::abs(v) <= kMaxMapCoordinateM;
+  };
+  const std::vector<double>& p = flags.initial_pose;
+  if (p.size() == 3 &&
+      !(coordinate_ok(p[0]) && coordinate_ok(p[1]) && std::isfinite(p[2]) &&
+        std::abs(p[2]) <= 360.0)) {
+    throw CLI::ValidationError(
+        "--initial-pose", "expected X_M Y_M YAW_DEG with x and y finite in [-100000, 100000] m "
+                          "and yaw finite in [-360, 360] deg; got " + got(p));
+  }
+  const std::vector<double>& n = flags.near;
+  if (!n.empty() && !(coordinate_ok(n[0]) && coordinate_ok(n[1]) &&
+                      (n.size() < 3 || (std::isfinite(n[2]) && n[2] > 0.0 &&
+                                        n[2] <= kMaxMapCoordinateM)))) {
+    throw CLI::ValidationError(
+        "--near", "expected X_M Y_M [RADIUS_M] with x and y finite in [-100000, 100000] m and "
+                  "the radius finite in (0, 100000] m; got " + got(n));
+  }
 }
 
 }  // namespace
@@ -431,6 +507,7 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->callback([flags, carmen, run] {
+    CheckPoseFlags(*flags);
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
       *run = [carmen] { return RunLocalizeCarmen(*carmen); };

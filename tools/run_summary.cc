@@ -29,8 +29,10 @@ core::Status FinishRunSummary(const core::Trajectory& keyframes,
     if (!errors.ok()) {
       return core::Status::Error("evaluating against ground truth: " + errors.message());
     }
-    std::printf("accuracy of the keyframes against ground truth (%zu poses matched):\n",
-                errors->n_matched);
+    std::printf(
+        "diagnostics (ground truth, not available on a vehicle): accuracy of the keyframes "
+        "(%zu poses matched):\n",
+        errors->n_matched);
     nlohmann::ordered_json accuracy;
     for (const core::MetricField& f : core::MetricFields(*errors)) {
       accuracy[f.key] = f.value;

@@ -145,6 +145,10 @@ struct RelocalizerStatus {
   int overall_matched = 0;
   int overall_unmatched = 0;
   Eigen::Vector2d overall_start_m = Eigen::Vector2d::Zero();
+  // How far the best hypothesis the prior excludes leads the best it allows,
+  // on the frames both were scored on (negative: it trails; -infinity:
+  // there is none). The overall_* scores are on those frames too.
+  double excluded_lead = 0.0;
   // True after this frame's scores contradicted the prior (evidence rule 4).
   bool hint_contradicted = false;
   // Frames whose scores contradicted the prior (once > 0, nothing commits),
@@ -184,6 +188,13 @@ class Relocalizer {
     // Its start (the odometry run back to the first frame) lies where the
     // prior allows; always true without a prior.
     bool allowed = true;
+    // The scores since the hypotheses the prior excludes were born, which
+    // compare across the two kinds (rules 4 and 5).
+    struct {
+      double log_likelihood = 0.0;
+      int matched = 0;
+      int unmatched = 0;
+    } check;
   };
   // The Gauss-Newton terms of one frame's matches: sum H^T R^-1 H and
   // sum H^T R^-1 r (r = predicted - measured, H = dr/d(right perturbation)).
@@ -195,6 +206,18 @@ class Relocalizer {
              const Eigen::Matrix2d& R);
   };
   void Seed(double stamp_s, const FloorObservations& observations);
+  // Every pose that puts a seen junction (with a seen line through it) on an
+  // atlas junction and the line on one of the atlas lines through it.
+  void SeedFromJunctions(double stamp_s, const FloorObservations& observations,
+                         std::vector<Hypothesis>* born) const;
+  // With a prior and no excluded hypothesis alive (the seed was a line
+  // seed): the excluded junction seeds of this frame, to check the prior.
+  void AddExcludedHypotheses(double stamp_s, const FloorObservations& observations);
+  Hypothesis NewHypothesis(double stamp_s, const core::SE2& T,
+                           const core::Matrix3& covariance) const;
+  core::Matrix3 BirthCovariance() const;
+  bool IsLost(const Hypothesis& h) const;
+  bool MeetsMatchRule(int matched, int unmatched) const;
   // With a prior and no junction in view, within the first max_track_m of
   // the drive: hypotheses from the frame's longest line against every atlas
   // line the vehicle can be near.
@@ -207,7 +230,8 @@ class Relocalizer {
                            Information* update) const;
   double JunctionLogLikelihood(const Hypothesis& h, const JunctionObservation& o,
                                Information* update) const;
-  // Drops hypotheses far below the best and merges those on one pose.
+  // Drops hypotheses far below the best of their kind (allowed by the prior
+  // or not), merges those of one kind on one pose, and fills status_.
   void PruneAndUpdateStatus();
   bool IsSamePose(const core::SE2& a, const core::SE2& b) const;
   // Where the drive started if the vehicle is at T_map_base now.
@@ -232,6 +256,13 @@ class Relocalizer {
   std::vector<std::vector<std::size_t>> cell_lines_;
   std::vector<std::vector<std::size_t>> cell_junctions_;
   std::vector<Hypothesis> hypotheses_;
+  // After PruneAndUpdateStatus: the best hypothesis the prior allows (by
+  // log-likelihood), the best it excludes (by check.log_likelihood), and how
+  // far the latter leads the former on the frames both were scored on
+  // (-inf without an excluded one).
+  std::optional<std::size_t> best_;
+  std::optional<std::size_t> best_excluded_;
+  double excluded_lead_ = 0.0;
   RelocalizerStatus status_;
   bool committed_ = false;
   // The odometry from the first frame to the current one.
