@@ -173,6 +173,48 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
   return options;
 }
 
+// Fewer lines than this cannot fix a pose (two crossing lines fix it only
+// where both are seen): an atlas below it is unusable.
+constexpr std::size_t kMinAtlasLines = 4;
+
+// The spans of the streams the run uses: the wheel encoders and camera
+// frames from the dataset's index, the scans by one pass over their file.
+core::Result<std::vector<StreamSpan>> StreamSpans(const fs::path& dir,
+                                                  const core::Dataset& dataset,
+                                                  const core::DatasetStreamOptions& used) {
+  std::vector<StreamSpan> spans;
+  const core::DatasetManifest& m = dataset.manifest;
+  if (!dataset.wheel_encoders.empty()) {
+    spans.push_back({"wheel encoders", dataset.wheel_encoders.front().stamp_s,
+                     dataset.wheel_encoders.back().stamp_s,
+                     m.wheel_encoders ? 1.0 / m.wheel_encoders->rate_hz : 0.0});
+  }
+  if (used.frames && !dataset.images.empty()) {
+    spans.push_back({"camera frames", dataset.images.front().stamp_s,
+                     dataset.images.back().stamp_s, m.camera ? 1.0 / m.camera->rate_hz : 0.0});
+  }
+  if (used.scans && m.lidar) {
+    core::DatasetStreamOptions scans_only;
+    scans_only.wheels = false;
+    scans_only.frames = false;
+    core::Result<core::DatasetStreams> scans = core::DatasetStreams::Open(dir, dataset, scans_only);
+    if (!scans.ok()) return scans.status();
+    core::DatasetEvent event;
+    StreamSpan span{"LiDAR scans", 0.0, 0.0, 1.0 / m.lidar->rate_hz};
+    bool any = false;
+    for (;;) {
+      core::Result<bool> next = scans->Next(&event);
+      if (!next.ok()) return next.status();
+      if (!*next) break;
+      if (!any) span.first_s = event.stamp_s;
+      span.last_s = event.stamp_s;
+      any = true;
+    }
+    if (any) spans.push_back(span);
+  }
+  return spans;
+}
+
 int RunLocalize(const LocalizeFlags& flags) {
   const RunClock clock;
   core::DatasetReadOptions read_options;  // the image index, not the pixels; scans streamed
@@ -243,6 +285,20 @@ int RunLocalize(const LocalizeFlags& flags) {
   stream_options.frames = setup_options.localizer.mode == loc::LocalizerMode::kLines ||
                           setup_options.localizer.mode == loc::LocalizerMode::kMapping;
   stream_options.scans = options.mode == loc::LocalizerMode::kLidar || options.use_lidar;
+  RunWarnings warnings("localize");
+  {
+    core::Result<std::vector<StreamSpan>> spans = StreamSpans(dir, *dataset, stream_options);
+    if (!spans.ok()) return Fail(spans.message());
+    CheckStreamSpans(*spans, &warnings);
+  }
+  if (options.mode == loc::LocalizerMode::kLines &&
+      atlas_copy.lines.size() - loc::CountWallLines(atlas_copy) < kMinAtlasLines) {
+    warnings.Add("atlas_nearly_empty",
+                 "the atlas has " +
+                     std::to_string(atlas_copy.lines.size() - loc::CountWallLines(atlas_copy)) +
+                     " floor lines (fewer than " + std::to_string(kMinAtlasLines) +
+                     " cannot fix a pose): the camera has next to nothing to localize against");
+  }
   core::Result<core::DatasetStreams> streams =
       core::DatasetStreams::Open(dir, *dataset, stream_options);
   if (!streams.ok()) return Fail(streams.message());
@@ -386,19 +442,43 @@ int RunLocalize(const LocalizeFlags& flags) {
       flags.dataset_dir.c_str(), keyframes.size(), c.frames_used, c.frames_skipped,
       c.frames_unreadable, c.lines_used, c.lines_rejected, Percentile(update_ms, 0.5),
       Percentile(update_ms, 0.99), start_from.c_str());
+  bool unusable = false;
   if (options.mode == loc::LocalizerMode::kMapping) {
     const fs::path atlas_out =
         flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
     const loc::Atlas built = localizer.CurrentAtlas();
-    if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
-    std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
-                built.junctions.size(), atlas_out.string().c_str());
+    const std::size_t floor_lines = built.lines.size() - loc::CountWallLines(built);
+    summary["atlas_lines"] = built.lines.size();
+    summary["atlas_junctions"] = built.junctions.size();
+    if (floor_lines < kMinAtlasLines) {
+      unusable = true;
+      warnings.Add("atlas_nearly_empty",
+                   "the atlas built has " + std::to_string(floor_lines) + " floor lines and " +
+                       std::to_string(built.junctions.size()) + " junctions (fewer than " +
+                       std::to_string(kMinAtlasLines) +
+                       " lines cannot fix a pose), from " + std::to_string(c.lines_used) +
+                       " lines used and " + std::to_string(c.lines_rejected) +
+                       " rejected in " + std::to_string(c.frames_used) +
+                       " frames: not written. Drive over more markings, or check the camera "
+                       "images and the mount (groundline extract)");
+    } else {
+      if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
+      std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
+                  built.junctions.size(), atlas_out.string().c_str());
+    }
   }
-  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth, clock, out, &summary);
+  if (core::Status s =
+          FinishRunSummary(keyframes, dataset->ground_truth,
+                           options.mode != loc::LocalizerMode::kLidar, clock, out, &warnings,
+                           &summary);
       !s.ok()) {
     return Fail(s.message());
   }
-  return 0;
+  if (warnings.size() > 0) {
+    std::fprintf(stderr, "groundline localize: %zu warning%s (listed in %s)\n", warnings.size(),
+                 warnings.size() == 1 ? "" : "s", (out / "summary.json").string().c_str());
+  }
+  return unusable ? 1 : 0;
 }
 
 // Numbers a user types, refused before anything is read or written (a usage
