@@ -122,7 +122,9 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - slam_start).count();
   const core::Trajectory trajectory = slam.Trajectory();
 
-  const std::filesystem::path out(flags.out_dir);
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) return Fail(staged.message());
+  const std::filesystem::path out = staged->path();
   core::Status written = core::WriteTumTrajectory(out / "trajectory.tum", trajectory);
   if (!written.ok()) return Fail(written.message());
   written = core::WriteFileAtomically(out / "health.jsonl", [&](std::ostream& stream) {
@@ -194,6 +196,7 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["warnings"] = warnings.Json();
   written = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
   if (!written.ok()) return Fail(written.message());
+  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
   std::printf(
       "%.1f s wall (%.0fx real time), %.1f s CPU (%.0fx), peak RSS %.0f MiB; wrote "
       "%s/{trajectory.tum, health.jsonl, summary.json}\n",

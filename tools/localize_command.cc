@@ -95,7 +95,9 @@ The tuned values are the localizer's presets (docs/localization.md); the
 --window, --gate-chi2, --slip-sigma, --wheel-variance and --lateral-variance
 flags override them for experiments.
 
-Writes into --out (created if missing; files replaced atomically):
+Writes into --out (created if missing; the files are written into a temporary
+sibling folder and moved into --out at the end, so a run that fails leaves
+--out as it was):
   trajectory.tum               keyframe poses, TUM 't x y z qx qy qz qw'
   trajectory_odometry_rate.tum one pose per encoder reading
   trajectory_covariance.txt    the keyframes' 3x3 covariances
@@ -373,7 +375,12 @@ int RunLocalize(const LocalizeFlags& flags) {
                 "the drive starts), or give --initial-pose");
   }
 
-  const fs::path out(flags.out_dir);
+  // Everything goes into a staging folder renamed into --out at the end: a
+  // run that fails leaves no half-written folder.
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) return Fail(staged.message());
+  const fs::path out = staged->path();
+  const fs::path final_out(flags.out_dir);
   for (const core::Status& s :
        {core::WriteTumTrajectory(out / "trajectory.tum", keyframes),
         core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
@@ -446,6 +453,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (options.mode == loc::LocalizerMode::kMapping) {
     const fs::path atlas_out =
         flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
+    const fs::path atlas_shown =
+        flags.atlas_out_path.empty() ? final_out / "atlas.json" : atlas_out;
     const loc::Atlas built = localizer.CurrentAtlas();
     const std::size_t floor_lines = built.lines.size() - loc::CountWallLines(built);
     summary["atlas_lines"] = built.lines.size();
@@ -464,7 +473,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     } else {
       if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
       std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
-                  built.junctions.size(), atlas_out.string().c_str());
+                  built.junctions.size(), atlas_shown.string().c_str());
     }
   }
   if (core::Status s =
@@ -474,9 +483,10 @@ int RunLocalize(const LocalizeFlags& flags) {
       !s.ok()) {
     return Fail(s.message());
   }
+  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
   if (warnings.size() > 0) {
     std::fprintf(stderr, "groundline localize: %zu warning%s (listed in %s)\n", warnings.size(),
-                 warnings.size() == 1 ? "" : "s", (out / "summary.json").string().c_str());
+                 warnings.size() == 1 ? "" : "s", (final_out / "summary.json").string().c_str());
   }
   return unusable ? 1 : 0;
 }
