@@ -207,8 +207,7 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
       "calibrate",
-      "Commissioning calibrations: camera intrinsics from a printed board (intrinsics), "
-      "camera-to-floor extrinsics from tags on the floor (floor)");
+      "Commissioning: camera intrinsics, the camera's mount on the floor");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

@@ -384,7 +384,9 @@ int RunExtract(const ExtractFlags& flags) {
 
 CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<ExtractFlags>();
-  CLI::App* cmd = parent.add_subcommand("extract", kHelp);
+  CLI::App* cmd = parent.add_subcommand(
+      "extract", "Floor lines, junctions and their covariances from camera images");
+  cmd->footer(kHelp);
   cmd->add_option("input", flags->input, "Image folder or quoted glob ('dir/*.png')");
   cmd->add_option("--dataset", flags->dataset,
                   "groundline dataset directory (camera, extrinsics, images, ground truth, map)");

@@ -1,7 +1,7 @@
 // `groundline localize`: a thin driver of the causal localizer
 // (localization/localizer.h): a dataset's streams replayed in time order
 // (service/replay.h), or a CARMEN log through the LiDAR SLAM; writes the run
-// outputs of EVAL.md (trajectory.tum, health.jsonl, summary.json).
+// outputs (trajectory.tum, health.jsonl, summary.json; docs/localization.md).
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -491,8 +491,9 @@ int RunLocalize(const LocalizeFlags& flags) {
   return unusable ? 1 : 0;
 }
 
-// Numbers a user types, refused before anything is read or written (a usage
-// error, exit 2): a pose in a warehouse's map frame, an angle in degrees.
+// Flags a user types, refused before anything is read or written (a usage
+// error, exit 2): contradictory ones, a pose beyond a warehouse's map frame,
+// an angle beyond a turn.
 constexpr double kMaxMapCoordinateM = 1e5;
 
 void CheckPoseFlags(const LocalizeFlags& flags) {
@@ -511,6 +512,13 @@ void CheckPoseFlags(const LocalizeFlags& flags) {
     throw CLI::ValidationError(
         "--initial-pose", "expected X_M Y_M YAW_DEG with x and y finite in [-100000, 100000] m "
                           "and yaw finite in [-360, 360] deg; got " + got(p));
+  }
+  if (flags.relocalize && flags.mode != "lines") {
+    throw CLI::ValidationError("--relocalize",
+                               "needs an atlas to recognize: use it with --mode lines");
+  }
+  if (!flags.near.empty() && !flags.relocalize) {
+    throw CLI::ValidationError("--near", "is a hint for --relocalize: use it with --relocalize");
   }
   const std::vector<double>& n = flags.near;
   if (!n.empty() && !(coordinate_ok(n[0]) && coordinate_ok(n[1]) &&

@@ -1,6 +1,6 @@
 // The closing block every dataset replay writes into DIR/summary.json: the
 // keyframes' accuracy against ground truth (also printed) and the run's wall
-// time, CPU time and peak memory (EVAL.md, "what the eval outputs contain").
+// time, CPU time and peak memory (docs/metrics.md).
 #ifndef GROUNDLINE_TOOLS_RUN_SUMMARY_H_
 #define GROUNDLINE_TOOLS_RUN_SUMMARY_H_
 
