@@ -3,10 +3,10 @@
 // whatever run directories are given), the metrics with zone targets, and a
 // last column saying whether the row meets the zone's targets.
 //
-// Targets (docs/metrics.md, "Zone targets"): zone B: ATE RMSE <= 1.5 cm, ATE max <= 5 cm, along-track
-// RMSE <= 1.0 cm, heading RMSE <= 0.2 deg, no aisle exit with an error above
-// 5 cm; zones A, C, D: ATE RMSE <= 2 cm; every zone: NEES in the 95 % band
-// on >= 90 % of keyframes (when the run has covariances).
+// Targets (docs/metrics.md, "Zone targets"): zone B: ATE RMSE <= 1.5 cm, ATE max <= 5 cm,
+// along-track RMSE <= 1.0 cm, heading RMSE <= 0.2 deg, no aisle exit with an error above 5 cm;
+// zones A, C, D: ATE RMSE <= 2 cm; every zone: NEES in the 95 % band on >= 90 % of keyframes (when
+// the run has covariances).
 #ifndef GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
 #define GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
 

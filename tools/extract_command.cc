@@ -327,8 +327,7 @@ int RunExtract(const ExtractFlags& flags) {
     }
   }
   progress.Update("images", 1.0);
-  if (core::Status s = core::WriteFileAtomically(out / "lines.jsonl", jsonl);
-      !s.ok()) {
+  if (core::Status s = core::WriteFileAtomically(out / "lines.jsonl", jsonl); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
     return 1;
   }

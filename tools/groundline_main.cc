@@ -41,13 +41,16 @@ int main(int argc, char** argv) {
     known = known || (argc >= 2 && sub->check_name(argv[1]));
   }
   if (argc < 2) {
-    std::fprintf(stderr, "groundline: no command given; the commands are: %s (see 'groundline --help')\n",
+    std::fprintf(stderr,
+                 "groundline: no command given; the commands are: %s (see 'groundline --help')\n",
                  commands.c_str());
     return 2;
   }
   if (argv[1][0] != '-' && !known) {
-    std::fprintf(stderr, "groundline: unknown command '%s'; the commands are: %s (see 'groundline --help')\n",
-                 argv[1], commands.c_str());
+    std::fprintf(
+        stderr,
+        "groundline: unknown command '%s'; the commands are: %s (see 'groundline --help')\n",
+        argv[1], commands.c_str());
     return 2;
   }
   try {

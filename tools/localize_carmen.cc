@@ -70,12 +70,12 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   RunWarnings warnings("localize");
   const io::CarmenReadSummary& read = log->summary;
   if (read.skipped_line_count > 0) {
-    warnings.Add("skipped_lines",
-                 flags.log_path + ": skipped " + std::to_string(read.skipped_line_count) +
-                     " malformed line" + (read.skipped_line_count == 1 ? "" : "s") +
-                     " (first: line " + std::to_string(read.skipped_lines.front().line) + ": " +
-                     read.skipped_lines.front().reason +
-                     "); 'groundline convert carmen --strict' stops at each");
+    warnings.Add("skipped_lines", flags.log_path + ": skipped " +
+                                      std::to_string(read.skipped_line_count) + " malformed line" +
+                                      (read.skipped_line_count == 1 ? "" : "s") + " (first: line " +
+                                      std::to_string(read.skipped_lines.front().line) + ": " +
+                                      read.skipped_lines.front().reason +
+                                      "); 'groundline convert carmen --strict' stops at each");
   }
   std::vector<const io::CarmenLaserScan*> scans;
   for (const io::CarmenLaserScan& s : log->scans) {

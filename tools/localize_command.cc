@@ -181,8 +181,7 @@ constexpr std::size_t kMinAtlasLines = 4;
 
 // The spans of the streams the run uses: the wheel encoders and camera
 // frames from the dataset's index, the scans by one pass over their file.
-core::Result<std::vector<StreamSpan>> StreamSpans(const fs::path& dir,
-                                                  const core::Dataset& dataset,
+core::Result<std::vector<StreamSpan>> StreamSpans(const fs::path& dir, const core::Dataset& dataset,
                                                   const core::DatasetStreamOptions& used) {
   std::vector<StreamSpan> spans;
   const core::DatasetManifest& m = dataset.manifest;
@@ -192,8 +191,8 @@ core::Result<std::vector<StreamSpan>> StreamSpans(const fs::path& dir,
                      m.wheel_encoders ? 1.0 / m.wheel_encoders->rate_hz : 0.0});
   }
   if (used.frames && !dataset.images.empty()) {
-    spans.push_back({"camera frames", dataset.images.front().stamp_s,
-                     dataset.images.back().stamp_s, m.camera ? 1.0 / m.camera->rate_hz : 0.0});
+    spans.push_back({"camera frames", dataset.images.front().stamp_s, dataset.images.back().stamp_s,
+                     m.camera ? 1.0 / m.camera->rate_hz : 0.0});
   }
   if (used.scans && m.lidar) {
     core::DatasetStreamOptions scans_only;
@@ -464,10 +463,10 @@ int RunLocalize(const LocalizeFlags& flags) {
       warnings.Add("atlas_nearly_empty",
                    "the atlas built has " + std::to_string(floor_lines) + " floor lines and " +
                        std::to_string(built.junctions.size()) + " junctions (fewer than " +
-                       std::to_string(kMinAtlasLines) +
-                       " lines cannot fix a pose), from " + std::to_string(c.lines_used) +
-                       " lines used and " + std::to_string(c.lines_rejected) +
-                       " rejected in " + std::to_string(c.frames_used) +
+                       std::to_string(kMinAtlasLines) + " lines cannot fix a pose), from " +
+                       std::to_string(c.lines_used) + " lines used and " +
+                       std::to_string(c.lines_rejected) + " rejected in " +
+                       std::to_string(c.frames_used) +
                        " frames: not written. Drive over more markings, or check the camera "
                        "images and the mount (groundline extract)");
     } else {
@@ -476,10 +475,9 @@ int RunLocalize(const LocalizeFlags& flags) {
                   built.junctions.size(), atlas_shown.string().c_str());
     }
   }
-  if (core::Status s =
-          FinishRunSummary(keyframes, dataset->ground_truth,
-                           options.mode != loc::LocalizerMode::kLidar, clock, out, &warnings,
-                           &summary);
+  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth,
+                                        options.mode != loc::LocalizerMode::kLidar, clock, out,
+                                        &warnings, &summary);
       !s.ok()) {
     return Fail(s.message());
   }
@@ -506,12 +504,13 @@ void CheckPoseFlags(const LocalizeFlags& flags) {
     return std::isfinite(v) && std::abs(v) <= kMaxMapCoordinateM;
   };
   const std::vector<double>& p = flags.initial_pose;
-  if (p.size() == 3 &&
-      !(coordinate_ok(p[0]) && coordinate_ok(p[1]) && std::isfinite(p[2]) &&
-        std::abs(p[2]) <= 360.0)) {
+  if (p.size() == 3 && !(coordinate_ok(p[0]) && coordinate_ok(p[1]) && std::isfinite(p[2]) &&
+                         std::abs(p[2]) <= 360.0)) {
     throw CLI::ValidationError(
-        "--initial-pose", "expected X_M Y_M YAW_DEG with x and y finite in [-100000, 100000] m "
-                          "and yaw finite in [-360, 360] deg; got " + got(p));
+        "--initial-pose",
+        "expected X_M Y_M YAW_DEG with x and y finite in [-100000, 100000] m "
+        "and yaw finite in [-360, 360] deg; got " +
+            got(p));
   }
   if (flags.relocalize && flags.mode != "lines") {
     throw CLI::ValidationError("--relocalize",
@@ -521,12 +520,14 @@ void CheckPoseFlags(const LocalizeFlags& flags) {
     throw CLI::ValidationError("--near", "is a hint for --relocalize: use it with --relocalize");
   }
   const std::vector<double>& n = flags.near;
-  if (!n.empty() && !(coordinate_ok(n[0]) && coordinate_ok(n[1]) &&
-                      (n.size() < 3 || (std::isfinite(n[2]) && n[2] > 0.0 &&
-                                        n[2] <= kMaxMapCoordinateM)))) {
+  if (!n.empty() &&
+      !(coordinate_ok(n[0]) && coordinate_ok(n[1]) &&
+        (n.size() < 3 || (std::isfinite(n[2]) && n[2] > 0.0 && n[2] <= kMaxMapCoordinateM)))) {
     throw CLI::ValidationError(
-        "--near", "expected X_M Y_M [RADIUS_M] with x and y finite in [-100000, 100000] m and "
-                  "the radius finite in (0, 100000] m; got " + got(n));
+        "--near",
+        "expected X_M Y_M [RADIUS_M] with x and y finite in [-100000, 100000] m and "
+        "the radius finite in (0, 100000] m; got " +
+            got(n));
   }
 }
 

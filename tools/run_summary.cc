@@ -50,13 +50,14 @@ void CheckStreamSpans(const std::vector<StreamSpan>& spans, RunWarnings* warning
   std::string list, problems;
   char text[256];
   for (const StreamSpan& s : spans) {
-    std::snprintf(text, sizeof(text), "%s%s %.2f-%.2f s", list.empty() ? "" : ", ",
-                  s.name.c_str(), s.first_s, s.last_s);
+    std::snprintf(text, sizeof(text), "%s%s %.2f-%.2f s", list.empty() ? "" : ", ", s.name.c_str(),
+                  s.first_s, s.last_s);
     list += text;
     const double tolerance_s = 1.0 + 2.0 * s.period_s;
     if (latest->last_s - s.last_s > tolerance_s) {
-      std::snprintf(text, sizeof(text), "%sthe %s end %.1f s before the %s", problems.empty() ? "" : "; ",
-                    s.name.c_str(), latest->last_s - s.last_s, latest->name.c_str());
+      std::snprintf(text, sizeof(text), "%sthe %s end %.1f s before the %s",
+                    problems.empty() ? "" : "; ", s.name.c_str(), latest->last_s - s.last_s,
+                    latest->name.c_str());
       problems += text;
     }
     if (s.first_s - earliest->first_s > tolerance_s) {

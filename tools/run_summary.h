@@ -69,9 +69,9 @@ inline constexpr double kNeesWarnFactor = 10.0;
 // every metric printed to stdout under a diagnostics heading) when
 // ground_truth is not empty, with a "nees_out_of_band" warning when
 // check_nees, at least 30 poses carry a covariance and their mean NEES
-// (3 dof) is outside [3 / kNeesWarnFactor, 3 kNeesWarnFactor]; then "warnings", "wall_s", "cpu_s" and "peak_rss_mb",
-// and writes summary to out_dir/summary.json atomically. Errors name the
-// failing step or file.
+// (3 dof) is outside [3 / kNeesWarnFactor, 3 kNeesWarnFactor]; then "warnings", "wall_s", "cpu_s"
+// and "peak_rss_mb", and writes summary to out_dir/summary.json atomically. Errors name the failing
+// step or file.
 core::Status FinishRunSummary(const core::Trajectory& keyframes,
                               const core::Trajectory& ground_truth, bool check_nees,
                               const RunClock& clock, const std::filesystem::path& out_dir,

@@ -221,7 +221,8 @@ int RunSim(const SimFlags& flags) {
       std::fprintf(stderr, "groundline sim: %s\n", staged.message().c_str());
       return 1;
     }
-    if (const int code = WriteRun(staged->path(), shown, *run, flags.threads, progress, started_s)) {
+    if (const int code =
+            WriteRun(staged->path(), shown, *run, flags.threads, progress, started_s)) {
       return code;
     }
     return commit(*staged);
@@ -240,8 +241,8 @@ int RunSim(const SimFlags& flags) {
   }
   for (std::size_t k = 0; k < runs->size(); ++k) {
     const std::string robot = "robot_" + std::to_string(k);
-    if (const int code = WriteRun(staged->path() / robot, shown / robot, (*runs)[k],
-                                  flags.threads, progress, started_s)) {
+    if (const int code = WriteRun(staged->path() / robot, shown / robot, (*runs)[k], flags.threads,
+                                  progress, started_s)) {
       return code;
     }
   }

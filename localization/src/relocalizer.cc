@@ -218,8 +218,8 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
     // excludes explains the floor (the seed junction was not on the atlas).
     // A prior that only its exclusions explain is not lost: it is
     // contradicted, and the search goes on to gather evidence.
-    const bool lost = IsLost(hypotheses_[*best_]) &&
-                      (!best_excluded_ || IsLost(hypotheses_[*best_excluded_]));
+    const bool lost =
+        IsLost(hypotheses_[*best_]) && (!best_excluded_ || IsLost(hypotheses_[*best_excluded_]));
     if (lost || status_.travel_since_seed_m > options_.max_track_m) {
       hypotheses_.clear();
       best_.reset();
@@ -547,7 +547,7 @@ void Relocalizer::PruneAndUpdateStatus() {
 std::optional<PoseEstimate> Relocalizer::TryCommit() const {
   // The evidence rule of RelocalizerOptions.
   if (!best_ || status_.frames_hint_contradicted > 0) return std::nullopt;  // rule 4
-  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;     // rule 5
+  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;      // rule 5
   const Hypothesis& best = hypotheses_[*best_];
   const bool leads =
       status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;

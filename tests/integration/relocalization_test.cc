@@ -142,15 +142,15 @@ TEST_P(RelocalizationWrongHint, IsReportedAndNothingCommits) {
   std::printf(
       "zone %d seed %lu, hint moved (%.0f, %.0f) m: committed %d (error %.2f m), %zu seeds, "
       "%zu frames contradicted: allowed %.1f (%d/%d), overall %.1f (%d/%d), %.1f m from the "
-      "hint; at the end %zu hypotheses, best %.1f, overall %.1f starting %.1f m from the true start\n",
-      static_cast<int>(zone), static_cast<unsigned long>(seed), dx_m, dy_m, o.committed,
-      o.error_m, o.seeds, s.frames_hint_contradicted, s.contradicted_best_log_likelihood,
+      "hint; at the end %zu hypotheses, best %.1f, overall %.1f starting %.1f m from the true "
+      "start\n",
+      static_cast<int>(zone), static_cast<unsigned long>(seed), dx_m, dy_m, o.committed, o.error_m,
+      o.seeds, s.frames_hint_contradicted, s.contradicted_best_log_likelihood,
       s.contradicted_best_matched, s.contradicted_best_matched + s.contradicted_best_unmatched,
       s.contradicted_overall_log_likelihood, s.contradicted_overall_matched,
       s.contradicted_overall_matched + s.contradicted_overall_unmatched,
       s.contradicted_overall_start_from_hint_m, s.hypotheses, s.best_log_likelihood,
-      s.overall_log_likelihood,
-      (s.overall_start_m - o.true_start_m).norm());
+      s.overall_log_likelihood, (s.overall_start_m - o.true_start_m).norm());
   EXPECT_FALSE(o.committed);
   EXPECT_GE(o.seeds, 1u);
   EXPECT_GT(s.frames_hint_contradicted, 0u);

@@ -21,9 +21,10 @@ using testing::Quoted;
 using testing::RunGroundline;
 
 const std::vector<std::string> kCommands = {
-    "localize", "serve",   "sim",        "convert",  "convert carmen",       "eval",
-    "dataset",  "dataset check", "sim-commissioning", "targets", "calibrate",
-    "calibrate intrinsics", "calibrate floor", "extract", "replay-dds"};
+    "localize",          "serve",   "sim",       "convert",
+    "convert carmen",    "eval",    "dataset",   "dataset check",
+    "sim-commissioning", "targets", "calibrate", "calibrate intrinsics",
+    "calibrate floor",   "extract", "replay-dds"};
 
 TEST(CliUsage, EveryCommandHasItsOwnHelpAndUsageErrorsExit2) {
   const std::filesystem::path dir = testing::ScratchDir("cli_usage");
@@ -53,8 +54,8 @@ TEST(CliUsage, MainHelpListsOneLinePerCommand) {
     names.push_back(line.substr(2, line.find(' ', 2) - 2));
   }
   EXPECT_EQ(names, (std::vector<std::string>{"localize", "serve", "sim", "convert", "eval",
-                                             "dataset", "sim-commissioning", "targets",
-                                             "calibrate", "extract", "replay-dds"}));
+                                             "dataset", "sim-commissioning", "targets", "calibrate",
+                                             "extract", "replay-dds"}));
 }
 
 TEST(CliUsage, UnknownCommandExits2WithTheList) {
@@ -104,13 +105,12 @@ TEST(CliUsage, ContradictoryArgumentsExit2AndBadDataExits1) {
                           dir, &out),
             1)
       << out;
-  EXPECT_EQ(RunGroundline("convert carmen " + Quoted(dir / "garbage.clf") + " --out " +
-                              Quoted(dir / "o.tum"),
-                          dir, &out),
+  EXPECT_EQ(RunGroundline(
+                "convert carmen " + Quoted(dir / "garbage.clf") + " --out " + Quoted(dir / "o.tum"),
+                dir, &out),
             1)
       << out;
-  EXPECT_EQ(RunGroundline("extract " + Quoted(empty) + " --out " + Quoted(dir / "e"), dir, &out),
-            1)
+  EXPECT_EQ(RunGroundline("extract " + Quoted(empty) + " --out " + Quoted(dir / "e"), dir, &out), 1)
       << out;
   EXPECT_FALSE(std::filesystem::exists(dir / "r"));
   EXPECT_FALSE(std::filesystem::exists(dir / "e"));

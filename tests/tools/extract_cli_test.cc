@@ -102,9 +102,8 @@ TEST(ExtractCli, FolderWithACorruptImage) {
   const std::filesystem::path none = dir / "none";
   std::filesystem::create_directories(none);
   std::ofstream(none / "bad.png") << "not a png";
-  EXPECT_EQ(RunGroundline("extract " + Quoted(none) + " --out " + Quoted(dir / "none_out"), dir,
-                          &out),
-            1)
+  EXPECT_EQ(
+      RunGroundline("extract " + Quoted(none) + " --out " + Quoted(dir / "none_out"), dir, &out), 1)
       << out;
   EXPECT_FALSE(std::filesystem::exists(dir / "none_out"));
   for (const auto& e : std::filesystem::directory_iterator(dir)) {

@@ -80,11 +80,11 @@ TEST_F(LocalizeTrust, WrongRelocalizationHintIsReportedAndNothingCommits) {
       d.manifest.start_pose->T_map_base.translation() + Eigen::Vector2d(20.6, 0.5);
   const fs::path run = *dir_ / "wrong_hint";
   std::string out;
-  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
-                              " --mode lines --relocalize --near " + Hint(hint) + " --out " +
-                              Quoted(run),
-                          *dir_, &out),
-            1)
+  EXPECT_EQ(
+      RunGroundline("localize --dataset " + Quoted(*dataset_) +
+                        " --mode lines --relocalize --near " + Hint(hint) + " --out " + Quoted(run),
+                    *dir_, &out),
+      1)
       << out;
   EXPECT_NE(out.find("is not supported by the floor seen: the best hypothesis near it scores"),
             std::string::npos)
@@ -102,11 +102,11 @@ TEST_F(LocalizeTrust, RightRelocalizationHintCommitsNearTheTruth) {
       d.manifest.start_pose->T_map_base.translation() + Eigen::Vector2d(0.6, 0.5);
   const fs::path run = *dir_ / "right_hint";
   std::string out;
-  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
-                              " --mode lines --relocalize --near " + Hint(hint) + " --out " +
-                              Quoted(run),
-                          *dir_, &out),
-            0)
+  ASSERT_EQ(
+      RunGroundline("localize --dataset " + Quoted(*dataset_) +
+                        " --mode lines --relocalize --near " + Hint(hint) + " --out " + Quoted(run),
+                    *dir_, &out),
+      0)
       << out;
   const nlohmann::json summary = ReadJson(run / "summary.json");
   const nlohmann::json& r = summary["relocalized"];
@@ -118,10 +118,10 @@ TEST_F(LocalizeTrust, RightRelocalizationHintCommitsNearTheTruth) {
   });
   ASSERT_NE(at, truth.end());
   ASSERT_LT(std::abs(at->stamp_s - stamp_s), 0.02);
-  EXPECT_LT((Eigen::Vector2d(r["x_m"].get<double>(), r["y_m"].get<double>()) -
-             at->pose.translation())
-                .norm(),
-            0.10);
+  EXPECT_LT(
+      (Eigen::Vector2d(r["x_m"].get<double>(), r["y_m"].get<double>()) - at->pose.translation())
+          .norm(),
+      0.10);
   // The commit's evidence, and no ground-truth figure beside the estimate:
   // the accuracy comes after it, under its own heading.
   EXPECT_GE(r["evidence"]["matched"].get<int>(), 8);
@@ -159,7 +159,8 @@ TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {
   std::string out;
   ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
                               " --mode lines --wheel-variance 1e-9 --lateral-variance 1e-12 "
-                              "--out " + Quoted(run),
+                              "--out " +
+                              Quoted(run),
                           *dir_, &out),
             0)
       << out;
@@ -170,9 +171,9 @@ TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {
 
   // The preset's noise on the same drive: no warning.
   const fs::path plain = *dir_ / "nees_preset";
-  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) + " --mode lines --out " +
-                              Quoted(plain),
-                          *dir_, &out),
+  ASSERT_EQ(RunGroundline(
+                "localize --dataset " + Quoted(*dataset_) + " --mode lines --out " + Quoted(plain),
+                *dir_, &out),
             0)
       << out;
   const nlohmann::json preset = ReadJson(plain / "summary.json");
@@ -200,10 +201,10 @@ TEST_F(LocalizeTrust, StreamsThatDoNotOverlapWarn) {
   }
   const fs::path run = *dir_ / "cut";
   std::string out;
-  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(cut) + " --mode lines --out " +
-                              Quoted(run),
-                          *dir_, &out),
-            0)
+  ASSERT_EQ(
+      RunGroundline("localize --dataset " + Quoted(cut) + " --mode lines --out " + Quoted(run),
+                    *dir_, &out),
+      0)
       << out;
   EXPECT_NE(out.find("the wheel encoders end"), std::string::npos) << out;
   EXPECT_NE(out.find("s before the camera frames"), std::string::npos) << out;
