@@ -103,7 +103,13 @@ sibling folder and moved into --out at the end, so a run that fails leaves
   trajectory_covariance.txt    the keyframes' 3x3 covariances
   health.jsonl                 one JSON object per keyframe (docs/localization.md)
   summary.json                 counts of everything dropped or skipped, timings
-                               (wall and CPU seconds, update median / p99, peak RSS)
+                               (wall and CPU seconds, update median / p99, peak RSS),
+                               and 'warnings': [{kind, message}] for a run that is not
+                               what it seems (also printed): atlas_nearly_empty (a
+                               mapping run whose atlas has < 4 floor lines is not
+                               written and exits 1), stream_spans (streams that end or
+                               start > 1 s apart), nees_out_of_band (mean NEES against
+                               ground truth outside [0.3, 30]), skipped_lines (--carmen)
 With ground truth in the dataset it also prints the accuracy, in a block headed
 'diagnostics (ground truth, not available on a vehicle)'; the full table:
 groundline eval --est OUT/trajectory.tum --ref ...
