@@ -26,6 +26,7 @@
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
 #include "localize_carmen.h"
+#include "localize_checks.h"
 #include "localize_diagnostics.h"
 #include "progress.h"
 #include "run_summary.h"
@@ -132,26 +133,6 @@ int Usage(const std::string& message) {
   return 2;
 }
 
-// Evidence rule 4 of RelocalizerOptions, said to the user: the scores the
-// last time the hint was contradicted.
-std::string HintNotSupported(const std::string& dataset, const Eigen::Vector2d& near_m,
-                             const loc::RelocalizerStatus& s) {
-  char text[640];
-  std::snprintf(
-      text, sizeof(text),
-      "%s: --relocalize: the hint at (%.2f, %.2f) is not supported by the floor seen: the best "
-      "hypothesis near it scores %.1f (%d of %d observations matched), the best overall %.1f "
-      "(%d of %d), and that one's drive starts %.1f m from the hint (%zu frames disagreed with "
-      "the hint); nothing committed. Check --near X_M Y_M [RADIUS_M] (where the drive starts), "
-      "or give --initial-pose",
-      dataset.c_str(), near_m.x(), near_m.y(), s.contradicted_best_log_likelihood,
-      s.contradicted_best_matched, s.contradicted_best_matched + s.contradicted_best_unmatched,
-      s.contradicted_overall_log_likelihood, s.contradicted_overall_matched,
-      s.contradicted_overall_matched + s.contradicted_overall_unmatched,
-      s.contradicted_overall_start_from_hint_m, s.frames_hint_contradicted);
-  return text;
-}
-
 loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
   loc::LocalizerOptions options;  // odometry and LiDAR: the defaults
   if (flags.mode == "lines" || flags.mode == "mapping") {
@@ -184,43 +165,6 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
 // Fewer lines than this cannot fix a pose (two crossing lines fix it only
 // where both are seen): an atlas below it is unusable.
 constexpr std::size_t kMinAtlasLines = 4;
-
-// The spans of the streams the run uses: the wheel encoders and camera
-// frames from the dataset's index, the scans by one pass over their file.
-core::Result<std::vector<StreamSpan>> StreamSpans(const fs::path& dir, const core::Dataset& dataset,
-                                                  const core::DatasetStreamOptions& used) {
-  std::vector<StreamSpan> spans;
-  const core::DatasetManifest& m = dataset.manifest;
-  if (!dataset.wheel_encoders.empty()) {
-    spans.push_back({"wheel encoders", dataset.wheel_encoders.front().stamp_s,
-                     dataset.wheel_encoders.back().stamp_s,
-                     m.wheel_encoders ? 1.0 / m.wheel_encoders->rate_hz : 0.0});
-  }
-  if (used.frames && !dataset.images.empty()) {
-    spans.push_back({"camera frames", dataset.images.front().stamp_s, dataset.images.back().stamp_s,
-                     m.camera ? 1.0 / m.camera->rate_hz : 0.0});
-  }
-  if (used.scans && m.lidar) {
-    core::DatasetStreamOptions scans_only;
-    scans_only.wheels = false;
-    scans_only.frames = false;
-    core::Result<core::DatasetStreams> scans = core::DatasetStreams::Open(dir, dataset, scans_only);
-    if (!scans.ok()) return scans.status();
-    core::DatasetEvent event;
-    StreamSpan span{"LiDAR scans", 0.0, 0.0, 1.0 / m.lidar->rate_hz};
-    bool any = false;
-    for (;;) {
-      core::Result<bool> next = scans->Next(&event);
-      if (!next.ok()) return next.status();
-      if (!*next) break;
-      if (!any) span.first_s = event.stamp_s;
-      span.last_s = event.stamp_s;
-      any = true;
-    }
-    if (any) spans.push_back(span);
-  }
-  return spans;
-}
 
 int RunLocalize(const LocalizeFlags& flags) {
   const RunClock clock;
@@ -424,28 +368,7 @@ int RunLocalize(const LocalizeFlags& flags) {
                         {"n_keyframes_with_relative", c.lidar_with_relative}};
   }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
-    const loc::RelocalizerStatus* s = localizer.relocalizer_status();
-    summary["relocalized"] = {
-        {"stamp_s", r->stamp_s},
-        {"x_m", r->T_map_base.x()},
-        {"y_m", r->T_map_base.y()},
-        {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
-        {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
-        {"junction_sightings", s ? s->seeds : 0}};
-    if (s != nullptr) {
-      // The evidence of the commit (RelocalizerOptions, the evidence rule).
-      const auto finite_or_null = [](double v) {
-        return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-      };
-      summary["relocalized"]["evidence"] = {
-          {"log_likelihood", s->best_log_likelihood},
-          {"runner_up_log_likelihood", finite_or_null(s->runner_up_log_likelihood)},
-          {"excluded_by_hint_lead", finite_or_null(s->excluded_lead)},
-          {"matched", s->best_matched},
-          {"observations", s->best_matched + s->best_unmatched},
-          {"hypotheses", s->hypotheses},
-          {"travel_since_seed_m", s->travel_since_seed_m}};
-    }
+    summary["relocalized"] = RelocalizedJson(*r, localizer.relocalizer_status());
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
   }
   std::printf(
@@ -493,48 +416,6 @@ int RunLocalize(const LocalizeFlags& flags) {
                  warnings.size() == 1 ? "" : "s", (final_out / "summary.json").string().c_str());
   }
   return unusable ? 1 : 0;
-}
-
-// Flags a user types, refused before anything is read or written (a usage
-// error, exit 2): contradictory ones, a pose beyond a warehouse's map frame,
-// an angle beyond a turn.
-constexpr double kMaxMapCoordinateM = 1e5;
-
-void CheckPoseFlags(const LocalizeFlags& flags) {
-  const auto got = [](const std::vector<double>& values) {
-    std::string text;
-    for (double v : values) text += (text.empty() ? "" : " ") + core::FormatShortestDouble(v);
-    return text;
-  };
-  const auto coordinate_ok = [](double v) {
-    return std::isfinite(v) && std::abs(v) <= kMaxMapCoordinateM;
-  };
-  const std::vector<double>& p = flags.initial_pose;
-  if (p.size() == 3 && !(coordinate_ok(p[0]) && coordinate_ok(p[1]) && std::isfinite(p[2]) &&
-                         std::abs(p[2]) <= 360.0)) {
-    throw CLI::ValidationError(
-        "--initial-pose",
-        "expected X_M Y_M YAW_DEG with x and y finite in [-100000, 100000] m "
-        "and yaw finite in [-360, 360] deg; got " +
-            got(p));
-  }
-  if (flags.relocalize && flags.mode != "lines") {
-    throw CLI::ValidationError("--relocalize",
-                               "needs an atlas to recognize: use it with --mode lines");
-  }
-  if (!flags.near.empty() && !flags.relocalize) {
-    throw CLI::ValidationError("--near", "is a hint for --relocalize: use it with --relocalize");
-  }
-  const std::vector<double>& n = flags.near;
-  if (!n.empty() &&
-      !(coordinate_ok(n[0]) && coordinate_ok(n[1]) &&
-        (n.size() < 3 || (std::isfinite(n[2]) && n[2] > 0.0 && n[2] <= kMaxMapCoordinateM)))) {
-    throw CLI::ValidationError(
-        "--near",
-        "expected X_M Y_M [RADIUS_M] with x and y finite in [-100000, 100000] m and "
-        "the radius finite in (0, 100000] m; got " +
-            got(n));
-  }
 }
 
 }  // namespace
@@ -612,7 +493,7 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->callback([flags, carmen, run] {
-    CheckPoseFlags(*flags);
+    CheckLocalizeFlags(flags->relocalize, flags->mode, flags->initial_pose, flags->near);
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
       *run = [carmen] { return RunLocalizeCarmen(*carmen); };
