@@ -218,8 +218,8 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
     // excludes explains the floor (the seed junction was not on the atlas).
     // A prior that only its exclusions explain is not lost: it is
     // contradicted, and the search goes on to gather evidence.
-    const bool lost =
-        IsLost(hypotheses_[*best_]) && (!best_excluded_ || IsLost(hypotheses_[*best_excluded_]));
+    const bool lost = !best_ || (IsLost(hypotheses_[*best_]) &&
+                                 (!best_excluded_ || IsLost(hypotheses_[*best_excluded_])));
     if (lost || status_.travel_since_seed_m > options_.max_track_m) {
       hypotheses_.clear();
       best_.reset();
