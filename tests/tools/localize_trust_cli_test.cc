@@ -4,9 +4,13 @@
 // truth); an empty atlas from mapping (exit 1); a mean NEES far outside its
 // band; streams that do not overlap; malformed CARMEN lines skipped; a
 // non-finite --initial-pose refused before anything is written.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -36,37 +40,58 @@ bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
   return false;
 }
 
-// One simulated zone A drive with the camera (60 m, 5 Hz), shared by the
-// tests: zone A's floor is distinctive enough to relocalize on.
+// One simulated zone A drive with the camera (60 m, 5 Hz): zone A's floor is
+// distinctive enough to relocalize on. Simulated once and shared by the
+// tests, also across processes (ctest runs each test in its own, two at a
+// time): the first takes a lock and simulates, the others wait and reuse it.
+// The folder is named after the executable's build, so a rebuilt simulator
+// simulates afresh.
 class LocalizeTrust : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(testing::ScratchDir("localize_trust"));
-    dataset_ = new fs::path(*dir_ / "zone_a");
-    std::string out;
-    ASSERT_EQ(RunGroundline("sim --zone A --length 60m --seed 3 --camera-rate 5 --no-lidar --out " +
-                                Quoted(*dataset_),
-                            *dir_, &out),
-              0)
-        << out;
+  void SetUp() override {
+    fs::path base = fs::temp_directory_path();
+    if (const char* env = std::getenv("GROUNDLINE_TEST_TMPDIR"); env != nullptr && *env != '\0') {
+      base = env;
+    }
+    const auto built = fs::last_write_time(GROUNDLINE_CLI_PATH).time_since_epoch().count();
+    const fs::path shared = base / ("LocalizeTrust.zone_a." + std::to_string(built));
+    fs::create_directories(shared);
+    dataset_ = shared / "zone_a";
+    const int lock = ::open((shared / "lock").c_str(), O_CREAT | O_RDWR, 0644);
+    ASSERT_GE(lock, 0);
+    ::flock(lock, LOCK_EX);
+    if (!fs::exists(shared / "done")) {
+      // The datasets of earlier builds (160 MB each) go.
+      for (const fs::directory_entry& e : fs::directory_iterator(base)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind("LocalizeTrust.zone_a.", 0) == 0 && e.path() != shared) {
+          std::error_code ec;
+          fs::remove_all(e.path(), ec);
+        }
+      }
+      fs::remove_all(dataset_);
+      std::string out;
+      const int code = RunGroundline(
+          "sim --zone A --length 60m --seed 3 --camera-rate 5 --no-lidar --out " + Quoted(dataset_),
+          shared, &out);
+      if (code == 0) std::ofstream(shared / "done") << "ok\n";
+      EXPECT_EQ(code, 0) << out;
+    }
+    ::flock(lock, LOCK_UN);
+    ::close(lock);
+    ASSERT_TRUE(fs::exists(shared / "done"));
+    dir_ = testing::ScratchDir("run");
   }
-  static void TearDownTestSuite() {
-    delete dataset_;
-    delete dir_;
-  }
-  static core::Dataset Read() {
+  core::Dataset Read() const {
     core::DatasetReadOptions options;
     options.check_image_files = false;
-    core::Result<core::Dataset> d = core::ReadDataset(*dataset_, options);
+    core::Result<core::Dataset> d = core::ReadDataset(dataset_, options);
     EXPECT_TRUE(d.ok()) << d.message();
     return d.ok() ? *d : core::Dataset{};
   }
-  static fs::path* dir_;
-  static fs::path* dataset_;
+  fs::path dir_;
+  fs::path dataset_;
 };
-
-fs::path* LocalizeTrust::dir_ = nullptr;
-fs::path* LocalizeTrust::dataset_ = nullptr;
 
 std::string Hint(const Eigen::Vector2d& p) {
   return std::to_string(p.x()) + " " + std::to_string(p.y());
@@ -78,12 +103,12 @@ TEST_F(LocalizeTrust, WrongRelocalizationHintIsReportedAndNothingCommits) {
   // 20 m along the zone's x axis from the dock: floor unlike the start's.
   const Eigen::Vector2d hint =
       d.manifest.start_pose->T_map_base.translation() + Eigen::Vector2d(20.6, 0.5);
-  const fs::path run = *dir_ / "wrong_hint";
+  const fs::path run = dir_ / "wrong_hint";
   std::string out;
   EXPECT_EQ(
-      RunGroundline("localize --dataset " + Quoted(*dataset_) +
+      RunGroundline("localize --dataset " + Quoted(dataset_) +
                         " --mode lines --relocalize --near " + Hint(hint) + " --out " + Quoted(run),
-                    *dir_, &out),
+                    dir_, &out),
       1)
       << out;
   EXPECT_NE(out.find("is not supported by the floor seen: the best hypothesis near it scores"),
@@ -100,12 +125,12 @@ TEST_F(LocalizeTrust, RightRelocalizationHintCommitsNearTheTruth) {
   ASSERT_TRUE(d.manifest.start_pose);
   const Eigen::Vector2d hint =
       d.manifest.start_pose->T_map_base.translation() + Eigen::Vector2d(0.6, 0.5);
-  const fs::path run = *dir_ / "right_hint";
+  const fs::path run = dir_ / "right_hint";
   std::string out;
   ASSERT_EQ(
-      RunGroundline("localize --dataset " + Quoted(*dataset_) +
+      RunGroundline("localize --dataset " + Quoted(dataset_) +
                         " --mode lines --relocalize --near " + Hint(hint) + " --out " + Quoted(run),
-                    *dir_, &out),
+                    dir_, &out),
       0)
       << out;
   const nlohmann::json summary = ReadJson(run / "summary.json");
@@ -138,11 +163,11 @@ TEST_F(LocalizeTrust, RightRelocalizationHintCommitsNearTheTruth) {
 
 TEST_F(LocalizeTrust, MappingAnEmptyAtlasSaysSoAndFails) {
   // One second of driving: a frame or two, no line seen twice.
-  const fs::path run = *dir_ / "mapping";
+  const fs::path run = dir_ / "mapping";
   std::string out;
-  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
+  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) +
                               " --mode mapping --max-duration 1 --out " + Quoted(run),
-                          *dir_, &out),
+                          dir_, &out),
             1)
       << out;
   EXPECT_NE(out.find("warning: the atlas built has 0 floor lines"), std::string::npos) << out;
@@ -155,13 +180,13 @@ TEST_F(LocalizeTrust, MappingAnEmptyAtlasSaysSoAndFails) {
 TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {
   // Odometry noise overridden a thousand times too small: the covariances
   // understate the errors.
-  const fs::path run = *dir_ / "nees";
+  const fs::path run = dir_ / "nees";
   std::string out;
-  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
+  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) +
                               " --mode lines --wheel-variance 1e-9 --lateral-variance 1e-12 "
                               "--out " +
                               Quoted(run),
-                          *dir_, &out),
+                          dir_, &out),
             0)
       << out;
   EXPECT_NE(out.find("warning: the mean NEES against ground truth is"), std::string::npos) << out;
@@ -170,10 +195,10 @@ TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {
   EXPECT_TRUE(HasWarning(summary, "nees_out_of_band")) << summary.dump(2);
 
   // The preset's noise on the same drive: no warning.
-  const fs::path plain = *dir_ / "nees_preset";
+  const fs::path plain = dir_ / "nees_preset";
   ASSERT_EQ(RunGroundline(
-                "localize --dataset " + Quoted(*dataset_) + " --mode lines --out " + Quoted(plain),
-                *dir_, &out),
+                "localize --dataset " + Quoted(dataset_) + " --mode lines --out " + Quoted(plain),
+                dir_, &out),
             0)
       << out;
   const nlohmann::json preset = ReadJson(plain / "summary.json");
@@ -184,26 +209,26 @@ TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {
 TEST_F(LocalizeTrust, StreamsThatDoNotOverlapWarn) {
   // The same dataset with its odometry cut at half time (the other files
   // linked, not copied).
-  const fs::path cut = *dir_ / "zone_a_cut";
+  const fs::path cut = dir_ / "zone_a_cut";
   fs::remove_all(cut);
   fs::create_directories(cut);
-  for (const fs::directory_entry& e : fs::directory_iterator(*dataset_)) {
+  for (const fs::directory_entry& e : fs::directory_iterator(dataset_)) {
     if (e.path().filename() == "wheel_encoders.csv") continue;
     fs::create_symlink(e.path(), cut / e.path().filename());
   }
   {
-    std::ifstream in(*dataset_ / "wheel_encoders.csv");
+    std::ifstream in(dataset_ / "wheel_encoders.csv");
     std::ofstream half(cut / "wheel_encoders.csv");
     std::string line;
     std::vector<std::string> lines;
     while (std::getline(in, line)) lines.push_back(line);
     for (std::size_t i = 0; i < lines.size() / 2; ++i) half << lines[i] << "\n";
   }
-  const fs::path run = *dir_ / "cut";
+  const fs::path run = dir_ / "cut";
   std::string out;
   ASSERT_EQ(
       RunGroundline("localize --dataset " + Quoted(cut) + " --mode lines --out " + Quoted(run),
-                    *dir_, &out),
+                    dir_, &out),
       0)
       << out;
   EXPECT_NE(out.find("the wheel encoders end"), std::string::npos) << out;
@@ -212,19 +237,19 @@ TEST_F(LocalizeTrust, StreamsThatDoNotOverlapWarn) {
 }
 
 TEST_F(LocalizeTrust, NonFiniteInitialPoseIsRefusedBeforeAnythingIsWritten) {
-  const fs::path run = *dir_ / "nan_pose";
+  const fs::path run = dir_ / "nan_pose";
   std::string out;
-  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
+  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) +
                               " --initial-pose 1 2 nan --out " + Quoted(run),
-                          *dir_, &out),
+                          dir_, &out),
             2)
       << out;
   EXPECT_NE(out.find("--initial-pose: expected X_M Y_M YAW_DEG"), std::string::npos) << out;
   EXPECT_NE(out.find("yaw finite in [-360, 360] deg; got 1 2 nan"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(run));
-  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(*dataset_) +
+  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) +
                               " --mode lines --relocalize --near 1 inf --out " + Quoted(run),
-                          *dir_, &out),
+                          dir_, &out),
             2)
       << out;
   EXPECT_NE(out.find("--near: expected X_M Y_M [RADIUS_M]"), std::string::npos) << out;
