@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 6's per-zone accuracy tables from one command: runs `groundline
+# The per-zone accuracy tables from one command: runs `groundline
 # localize` in every mode on every zone dataset, then prints one
 # `groundline eval --zone` table per zone (one row per mode, checked against
 # the zone's targets).

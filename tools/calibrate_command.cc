@@ -178,10 +178,20 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
   progress.Update("solving", 1.0);
   const CalibrationReport report = BuildCalibrationReport(
       *cal, setup.target.name, std::move(rejected), setup.thresholds, std::move(live_missing));
+  // The model, its exports and the report appear together or not at all (a
+  // staging folder moved into --out; frames a live session saved there are kept).
   const std::filesystem::path out(flags.out_dir);
-  core::Status written = WriteCalibrationOutputs(out, report, *cal);
-  if (written.ok())
-    written = core::WriteFileAtomically(out / "corners.vnl", MrcalCornersVnl(views, setup.grid));
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(out);
+  if (!staged.ok()) {
+    std::fprintf(stderr, "%s: %s\n", kName, staged.message().c_str());
+    return 1;
+  }
+  core::Status written = WriteCalibrationOutputs(staged->path(), report, *cal);
+  if (written.ok()) {
+    written = core::WriteFileAtomically(staged->path() / "corners.vnl",
+                                        MrcalCornersVnl(views, setup.grid));
+  }
+  if (written.ok()) written = staged->Commit();
   if (!written.ok()) {
     std::fprintf(stderr, "%s: %s\n", kName, written.message().c_str());
     return 1;
@@ -206,9 +216,7 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
 
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
-      "calibrate",
-      "Commissioning calibrations: camera intrinsics from a printed board (intrinsics), "
-      "camera-to-floor extrinsics from tags on the floor (floor)");
+      "calibrate", "Commissioning: camera intrinsics, the camera's mount on the floor");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

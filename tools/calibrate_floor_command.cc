@@ -125,19 +125,22 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
   if (intrinsics) calibration::AddIntrinsicsToBev(camera, *intrinsics, &*result);
   for (const std::string& w : result->warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
+  // The mount and its reports appear together or not at all (a staging
+  // folder moved into --out; frames a live session saved there are kept).
   const std::filesystem::path out(flags.out);
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec) return fail(out.string() + ": " + ec.message());
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(out);
+  if (!staged.ok()) return fail(staged.message());
+  const std::filesystem::path staging = staged->path();
   for (const core::Status& s :
-       {calibration::WriteCameraMountYaml(result->solution.mount, out / "extrinsics.yaml"),
-        core::WriteFileAtomically(out / "floor_report.json",
+       {calibration::WriteCameraMountYaml(result->solution.mount, staging / "extrinsics.yaml"),
+        core::WriteFileAtomically(staging / "floor_report.json",
                                   calibration::FloorReportJson(*result, options, intrinsics_ptr)),
         core::WriteFileAtomically(
-            out / "floor_report.html",
+            staging / "floor_report.html",
             calibration::FloorReportHtml(*result, layout, camera, options, intrinsics_ptr))}) {
     if (!s.ok()) return fail(s.message());
   }
+  if (core::Status s = staged->Commit(); !s.ok()) return fail(s.message());
   const calibration::FloorExtrinsicsResult& r = result->solution;
   const auto sd3 = [&r](int i, double scale) {
     return 3.0 * std::sqrt(r.covariance(i, i)) * scale;

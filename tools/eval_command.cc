@@ -1,5 +1,5 @@
 // `groundline eval`: trajectory accuracy of one or more estimates against a
-// reference trajectory and/or Kuemmerle relations (EVAL.md, docs/metrics.md).
+// reference trajectory and/or Kuemmerle relations (docs/metrics.md).
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -49,7 +49,7 @@ struct EvalFlags {
 };
 
 constexpr char kHelp[] =
-    R"(Measures the accuracy of estimated trajectories (EVAL.md; formulas in docs/metrics.md).
+    R"(Measures the accuracy of estimated trajectories (formulas in docs/metrics.md).
 
 Reads TUM ('t x y z qx qy qz qw', t in s) or EuRoC (.csv, t in ns) trajectories and
 compares each --est with a reference trajectory (--ref) and/or Kuemmerle relations
@@ -67,7 +67,7 @@ Against --relations: for each relation the estimate poses nearest t1 and t2 (wit
 error of delta_ref^-1 * delta_est.
 
 Prints a table (one column per estimate). --json writes, atomically, one object per
-estimate with the keys of EVAL.md plus label, est, ref, relations, assoc, max_dt_s,
+estimate with the keys of docs/metrics.md plus label, est, ref, relations, assoc, max_dt_s,
 aligned: a single object for one --est, a JSON array of such objects (in --est
 order) for several.
 
@@ -354,7 +354,7 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
                   "floor_map.yaml for the aisle-exit errors (with --ref)");
   cmd->add_option("--zone", flags->zone,
                   "print the compact zone table (one row per run) checked against this zone's "
-                  "issue-6 targets: A, B, C or D")
+                  "accuracy targets (docs/metrics.md): A, B, C or D")
       ->check(CLI::IsMember({"A", "B", "C", "D"}));
   cmd->add_option("--ref", flags->ref_path, "reference trajectory (TUM, or EuRoC if .csv)");
   cmd->add_option("--relations", flags->relations_path,

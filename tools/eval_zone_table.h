@@ -1,12 +1,12 @@
 // The per-zone accuracy table of `groundline eval --dataset DIR --run
-// LABEL=RUN ...` (issue 6): one row per run (odometry, lines, lidar, ...,
-// whatever run directories are given), the metrics the issue sets targets on,
-// and a last column saying whether the row meets the zone's targets.
+// LABEL=RUN ...`: one row per run (odometry, lines, lidar, ...,
+// whatever run directories are given), the metrics with zone targets, and a
+// last column saying whether the row meets the zone's targets.
 //
-// Targets (issue 6): zone B: ATE RMSE <= 1.5 cm, ATE max <= 5 cm, along-track
-// RMSE <= 1.0 cm, heading RMSE <= 0.2 deg, no aisle exit with an error above
-// 5 cm; zones A, C, D: ATE RMSE <= 2 cm; every zone: NEES in the 95 % band
-// on >= 90 % of keyframes (when the run has covariances).
+// Targets (docs/metrics.md, "Zone targets"): zone B: ATE RMSE <= 1.5 cm, ATE max <= 5 cm,
+// along-track RMSE <= 1.0 cm, heading RMSE <= 0.2 deg, no aisle exit with an error above 5 cm;
+// zones A, C, D: ATE RMSE <= 2 cm; every zone: NEES in the 95 % band on >= 90 % of keyframes (when
+// the run has covariances).
 #ifndef GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
 #define GROUNDLINE_TOOLS_EVAL_ZONE_TABLE_H_
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -77,7 +78,9 @@ Writes into --out:
                  tape's paint (--tape-occludes-joints); evaluated when >= 30 cm
                  of it lies 1.0-2.5 m ahead, >= 20 cm of that unbroken
                  (--min-visible-run-m)
-  bev_NNNNNN.png, overlay_NNNNNN.png   every --png-every-th frame (0: none)
+  bev_NAME.png, overlay_NAME.png   every --png-every-th frame (0: none), named
+                 after the source image NAME.png/.jpg; the overlay's colours are
+                 explained in a legend below it (and in docs/perception.md)
   summary.json   frames, skipped (unreadable images, named on stderr),
                  ms_per_frame_median; with ground truth and a floor map also tpr,
                  fp_share, rho_err_median_m, alpha_err_median_deg and
@@ -221,8 +224,15 @@ int RunExtract(const ExtractFlags& flags) {
   };
   const bool evaluate = input->floor_map && !input->ground_truth.empty();
 
-  std::error_code ec;
-  fs::create_directories(flags.out, ec);
+  // Written into a staging folder moved into --out at the end: a run that
+  // fails leaves --out as it was.
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out);
+  if (!staged.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", staged.message().c_str());
+    return 1;
+  }
+  const fs::path out = staged->path();
+  std::set<std::string> image_names;
   // Kept in memory and written once at the end, atomically: an interrupted
   // run leaves no lines.jsonl rather than a cut one.
   std::string jsonl;
@@ -297,16 +307,17 @@ int RunExtract(const ExtractFlags& flags) {
     jsonl += frame.dump();
     jsonl += '\n';
     if (flags.png_every > 0 && i % static_cast<size_t>(flags.png_every) == 0) {
-      char name[64];
+      // Named after the source image; a name seen before (two folders of a
+      // glob) gets the frame's index.
+      std::string stem = path.stem().string();
+      if (!image_names.insert(stem).second) stem += "_" + std::to_string(i);
       // Shown as the camera sees the floor: the cells it does not see (which
       // the extractor's BEV fills from their nearest seen cell) are black.
       cv::Mat shown = bev.clone();
       shown.setTo(cv::Scalar::all(0), unseen);
-      std::snprintf(name, sizeof(name), "bev_%06zu.png", i);
-      core::Status written = WritePngAtomically(fs::path(flags.out) / name, shown);
-      std::snprintf(name, sizeof(name), "overlay_%06zu.png", i);
+      core::Status written = WritePngAtomically(out / ("bev_" + stem + ".png"), shown);
       if (written.ok()) {
-        written = WritePngAtomically(fs::path(flags.out) / name,
+        written = WritePngAtomically(out / ("overlay_" + stem + ".png"),
                                      DrawOverlay(shown, grid, extraction, truths));
       }
       if (!written.ok()) {
@@ -316,8 +327,7 @@ int RunExtract(const ExtractFlags& flags) {
     }
   }
   progress.Update("images", 1.0);
-  if (core::Status s = core::WriteFileAtomically(fs::path(flags.out) / "lines.jsonl", jsonl);
-      !s.ok()) {
+  if (core::Status s = core::WriteFileAtomically(out / "lines.jsonl", jsonl); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
     return 1;
   }
@@ -342,8 +352,17 @@ int RunExtract(const ExtractFlags& flags) {
     summary["by_marking_kind"] = by_truth;
     summary["by_line_kind"] = by_extracted;
   }
-  const fs::path summary_path = fs::path(flags.out) / "summary.json";
-  if (core::Status s = core::WriteFileAtomically(summary_path, summary.dump(2) + "\n"); !s.ok()) {
+  if (ms.empty()) {
+    std::fprintf(stderr, "groundline extract: no image readable; nothing written to %s\n",
+                 flags.out.c_str());
+    return 1;
+  }
+  if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
+      !s.ok()) {
+    std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
+    return 1;
+  }
+  if (core::Status s = staged->Commit(); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
     return 1;
   }
@@ -357,14 +376,16 @@ int RunExtract(const ExtractFlags& flags) {
         o.Tpr(), o.FpShare(), 1e3 * o.MedianAbsRhoErrorM(),
         o.MedianAbsAlphaErrorRad() * 180.0 / M_PI, o.NeesInsideBandShare());
   }
-  return ms.empty() ? 1 : 0;
+  return 0;
 }
 
 }  // namespace
 
 CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<ExtractFlags>();
-  CLI::App* cmd = parent.add_subcommand("extract", kHelp);
+  CLI::App* cmd = parent.add_subcommand(
+      "extract", "Floor lines, junctions and their covariances from camera images");
+  cmd->footer(kHelp);
   cmd->add_option("input", flags->input, "Image folder or quoted glob ('dir/*.png')");
   cmd->add_option("--dataset", flags->dataset,
                   "groundline dataset directory (camera, extrinsics, images, ground truth, map)");

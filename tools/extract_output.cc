@@ -111,19 +111,53 @@ cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,
                      static_cast<int>(std::lround((c.y() + 0.5) * kScale - 0.5)));
   };
   for (const perception::TrueLine& t : truths) {
-    cv::line(colour, pixel(t.start_m), pixel(t.end_m), cv::Scalar(255, 120, 0), 1, cv::LINE_AA);
+    cv::line(colour, pixel(t.start_m), pixel(t.end_m), kTruthColour, 1, cv::LINE_AA);
   }
   for (const perception::ExtractedLine& l : extraction.lines) {
     const bool bright = l.kind.polarity == perception::LinePolarity::kBright;
-    const cv::Scalar c = l.single_bar_edge ? cv::Scalar(255, 255, 0)
-                         : bright          ? cv::Scalar(0, 220, 0)
-                                           : cv::Scalar(255, 0, 255);
+    const cv::Scalar c = l.single_bar_edge ? kSingleEdgeColour
+                         : bright          ? kBrightColour
+                                           : kDarkColour;
     cv::line(colour, pixel(l.start_m), pixel(l.end_m), c, l.from_bar_edges ? 3 : 1, cv::LINE_AA);
   }
   for (const perception::Junction& j : extraction.junctions) {
-    cv::circle(colour, pixel(j.point_m), 4 * kScale, cv::Scalar(0, 0, 255), 2, cv::LINE_AA);
+    cv::circle(colour, pixel(j.point_m), 4 * kScale, kJunctionColour, 2, cv::LINE_AA);
   }
-  return colour;
+  return WithLegend(colour, !truths.empty());
+}
+
+cv::Mat WithLegend(const cv::Mat& overlay, bool with_truth) {
+  struct Entry {
+    cv::Scalar colour;
+    int thickness;
+    bool circle;
+    const char* text;
+  };
+  std::vector<Entry> entries = {
+      {kBrightColour, 1, false, "bright line (tape edge)"},
+      {kBrightColour, 3, false, "thick: centre line of a bar (two edges)"},
+      {kDarkColour, 1, false, "dark line (joint, seam)"},
+      {kSingleEdgeColour, 1, false, "the one visible edge of a wide bar"},
+      {kJunctionColour, 2, true, "junction"},
+  };
+  if (with_truth) entries.push_back({kTruthColour, 1, false, "ground truth (evaluation only)"});
+  constexpr int kRowPx = 18;
+  cv::Mat legend(kRowPx * static_cast<int>(entries.size()) + 6, overlay.cols, CV_8UC3,
+                 cv::Scalar::all(255));
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const Entry& e = entries[i];
+    const int y = 3 + kRowPx * static_cast<int>(i) + kRowPx / 2;
+    if (e.circle) {
+      cv::circle(legend, cv::Point(20, y), 6, e.colour, e.thickness, cv::LINE_AA);
+    } else {
+      cv::line(legend, cv::Point(6, y), cv::Point(34, y), e.colour, e.thickness, cv::LINE_8);
+    }
+    cv::putText(legend, e.text, cv::Point(42, y + 5), cv::FONT_HERSHEY_SIMPLEX, 0.42,
+                cv::Scalar::all(0), 1, cv::LINE_AA);
+  }
+  cv::Mat out;
+  cv::vconcat(overlay, legend, out);
+  return out;
 }
 
 }  // namespace groundline::tools

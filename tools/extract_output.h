@@ -34,12 +34,24 @@ nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth);
 // The summary's rate fields of one breakdown.
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);
 
-// The BEV in colour with the extracted lines (bright: green, dark: magenta;
-// bar centre lines thicker), junctions (red circles) and, if given, the true
-// lines (thin blue).
+// The overlay's colours (BGR), explained in its legend and docs/perception.md.
+inline const cv::Scalar kBrightColour(0, 220, 0);        // green
+inline const cv::Scalar kDarkColour(255, 0, 255);        // magenta
+inline const cv::Scalar kSingleEdgeColour(255, 255, 0);  // cyan
+inline const cv::Scalar kJunctionColour(0, 0, 255);      // red
+inline const cv::Scalar kTruthColour(255, 120, 0);       // blue
+
+// The BEV in colour, upsampled 3x, with the extracted lines (bright: green,
+// dark: magenta, the one visible edge of a wide bar: cyan; bar centre lines
+// thicker), junctions (red circles) and, if given, the true lines (thin
+// blue); a legend of these below it (WithLegend).
 cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,
                     const perception::LineExtraction& extraction,
                     std::span<const perception::TrueLine> truths);
+
+// `overlay` with a white legend strip below it, one row per colour (the
+// ground-truth row only when with_truth).
+cv::Mat WithLegend(const cv::Mat& overlay, bool with_truth);
 
 }  // namespace groundline::tools
 

@@ -1,6 +1,7 @@
 // The `groundline` executable: one binary, one subcommand per user task.
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -31,6 +32,27 @@ int main(int argc, char** argv) {
   groundline::tools::AddExtractCommand(app, &run);
   groundline::tools::AddReplayDdsCommand(app, &run);
 
+  // An unknown command is named with the list (CLI11 would only say that a
+  // subcommand is required).
+  std::string commands;
+  bool known = false;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    commands += (commands.empty() ? "" : ", ") + sub->get_name();
+    known = known || (argc >= 2 && sub->check_name(argv[1]));
+  }
+  if (argc < 2) {
+    std::fprintf(stderr,
+                 "groundline: no command given; the commands are: %s (see 'groundline --help')\n",
+                 commands.c_str());
+    return 2;
+  }
+  if (argv[1][0] != '-' && !known) {
+    std::fprintf(
+        stderr,
+        "groundline: unknown command '%s'; the commands are: %s (see 'groundline --help')\n",
+        argv[1], commands.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -38,7 +60,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (!run) {
-    std::fprintf(stderr, "groundline: no command chosen; see 'groundline --help'\n");
+    std::fprintf(stderr, "groundline: no command chosen; the commands are: %s\n", commands.c_str());
     return 2;
   }
   try {

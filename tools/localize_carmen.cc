@@ -17,6 +17,7 @@
 #include "groundline/localization/lidar/lidar_slam.h"
 #include "progress.h"
 #include "run_resources.h"
+#include "run_summary.h"
 
 namespace groundline::tools {
 namespace {
@@ -66,6 +67,16 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   progress.Update("reading", 0.0);
   core::Result<io::CarmenLog> log = io::ReadCarmenLog(flags.log_path);
   if (!log.ok()) return Fail(log.message());
+  RunWarnings warnings("localize");
+  const io::CarmenReadSummary& read = log->summary;
+  if (read.skipped_line_count > 0) {
+    warnings.Add("skipped_lines", flags.log_path + ": skipped " +
+                                      std::to_string(read.skipped_line_count) + " malformed line" +
+                                      (read.skipped_line_count == 1 ? "" : "s") + " (first: line " +
+                                      std::to_string(read.skipped_lines.front().line) + ": " +
+                                      read.skipped_lines.front().reason +
+                                      "); 'groundline convert carmen --strict' stops at each");
+  }
   std::vector<const io::CarmenLaserScan*> scans;
   for (const io::CarmenLaserScan& s : log->scans) {
     if (s.laser_id == 1 && s.robot_pose && s.laser_pose) scans.push_back(&s);
@@ -111,7 +122,9 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - slam_start).count();
   const core::Trajectory trajectory = slam.Trajectory();
 
-  const std::filesystem::path out(flags.out_dir);
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) return Fail(staged.message());
+  const std::filesystem::path out = staged->path();
   core::Status written = core::WriteTumTrajectory(out / "trajectory.tum", trajectory);
   if (!written.ok()) return Fail(written.message());
   written = core::WriteFileAtomically(out / "health.jsonl", [&](std::ostream& stream) {
@@ -136,6 +149,7 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["n_loops_rejected_free_space"] = loops_rejected_free_space;
   summary["n_optimizations"] = slam.num_optimizations();
   summary["log_duration_s"] = log_duration_s;
+  summary["lines_skipped"] = read.skipped_line_count;
   std::printf(
       "%s: %zu scans over %.1f s, %d matched, %d degenerate, %d nodes, %d submaps, "
       "%d of %d loop closures kept (%d more contradicted free space)\n",
@@ -179,8 +193,10 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   // On a shared machine the wall clock waits for other processes too.
   summary["realtime_factor_cpu"] = log_duration_s / cpu_s;
   summary["peak_rss_mb"] = ProcessPeakRssMb();
+  summary["warnings"] = warnings.Json();
   written = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
   if (!written.ok()) return Fail(written.message());
+  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
   std::printf(
       "%.1f s wall (%.0fx real time), %.1f s CPU (%.0fx), peak RSS %.0f MiB; wrote "
       "%s/{trajectory.tum, health.jsonl, summary.json}\n",

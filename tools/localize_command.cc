@@ -1,7 +1,8 @@
 // `groundline localize`: a thin driver of the causal localizer
 // (localization/localizer.h): a dataset's streams replayed in time order
 // (service/replay.h), or a CARMEN log through the LiDAR SLAM; writes the run
-// outputs of EVAL.md (trajectory.tum, health.jsonl, summary.json).
+// outputs (trajectory.tum, health.jsonl, summary.json; docs/localization.md).
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -16,6 +17,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
 #include "groundline/core/run_timing.h"
+#include "groundline/core/text_parse.h"
 #include "groundline/core/trajectory_covariance_io.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
@@ -24,6 +26,7 @@
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
 #include "localize_carmen.h"
+#include "localize_checks.h"
 #include "localize_diagnostics.h"
 #include "progress.h"
 #include "run_summary.h"
@@ -93,15 +96,24 @@ The tuned values are the localizer's presets (docs/localization.md); the
 --window, --gate-chi2, --slip-sigma, --wheel-variance and --lateral-variance
 flags override them for experiments.
 
-Writes into --out (created if missing; files replaced atomically):
+Writes into --out (created if missing; the files are written into a temporary
+sibling folder and moved into --out at the end, so a run that fails leaves
+--out as it was):
   trajectory.tum               keyframe poses, TUM 't x y z qx qy qz qw'
   trajectory_odometry_rate.tum one pose per encoder reading
   trajectory_covariance.txt    the keyframes' 3x3 covariances
   health.jsonl                 one JSON object per keyframe (docs/localization.md)
   summary.json                 counts of everything dropped or skipped, timings
-                               (wall and CPU seconds, update median / p99, peak RSS)
-With ground truth in the dataset it also prints the accuracy (evaluation only;
-the full table: groundline eval --est OUT/trajectory.tum --ref ...).
+                               (wall and CPU seconds, update median / p99, peak RSS),
+                               and 'warnings': [{kind, message}] for a run that is not
+                               what it seems (also printed): atlas_nearly_empty (a
+                               mapping run whose atlas has < 4 floor lines is not
+                               written and exits 1), stream_spans (streams that end or
+                               start > 1 s apart), nees_out_of_band (mean NEES against
+                               ground truth outside [0.3, 30]), skipped_lines (--carmen)
+With ground truth in the dataset it also prints the accuracy, in a block headed
+'diagnostics (ground truth, not available on a vehicle)'; the full table:
+groundline eval --est OUT/trajectory.tum --ref ...
 
 Examples:
   groundline localize --dataset sample_zone_b --out run_odom
@@ -114,6 +126,11 @@ Examples:
 int Fail(const std::string& message) {
   std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
   return 1;
+}
+
+int Usage(const std::string& message) {
+  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
+  return 2;
 }
 
 loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
@@ -145,6 +162,10 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
   return options;
 }
 
+// Fewer lines than this cannot fix a pose (two crossing lines fix it only
+// where both are seen): an atlas below it is unusable.
+constexpr std::size_t kMinAtlasLines = 4;
+
 int RunLocalize(const LocalizeFlags& flags) {
   const RunClock clock;
   core::DatasetReadOptions read_options;  // the image index, not the pixels; scans streamed
@@ -159,10 +180,10 @@ int RunLocalize(const LocalizeFlags& flags) {
   setup_options.atlas_path = flags.atlas_path;
   const loc::LocalizerOptions& options = setup_options.localizer;
   if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
-    return Fail("--relocalize needs an atlas to recognize: use it with --mode lines");
+    return Usage("--relocalize needs an atlas to recognize: use it with --mode lines");
   }
   if (core::Status s = options.relocalizer.Validate(); !s.ok())
-    return Fail("--near: " + s.message());
+    return Usage("--near: " + s.message());
   core::Result<service::DatasetSetup> setup =
       service::SetupFromDataset(dir, *dataset, setup_options);
   if (!setup.ok()) return Fail(setup.message());
@@ -215,6 +236,20 @@ int RunLocalize(const LocalizeFlags& flags) {
   stream_options.frames = setup_options.localizer.mode == loc::LocalizerMode::kLines ||
                           setup_options.localizer.mode == loc::LocalizerMode::kMapping;
   stream_options.scans = options.mode == loc::LocalizerMode::kLidar || options.use_lidar;
+  RunWarnings warnings("localize");
+  {
+    core::Result<std::vector<StreamSpan>> spans = StreamSpans(dir, *dataset, stream_options);
+    if (!spans.ok()) return Fail(spans.message());
+    CheckStreamSpans(*spans, &warnings);
+  }
+  if (options.mode == loc::LocalizerMode::kLines &&
+      atlas_copy.lines.size() - loc::CountWallLines(atlas_copy) < kMinAtlasLines) {
+    warnings.Add("atlas_nearly_empty",
+                 "the atlas has " +
+                     std::to_string(atlas_copy.lines.size() - loc::CountWallLines(atlas_copy)) +
+                     " floor lines (fewer than " + std::to_string(kMinAtlasLines) +
+                     " cannot fix a pose): the camera has next to nothing to localize against");
+  }
   core::Result<core::DatasetStreams> streams =
       core::DatasetStreams::Open(dir, *dataset, stream_options);
   if (!streams.ok()) return Fail(streams.message());
@@ -278,6 +313,9 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (!replayed.ok()) return Fail(replayed.message());
   if (flags.relocalize && !localizer.started()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
+    if (s != nullptr && s->frames_hint_contradicted > 0 && options.relocalizer.near_m) {
+      return Fail(HintNotSupported(flags.dataset_dir, *options.relocalizer.near_m, *s));
+    }
     return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
                 std::to_string(localizer.counters().frames_used) +
                 " frames: " + std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
@@ -286,7 +324,12 @@ int RunLocalize(const LocalizeFlags& flags) {
                 "the drive starts), or give --initial-pose");
   }
 
-  const fs::path out(flags.out_dir);
+  // Everything goes into a staging folder renamed into --out at the end: a
+  // run that fails leaves no half-written folder.
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) return Fail(staged.message());
+  const fs::path out = staged->path();
+  const fs::path final_out(flags.out_dir);
   for (const core::Status& s :
        {core::WriteTumTrajectory(out / "trajectory.tum", keyframes),
         core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
@@ -325,14 +368,7 @@ int RunLocalize(const LocalizeFlags& flags) {
                         {"n_keyframes_with_relative", c.lidar_with_relative}};
   }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
-    const loc::RelocalizerStatus* s = localizer.relocalizer_status();
-    summary["relocalized"] = {
-        {"stamp_s", r->stamp_s},
-        {"x_m", r->T_map_base.x()},
-        {"y_m", r->T_map_base.y()},
-        {"yaw_deg", r->T_map_base.yaw() * 180.0 / std::numbers::pi},
-        {"sigma_xy_m", std::sqrt(0.5 * (r->covariance(0, 0) + r->covariance(1, 1)))},
-        {"junction_sightings", s ? s->seeds : 0}};
+    summary["relocalized"] = RelocalizedJson(*r, localizer.relocalizer_status());
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
   }
   std::printf(
@@ -341,19 +377,45 @@ int RunLocalize(const LocalizeFlags& flags) {
       flags.dataset_dir.c_str(), keyframes.size(), c.frames_used, c.frames_skipped,
       c.frames_unreadable, c.lines_used, c.lines_rejected, Percentile(update_ms, 0.5),
       Percentile(update_ms, 0.99), start_from.c_str());
+  bool unusable = false;
   if (options.mode == loc::LocalizerMode::kMapping) {
     const fs::path atlas_out =
         flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
+    const fs::path atlas_shown =
+        flags.atlas_out_path.empty() ? final_out / "atlas.json" : atlas_out;
     const loc::Atlas built = localizer.CurrentAtlas();
-    if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
-    std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
-                built.junctions.size(), atlas_out.string().c_str());
+    const std::size_t floor_lines = built.lines.size() - loc::CountWallLines(built);
+    summary["atlas_lines"] = built.lines.size();
+    summary["atlas_junctions"] = built.junctions.size();
+    if (floor_lines < kMinAtlasLines) {
+      unusable = true;
+      warnings.Add("atlas_nearly_empty",
+                   "the atlas built has " + std::to_string(floor_lines) + " floor lines and " +
+                       std::to_string(built.junctions.size()) + " junctions (fewer than " +
+                       std::to_string(kMinAtlasLines) + " lines cannot fix a pose), from " +
+                       std::to_string(c.lines_used) + " lines used and " +
+                       std::to_string(c.lines_rejected) + " rejected in " +
+                       std::to_string(c.frames_used) +
+                       " frames: not written. Drive over more markings, or check the camera "
+                       "images and the mount (groundline extract)");
+    } else {
+      if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
+      std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
+                  built.junctions.size(), atlas_shown.string().c_str());
+    }
   }
-  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth, clock, out, &summary);
+  if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth,
+                                        options.mode != loc::LocalizerMode::kLidar, clock, out,
+                                        &warnings, &summary);
       !s.ok()) {
     return Fail(s.message());
   }
-  return 0;
+  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
+  if (warnings.size() > 0) {
+    std::fprintf(stderr, "groundline localize: %zu warning%s (listed in %s)\n", warnings.size(),
+                 warnings.size() == 1 ? "" : "s", (final_out / "summary.json").string().c_str());
+  }
+  return unusable ? 1 : 0;
 }
 
 }  // namespace
@@ -431,6 +493,7 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->check(CLI::Range(0.0, 1e9))
       ->capture_default_str();
   cmd->callback([flags, carmen, run] {
+    CheckLocalizeFlags(flags->relocalize, flags->mode, flags->initial_pose, flags->near);
     if (!carmen->log_path.empty()) {
       carmen->out_dir = flags->out_dir;
       *run = [carmen] { return RunLocalizeCarmen(*carmen); };

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/text_parse.h"
 #include "groundline/sim/layout_png.h"
@@ -144,9 +145,10 @@ std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenari
 }
 
 // Writes one run into `out` (images and calibration first: WriteDataset
-// checks that they exist) and prints its summary. Returns the exit code.
-int WriteRun(const std::filesystem::path& out, const sim::SimRun& run, int threads,
-             ProgressLine& progress, double started_s) {
+// checks that they exist) and prints its summary, naming the folder `shown`
+// (where `out` is moved once everything is written). Returns the exit code.
+int WriteRun(const std::filesystem::path& out, const std::filesystem::path& shown,
+             const sim::SimRun& run, int threads, ProgressLine& progress, double started_s) {
   const auto update = [&progress](std::string_view stage, double fraction) {
     progress.Update(stage, fraction);
   };
@@ -173,7 +175,7 @@ int WriteRun(const std::filesystem::path& out, const sim::SimRun& run, int threa
       "%s: zone %s, seed %s, %.0f m in %.0f s of driving; %zu encoder readings, "
       "%zu LiDAR scans, %zu camera frames, %zu floor markings, %zu wheel slips; simulated in "
       "%.1f s\n",
-      out.string().c_str(), provenance.at("zone").c_str(), provenance.at("seed").c_str(),
+      shown.string().c_str(), provenance.at("zone").c_str(), provenance.at("seed").c_str(),
       run.route.length_m, run.route.duration_s, run.dataset.wheel_encoders.size(),
       run.dataset.scans.size(), run.dataset.images.size(),
       run.dataset.floor_map ? run.dataset.floor_map->markings.size() : 0,
@@ -183,7 +185,7 @@ int WriteRun(const std::filesystem::path& out, const sim::SimRun& run, int threa
   for (std::size_t i = 0; i < std::min<std::size_t>(4, images.size()); ++i) {
     const std::size_t k = i * (images.size() - 1) / std::max<std::size_t>(1, 3);
     std::printf("sample frame: %s (t = %.2f s)\n",
-                (out / "images" / images[k].file).string().c_str(), images[k].stamp_s);
+                (shown / "images" / images[k].file).string().c_str(), images[k].stamp_s);
   }
   return 0;
 }
@@ -198,14 +200,32 @@ int RunSim(const SimFlags& flags) {
   const auto update = [&progress](std::string_view stage, double fraction) {
     progress.Update(stage, fraction);
   };
-  const std::filesystem::path out(flags.out_dir);
+  // Written into a staging folder moved into --out at the end: a run that
+  // fails (or is interrupted) leaves --out as it was.
+  const std::filesystem::path shown(flags.out_dir);
+  const auto commit = [&](core::StagedDirectory& staged) {
+    if (core::Status s = staged.Commit(); !s.ok()) {
+      std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
+      return 1;
+    }
+    return 0;
+  };
   if (scenario.robots == 1) {
     core::Result<sim::SimRun> run = sim::SimulateRun(options, update);
     if (!run.ok()) {
       std::fprintf(stderr, "groundline sim: %s\n", run.message().c_str());
       return 1;
     }
-    return WriteRun(out, *run, flags.threads, progress, started_s);
+    core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+    if (!staged.ok()) {
+      std::fprintf(stderr, "groundline sim: %s\n", staged.message().c_str());
+      return 1;
+    }
+    if (const int code =
+            WriteRun(staged->path(), shown, *run, flags.threads, progress, started_s)) {
+      return code;
+    }
+    return commit(*staged);
   }
   sim::FleetOptions fleet;
   fleet.robots = scenario.robots;
@@ -214,13 +234,19 @@ int RunSim(const SimFlags& flags) {
     std::fprintf(stderr, "groundline sim: %s\n", runs.message().c_str());
     return 1;
   }
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", staged.message().c_str());
+    return 1;
+  }
   for (std::size_t k = 0; k < runs->size(); ++k) {
-    const std::filesystem::path robot_dir = out / ("robot_" + std::to_string(k));
-    if (const int code = WriteRun(robot_dir, (*runs)[k], flags.threads, progress, started_s)) {
+    const std::string robot = "robot_" + std::to_string(k);
+    if (const int code = WriteRun(staged->path() / robot, shown / robot, (*runs)[k], flags.threads,
+                                  progress, started_s)) {
       return code;
     }
   }
-  return 0;
+  return commit(*staged);
 }
 
 }  // namespace

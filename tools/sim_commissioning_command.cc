@@ -4,6 +4,7 @@
 #include <string>
 
 #include "commands.h"
+#include "groundline/core/atomic_file.h"
 #include "groundline/sim/commissioning_scene.h"
 
 namespace groundline::tools {
@@ -47,8 +48,16 @@ int RunSimCommissioning(const SimCommissioningFlags& flags) {
   }
   core::Result<std::vector<sim::GreyImage>> images =
       sim::RenderCommissioningImages(*scene, options);
+  // Written into a staging folder moved into --out at the end: a failed run
+  // leaves --out as it was.
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out);
+  if (!staged.ok()) {
+    std::fprintf(stderr, "groundline sim-commissioning: %s\n", staged.message().c_str());
+    return 1;
+  }
   core::Status written =
-      images.ok() ? sim::WriteCommissioningScene(*scene, *images, flags.out) : images.status();
+      images.ok() ? sim::WriteCommissioningScene(*scene, *images, staged->path()) : images.status();
+  if (written.ok()) written = staged->Commit();
   if (!written.ok()) {
     std::fprintf(stderr, "groundline sim-commissioning: %s\n", written.message().c_str());
     return 1;

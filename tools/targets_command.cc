@@ -60,6 +60,13 @@ int RunTargets(const TargetsFlags& flags) {
     if (!flags.list) std::fprintf(stderr, "groundline targets: choose one with --target NAME\n");
     return flags.list ? 0 : 2;
   }
+  // Written into a staging folder moved into --out at the end: a failed run
+  // leaves --out as it was.
+  core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
+  if (!staged.ok()) {
+    std::fprintf(stderr, "groundline targets: %s\n", staged.message().c_str());
+    return 1;
+  }
   for (const std::string& name : flags.names) {
     core::Result<calibration::CalibTarget> target = calibration::FindCalibTarget(*targets, name);
     if (!target.ok()) {
@@ -71,7 +78,7 @@ int RunTargets(const TargetsFlags& flags) {
       std::fprintf(stderr, "groundline targets: %s\n", sheets.message().c_str());
       return 1;
     }
-    const std::filesystem::path out(flags.out_dir);
+    const std::filesystem::path out = staged->path();
     for (const calibration::TargetSheet& sheet : *sheets) {
       const std::filesystem::path svg = out / (sheet.file_stem + ".svg");
       if (core::Status s = core::WriteFileAtomically(svg, calibration::SheetToSvg(sheet));
@@ -94,6 +101,10 @@ int RunTargets(const TargetsFlags& flags) {
                 flags.no_png
                     ? ""
                     : (", PNG at " + std::to_string(static_cast<int>(flags.dpi)) + " dpi").c_str());
+  }
+  if (core::Status s = staged->Commit(); !s.ok()) {
+    std::fprintf(stderr, "groundline targets: %s\n", s.message().c_str());
+    return 1;
   }
   return 0;
 }

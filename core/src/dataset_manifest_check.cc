@@ -17,6 +17,20 @@ Problem Positive(const std::string& field, double value) {
   return FieldProblem{field, "a finite number > 0", Str(value)};
 }
 
+// A sensor rate beyond these is a unit mistake (a period or kHz written as
+// Hz) or a typo, not a sensor: cameras and planar LiDARs run at up to a few
+// hundred Hz, wheel encoders are read at up to a few kHz.
+constexpr double kMaxCameraRateHz = 1000.0;
+constexpr double kMaxLidarRateHz = 1000.0;
+constexpr double kMaxWheelRateHz = 10000.0;
+// A planar LiDAR on a vehicle, metres.
+constexpr double kMaxLidarMountHeightM = 5.0;
+
+Problem Rate(const std::string& field, double value, double max_hz) {
+  if (std::isfinite(value) && value > 0.0 && value <= max_hz) return std::nullopt;
+  return FieldProblem{field, "a rate in (0, " + Str(max_hz) + "] Hz", Str(value)};
+}
+
 Problem Finite(const std::string& field, double value) {
   if (std::isfinite(value)) return std::nullopt;
   return FieldProblem{field, "a finite number", Str(value)};
@@ -36,14 +50,14 @@ Problem CheckCamera(const CameraSensor& c) {
   if (c.image_height_px <= 0) {
     return FieldProblem{p + "image_height_px", "a height > 0", std::to_string(c.image_height_px)};
   }
-  if (Problem e = Positive(p + "rate_hz", c.rate_hz)) return e;
+  if (Problem e = Rate(p + "rate_hz", c.rate_hz, kMaxCameraRateHz)) return e;
   if (Problem e = RelativePath(p + "intrinsics_file", c.intrinsics_file)) return e;
   return RelativePath(p + "extrinsics_file", c.extrinsics_file);
 }
 
 Problem CheckWheelEncoders(const WheelEncoderSensor& w) {
   const std::string p = "sensors.wheel_encoders.";
-  if (Problem e = Positive(p + "rate_hz", w.rate_hz)) return e;
+  if (Problem e = Rate(p + "rate_hz", w.rate_hz, kMaxWheelRateHz)) return e;
   if (Problem e = Positive(p + "wheel_radius_m", w.wheel_radius_m)) return e;
   if (Problem e = Positive(p + "track_m", w.track_m)) return e;
   if (w.ticks_per_rev <= 0) {
@@ -54,12 +68,14 @@ Problem CheckWheelEncoders(const WheelEncoderSensor& w) {
 
 Problem CheckLidar(const LidarSensor& l) {
   const std::string p = "sensors.lidar.";
-  if (Problem e = Positive(p + "rate_hz", l.rate_hz)) return e;
+  if (Problem e = Rate(p + "rate_hz", l.rate_hz, kMaxLidarRateHz)) return e;
   if (Problem e = Finite(p + "T_base_lidar.x_m", l.T_base_lidar.x())) return e;
   if (Problem e = Finite(p + "T_base_lidar.y_m", l.T_base_lidar.y())) return e;
   if (Problem e = Finite(p + "T_base_lidar.yaw_rad", l.T_base_lidar.yaw())) return e;
-  if (!(std::isfinite(l.mount_height_m) && l.mount_height_m >= 0.0)) {
-    return FieldProblem{p + "mount_height_m", "a finite height >= 0", Str(l.mount_height_m)};
+  if (!(std::isfinite(l.mount_height_m) && l.mount_height_m >= 0.0 &&
+        l.mount_height_m <= kMaxLidarMountHeightM)) {
+    return FieldProblem{p + "mount_height_m", "a height in [0, 5] m (metres, not mm or cm)",
+                        Str(l.mount_height_m)};
   }
   if (!(std::isfinite(l.range_min_m) && l.range_min_m >= kMinRangeLimit_m)) {
     return FieldProblem{p + "range_min_m", "a finite limit >= 0.001 (0 encodes 'no return')",

@@ -74,8 +74,15 @@ core::Status RelocalizerOptions::Validate() const {
         "relocalizer: gate_chi2 must be > 0 and unmatched_log_likelihood < -gate_chi2 / 2 (a "
         "match must score better than no match)");
   }
-  if (near_m && (!(near_radius_m > 0.0) || !(near_drift_per_m >= 0.0))) {
-    return core::Status::Error("relocalizer: near_radius_m must be > 0, near_drift_per_m >= 0");
+  if (near_m && (!near_m->allFinite() || !(near_radius_m > 0.0) || !(near_drift_per_m >= 0.0) ||
+                 !std::isfinite(near_radius_m) || !std::isfinite(near_drift_per_m))) {
+    return core::Status::Error(
+        "relocalizer: near_m must be finite, near_radius_m a finite number > 0, "
+        "near_drift_per_m >= 0");
+  }
+  if (!(hint_tie_margin > 0.0) || !(hint_contradiction_margin >= hint_tie_margin)) {
+    return core::Status::Error(
+        "relocalizer: need hint_contradiction_margin >= hint_tie_margin > 0");
   }
   if (!(commit_margin > 0.0) || !(prune_margin > commit_margin) || !(min_travel_m >= 0.0) ||
       !(max_track_m > min_travel_m) || min_matched < 1 || !(min_match_share > 0.0) ||
@@ -174,6 +181,16 @@ const std::vector<std::size_t>& Relocalizer::JunctionsNear(const Eigen::Vector2d
   return cell_junctions_[CellIndex(p_m)];
 }
 
+Eigen::Vector2d Relocalizer::StartOf(const core::SE2& T_map_base) const {
+  return (T_map_base * T_first_current_.Inverse()).translation();
+}
+
+bool Relocalizer::PriorAllows(const core::SE2& T_map_base) const {
+  return !options_.near_m ||
+         (StartOf(T_map_base) - *options_.near_m).norm() <=
+             options_.near_radius_m + options_.near_drift_per_m * travel_total_m_;
+}
+
 bool Relocalizer::IsSamePose(const core::SE2& a, const core::SE2& b) const {
   return (a.translation() - b.translation()).norm() < options_.duplicate_m &&
          std::abs(core::WrapAngle(a.yaw() - b.yaw())) < options_.duplicate_rad;
@@ -190,31 +207,39 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
   if (!hypotheses_.empty()) {
     for (Hypothesis& h : hypotheses_) h.pose = PropagateFromKeyframe(h.pose, motion, stamp_s);
     status_.travel_since_seed_m += motion.path_length_m;
+    if (options_.near_m && !best_excluded_) AddExcludedHypotheses(stamp_s, observations);
     for (Hypothesis& h : hypotheses_) Score(observations, &h);
     PruneAndUpdateStatus();
-    const bool lost = status_.best_matched + status_.best_unmatched > 0 &&
-                      hypotheses_.front().frames_scored >= 3 &&
-                      status_.best_matched < options_.min_match_share *
-                                                 (status_.best_matched + status_.best_unmatched);
     if (std::optional<PoseEstimate> pose = TryCommit()) {
       committed_ = true;
       return pose;
     }
+    // Lost: neither the best hypothesis the prior allows nor the best it
+    // excludes explains the floor (the seed junction was not on the atlas).
+    // A prior that only its exclusions explain is not lost: it is
+    // contradicted, and the search goes on to gather evidence.
+    const bool lost = !best_ || (IsLost(hypotheses_[*best_]) &&
+                                 (!best_excluded_ || IsLost(hypotheses_[*best_excluded_])));
     if (lost || status_.travel_since_seed_m > options_.max_track_m) {
       hypotheses_.clear();
+      best_.reset();
+      best_excluded_.reset();
     }
   }
   if (hypotheses_.empty()) Seed(stamp_s, observations);
   return std::nullopt;
 }
 
-void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
-  const core::Matrix3 birth_covariance =
-      core::Vector3(options_.birth_sigma_m * options_.birth_sigma_m,
-                    options_.birth_sigma_m * options_.birth_sigma_m,
-                    options_.birth_sigma_rad * options_.birth_sigma_rad)
-          .asDiagonal();
-  std::vector<Hypothesis> born;
+core::Matrix3 Relocalizer::BirthCovariance() const {
+  return core::Vector3(options_.birth_sigma_m * options_.birth_sigma_m,
+                       options_.birth_sigma_m * options_.birth_sigma_m,
+                       options_.birth_sigma_rad * options_.birth_sigma_rad)
+      .asDiagonal();
+}
+
+void Relocalizer::SeedFromJunctions(double stamp_s, const FloorObservations& observations,
+                                    std::vector<Hypothesis>* born) const {
+  const core::Matrix3 birth_covariance = BirthCovariance();
   for (const JunctionObservation& seen : observations.junctions) {
     for (const LineObservation& through : observations.lines) {
       if (std::abs(perception::SignedDistance(through.line_base, seen.point_base_m)) >
@@ -230,26 +255,53 @@ void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
             const core::SE2 rotation(0.0, 0.0, yaw);
             const Eigen::Vector2d t = atlas_.junctions[j].point_m - rotation * seen.point_base_m;
             const core::SE2 T(t, yaw);
-            if (options_.near_m &&
-                ((T * T_first_current_.Inverse()).translation() - *options_.near_m).norm() >
-                    options_.near_radius_m + options_.near_drift_per_m * travel_total_m_) {
-              continue;
-            }
-            const bool duplicate = std::any_of(born.begin(), born.end(), [&](const Hypothesis& h) {
-              return IsSamePose(h.pose.T_map_base, T);
-            });
-            if (!duplicate) born.push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+            const bool duplicate =
+                std::any_of(born->begin(), born->end(),
+                            [&](const Hypothesis& h) { return IsSamePose(h.pose.T_map_base, T); });
+            if (!duplicate) born->push_back(NewHypothesis(stamp_s, T, birth_covariance));
           }
         }
       }
     }
   }
+}
+
+Relocalizer::Hypothesis Relocalizer::NewHypothesis(double stamp_s, const core::SE2& T,
+                                                   const core::Matrix3& covariance) const {
+  Hypothesis h;
+  h.pose = {stamp_s, T, covariance};
+  h.allowed = PriorAllows(T);
+  return h;
+}
+
+void Relocalizer::AddExcludedHypotheses(double stamp_s, const FloorObservations& observations) {
+  std::vector<Hypothesis> born;
+  SeedFromJunctions(stamp_s, observations, &born);
+  std::erase_if(born, [](const Hypothesis& h) { return h.allowed; });
+  if (born.empty()) return;
+  // From this frame on, the hypotheses the prior allows and the newborn ones
+  // are scored on the same frames.
+  for (Hypothesis& h : hypotheses_) h.check = {};
+  for (Hypothesis& h : born) hypotheses_.push_back(std::move(h));
+}
+
+void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
+  std::vector<Hypothesis> born;
+  SeedFromJunctions(stamp_s, observations, &born);
   // Line seeds only early: the region they must cover grows with the travel.
-  if (born.empty() && options_.near_m && travel_total_m_ <= options_.max_track_m) {
+  const bool any_allowed =
+      std::any_of(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; });
+  if (!any_allowed && options_.near_m && travel_total_m_ <= options_.max_track_m) {
     SeedAlongLines(stamp_s, observations, &born);
   }
-  if (born.empty()) return;
+  // The hypotheses the prior excludes are kept only to check it against; a
+  // seed with nothing the prior allows waits for a later frame.
+  if (std::none_of(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; })) {
+    return;
+  }
   hypotheses_ = std::move(born);
+  best_.reset();
+  best_excluded_.reset();
   ++status_.seeds;
   status_.travel_since_seed_m = 0.0;
   for (Hypothesis& h : hypotheses_) Score(observations, &h);
@@ -275,11 +327,7 @@ void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observ
   const double reach_m = allowance_m + travel_total_m_ + 3.0;  // where the vehicle can be now
   const Eigen::Vector2d seen_point =
       0.5 * (longest->endpoint_a_base_m + longest->endpoint_b_base_m);
-  const core::Matrix3 birth_covariance =
-      core::Vector3(options_.birth_sigma_m * options_.birth_sigma_m,
-                    options_.birth_sigma_m * options_.birth_sigma_m,
-                    options_.birth_sigma_rad * options_.birth_sigma_rad)
-          .asDiagonal();
+  const core::Matrix3 birth_covariance = BirthCovariance();
   for (const AtlasLine& line : atlas_.lines) {
     if (!KindsCompatible(longest->kind, line.kind)) continue;
     const Eigen::Vector2d a = line.endpoint_a_m, b = line.endpoint_b_m;
@@ -300,7 +348,7 @@ void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observ
             allowance_m) {
           continue;
         }
-        born->push_back({{stamp_s, T, birth_covariance}, 0.0, 0, 0, 0});
+        born->push_back(NewHypothesis(stamp_s, T, birth_covariance));
       }
     }
   }
@@ -312,15 +360,16 @@ void Relocalizer::Score(const FloorObservations& observations, Hypothesis* h) co
   // hypothesis' uncertainty does not grow with the odometry while it
   // explains the floor.
   Information update;
-  for (const LineObservation& o : observations.lines) {
-    const double ll = LineLogLikelihood(*h, o, &update);
+  const auto add = [&](double ll) {
+    const bool matched = ll > options_.unmatched_log_likelihood;
     h->log_likelihood += ll;
-    (ll > options_.unmatched_log_likelihood ? h->matched : h->unmatched) += 1;
-  }
+    (matched ? h->matched : h->unmatched) += 1;
+    h->check.log_likelihood += ll;
+    (matched ? h->check.matched : h->check.unmatched) += 1;
+  };
+  for (const LineObservation& o : observations.lines) add(LineLogLikelihood(*h, o, &update));
   for (const JunctionObservation& o : observations.junctions) {
-    const double ll = JunctionLogLikelihood(*h, o, &update);
-    h->log_likelihood += ll;
-    (ll > options_.unmatched_log_likelihood ? h->matched : h->unmatched) += 1;
+    add(JunctionLogLikelihood(*h, o, &update));
   }
   ++h->frames_scored;
   if (update.count == 0) return;
@@ -402,41 +451,108 @@ double Relocalizer::JunctionLogLikelihood(const Hypothesis& h, const JunctionObs
   return -0.5 * best;
 }
 
+bool Relocalizer::IsLost(const Hypothesis& h) const {
+  const int seen = h.matched + h.unmatched;
+  return seen > 0 && h.frames_scored >= 3 && h.matched < options_.min_match_share * seen;
+}
+
+bool Relocalizer::MeetsMatchRule(int matched, int unmatched) const {
+  return matched >= options_.min_matched &&
+         matched >= options_.min_match_share * static_cast<double>(matched + unmatched);
+}
+
 void Relocalizer::PruneAndUpdateStatus() {
   std::sort(hypotheses_.begin(), hypotheses_.end(), [](const Hypothesis& a, const Hypothesis& b) {
     return a.log_likelihood > b.log_likelihood;
   });
-  if (!hypotheses_.empty()) {
-    const double floor = hypotheses_.front().log_likelihood - options_.prune_margin;
-    while (hypotheses_.back().log_likelihood < floor) hypotheses_.pop_back();
+  // Pruned against the best of their own kind (each kind was born at once,
+  // so its log-likelihoods compare): the hypotheses the prior allows must
+  // survive however much better an excluded one does, so that the report
+  // can say how they compare.
+  double best_allowed = kNone, best_excluded = kNone;
+  for (const Hypothesis& h : hypotheses_) {
+    double& best = h.allowed ? best_allowed : best_excluded;
+    best = std::max(best, h.log_likelihood);
   }
+  std::erase_if(hypotheses_, [&](const Hypothesis& h) {
+    return h.log_likelihood < (h.allowed ? best_allowed : best_excluded) - options_.prune_margin;
+  });
   // The refinement pulls hypotheses born a little apart onto one pose; the
   // runner-up must be a different pose, so merge into the better one.
   std::vector<Hypothesis> distinct;
   distinct.reserve(hypotheses_.size());
   for (Hypothesis& h : hypotheses_) {
-    const bool duplicate = std::any_of(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
-      return IsSamePose(k.pose.T_map_base, h.pose.T_map_base);
+    auto same = std::find_if(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
+      return k.allowed == h.allowed && IsSamePose(k.pose.T_map_base, h.pose.T_map_base);
     });
-    if (!duplicate) distinct.push_back(std::move(h));
+    if (same == distinct.end()) distinct.push_back(std::move(h));
   }
   hypotheses_ = std::move(distinct);
+
+  best_.reset();
+  best_excluded_.reset();
+  std::optional<std::size_t> runner_up;
+  for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
+    const Hypothesis& h = hypotheses_[i];
+    if (!h.allowed) {
+      if (!best_excluded_ ||
+          h.check.log_likelihood > hypotheses_[*best_excluded_].check.log_likelihood) {
+        best_excluded_ = i;
+      }
+    } else if (!best_) {
+      best_ = i;
+    } else if (!runner_up) {
+      runner_up = i;
+    }
+  }
   status_.hypotheses = hypotheses_.size();
-  status_.best_log_likelihood = hypotheses_.empty() ? kNone : hypotheses_[0].log_likelihood;
-  status_.runner_up_log_likelihood = hypotheses_.size() < 2 ? kNone : hypotheses_[1].log_likelihood;
-  status_.best_matched = hypotheses_.empty() ? 0 : hypotheses_[0].matched;
-  status_.best_unmatched = hypotheses_.empty() ? 0 : hypotheses_[0].unmatched;
+  const Hypothesis* best = best_ ? &hypotheses_[*best_] : nullptr;
+  status_.best_log_likelihood = best ? best->log_likelihood : kNone;
+  status_.runner_up_log_likelihood = runner_up ? hypotheses_[*runner_up].log_likelihood : kNone;
+  status_.best_matched = best ? best->matched : 0;
+  status_.best_unmatched = best ? best->unmatched : 0;
+  // Rules 4 and 5 compare the two on the frames both were scored on.
+  const Hypothesis* excluded = best_excluded_ ? &hypotheses_[*best_excluded_] : nullptr;
+  const bool excluded_leads =
+      excluded != nullptr &&
+      (best == nullptr || excluded->check.log_likelihood > best->check.log_likelihood);
+  const Hypothesis* overall = excluded_leads ? excluded : best;
+  status_.overall_log_likelihood = overall ? overall->check.log_likelihood : kNone;
+  status_.overall_matched = overall ? overall->check.matched : 0;
+  status_.overall_unmatched = overall ? overall->check.unmatched : 0;
+  status_.overall_start_m =
+      overall ? StartOf(overall->pose.T_map_base) : Eigen::Vector2d::Zero().eval();
+  excluded_lead_ = !excluded ? kNone
+                   : !best   ? std::numeric_limits<double>::infinity()
+                             : excluded->check.log_likelihood - best->check.log_likelihood;
+  status_.excluded_lead = excluded_lead_;
+  // Rule 4 counts only an exclusion that is itself a good explanation
+  // (rule 3), not one that is merely less bad.
+  status_.hint_contradicted = excluded != nullptr &&
+                              MeetsMatchRule(excluded->check.matched, excluded->check.unmatched) &&
+                              excluded_lead_ >= options_.hint_contradiction_margin;
+  if (status_.hint_contradicted) {
+    ++status_.frames_hint_contradicted;
+    status_.contradicted_best_log_likelihood = best ? best->check.log_likelihood : kNone;
+    status_.contradicted_best_matched = best ? best->check.matched : 0;
+    status_.contradicted_best_unmatched = best ? best->check.unmatched : 0;
+    status_.contradicted_overall_log_likelihood = excluded->check.log_likelihood;
+    status_.contradicted_overall_matched = excluded->check.matched;
+    status_.contradicted_overall_unmatched = excluded->check.unmatched;
+    status_.contradicted_overall_start_from_hint_m =
+        (StartOf(excluded->pose.T_map_base) - *options_.near_m).norm();
+  }
 }
 
 std::optional<PoseEstimate> Relocalizer::TryCommit() const {
-  if (hypotheses_.empty()) return std::nullopt;
-  const Hypothesis& best = hypotheses_.front();
-  const int seen = best.matched + best.unmatched;
+  // The evidence rule of RelocalizerOptions.
+  if (!best_ || status_.frames_hint_contradicted > 0) return std::nullopt;  // rule 4
+  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;      // rule 5
+  const Hypothesis& best = hypotheses_[*best_];
   const bool leads =
       status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;
-  if (status_.travel_since_seed_m >= options_.min_travel_m && leads &&
-      best.matched >= options_.min_matched &&
-      best.matched >= options_.min_match_share * static_cast<double>(seen)) {
+  if (leads && status_.travel_since_seed_m >= options_.min_travel_m &&
+      MeetsMatchRule(best.matched, best.unmatched)) {
     return best.pose;
   }
   return std::nullopt;

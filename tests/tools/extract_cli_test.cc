@@ -82,8 +82,33 @@ TEST(ExtractCli, FolderWithACorruptImage) {
   ASSERT_EQ(summary["skipped"].size(), 1u);
   EXPECT_TRUE(summary["ms_per_frame_median"].is_number());
   EXPECT_FALSE(summary.contains("tpr"));  // no ground truth
-  EXPECT_TRUE(std::filesystem::exists(result / "overlay_000000.png"));
-  EXPECT_TRUE(std::filesystem::exists(result / "bev_000000.png"));
+  // The images are named after their source images; the overlay carries its
+  // legend below the BEV (3x upsampled): a white strip of one row per colour.
+  ASSERT_TRUE(std::filesystem::exists(result / "overlay_frame0.png"));
+  ASSERT_TRUE(std::filesystem::exists(result / "bev_frame0.png"));
+  const cv::Mat bev = cv::imread((result / "bev_frame0.png").string());
+  const cv::Mat overlay = cv::imread((result / "overlay_frame0.png").string());
+  ASSERT_FALSE(bev.empty());
+  ASSERT_FALSE(overlay.empty());
+  EXPECT_EQ(overlay.cols, 3 * bev.cols);
+  EXPECT_EQ(overlay.rows, 3 * bev.rows + 5 * 18 + 6);  // 5 rows without ground truth
+  const cv::Vec3b corner = overlay.at<cv::Vec3b>(overlay.rows - 1, overlay.cols - 1);
+  EXPECT_EQ(corner, cv::Vec3b(255, 255, 255));
+  // The legend's first swatch is the bright-line green.
+  const cv::Vec3b swatch = overlay.at<cv::Vec3b>(3 * bev.rows + 3 + 9, 20);
+  EXPECT_EQ(swatch, cv::Vec3b(0, 220, 0));
+
+  // No image readable: exit 1 and no output folder at all.
+  const std::filesystem::path none = dir / "none";
+  std::filesystem::create_directories(none);
+  std::ofstream(none / "bad.png") << "not a png";
+  EXPECT_EQ(
+      RunGroundline("extract " + Quoted(none) + " --out " + Quoted(dir / "none_out"), dir, &out), 1)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "none_out"));
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().find(".none_out.tmp"), std::string::npos);
+  }
 
   EXPECT_EQ(RunGroundline("extract --out " + Quoted(result), dir, &out), 2) << out;
   EXPECT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " + Quoted(dir / "nope.yaml") +

@@ -1,5 +1,5 @@
-// Global localization on the atlas without an initial pose: "start from a
-// junction recognized on the atlas" (issue 6).
+// Global localization on the atlas without an initial pose: the start is
+// recognized from a junction and the lines around it.
 //
 // One frame's junction, with a line through it, fixes the pose up to the
 // choice of atlas junction and of which of its lines the observed line is
@@ -16,6 +16,14 @@
 // prior on the start and no junction in view, a line alone seeds: its
 // heading and offset from each nearby atlas line, every position along it. A wrong commit is
 // worse than a late one, so the defaults are conservative.
+//
+// A coarse prior is a claim, not a fact: an operator may name the wrong
+// charger. The relocalizer therefore also keeps the hypotheses the prior
+// excludes (born from junctions anywhere on the atlas) and scores them on
+// the same frames; they never commit, but when one of them explains the
+// floor much better than every hypothesis the prior allows, the prior is
+// reported as contradicted and nothing commits (RelocalizerOptions, "the
+// evidence rule").
 //
 // Frames: hypotheses are T_map_base; observations in base_link (x forward,
 // y left); metres and radians.
@@ -63,19 +71,45 @@ struct RelocalizerOptions {
   // match always scores better than no match.
   double gate_chi2 = 9.21;
   double unmatched_log_likelihood = -6.0;
-  // Commit when the best hypothesis leads the runner-up by this much
-  // log-likelihood, after min_travel_m of driving since the seed, with at
-  // least min_matched matched observations and min_match_share of its
-  // observations matched.
+  // The evidence rule. The relocalizer commits to its best hypothesis only
+  // when all of these hold on the frames scored since the last seed (all
+  // hypotheses of a seed are scored on the same frames, so their
+  // log-likelihoods compare):
+  //  1. it leads every other distinct hypothesis that the prior allows (all
+  //     of them without a prior) by commit_margin in log-likelihood;
+  //  2. min_travel_m has been driven since the seed;
+  //  3. it matched at least min_matched observations and at least
+  //     min_match_share of all its observations;
+  //  4. with a prior (near_m): the prior has never been contradicted. It is
+  //     contradicted when a hypothesis it excludes, itself meeting rule 3,
+  //     leads the best it allows by hint_contradiction_margin or more: the
+  //     floor seen is explained better by a start the prior rules out. The
+  //     drive has one start, so the verdict stands for the rest of the drive
+  //     (reseeds included): nothing commits, and status() says why.
+  //  5. with a prior: no hypothesis it excludes scores better than the one
+  //     that would commit by hint_tie_margin or more. The prior breaks ties
+  //     between twins (a floor that repeats); it does not overrule the floor.
+  //     A prior that lands on a twin of the true start (a floor that repeats
+  //     with that offset) is not contradicted by anything the camera sees;
+  //     nothing can tell it from the truth.
+  // A margin of 15 is a likelihood ratio of e^15 (3e6): about three
+  // observations more explained than the runner-up (unmatched costs 6, a
+  // match about 1).
   double commit_margin = 15.0;
   double min_travel_m = 2.0;
   int min_matched = 8;
   double min_match_share = 0.7;
-  // Hypotheses further than prune_margin below the best are dropped.
+  double hint_contradiction_margin = 15.0;
+  // Half the cost of one unexplained observation: twins on a periodic floor
+  // score alike to within their observation noise.
+  double hint_tie_margin = 3.0;
+  // Hypotheses further than prune_margin below the best are dropped (with a
+  // prior: those it allows below the best it allows, the others below the
+  // best of all).
   double prune_margin = 40.0;
   // Reseed after this much travel without a commit (ambiguous drive), or
-  // when the best hypothesis' match share falls below min_match_share after
-  // 3 scored frames (the seed junction was not on the atlas).
+  // when the best hypothesis of all has a match share below min_match_share
+  // after 3 scored frames (the seed junction was not on the atlas).
   double max_track_m = 40.0;
   // An optional coarse prior on where the drive STARTED (the fleet
   // manager's or the operator's "it is at charger 3"): a hypothesis is born
@@ -93,14 +127,41 @@ struct RelocalizerOptions {
   core::Status Validate() const;
 };
 
+// The state of the search after the last frame. "Best" is the best
+// hypothesis the prior allows (any hypothesis without a prior): the one that
+// would commit. Log-likelihoods are -infinity where there is no hypothesis.
 struct RelocalizerStatus {
-  std::size_t hypotheses = 0;  // alive now
+  std::size_t hypotheses = 0;  // alive now, those the prior excludes included
   std::size_t seeds = 0;       // times hypotheses were (re)born
   double travel_since_seed_m = 0.0;
   double best_log_likelihood = 0.0;
-  double runner_up_log_likelihood = 0.0;  // -inf-like when there is none
+  double runner_up_log_likelihood = 0.0;
   int best_matched = 0;
   int best_unmatched = 0;
+  // With a prior: the best hypothesis of all (the prior's exclusions
+  // included), and where its drive started (the odometry run back from it to
+  // the first frame), map frame.
+  double overall_log_likelihood = 0.0;
+  int overall_matched = 0;
+  int overall_unmatched = 0;
+  Eigen::Vector2d overall_start_m = Eigen::Vector2d::Zero();
+  // How far the best hypothesis the prior excludes leads the best it allows,
+  // on the frames both were scored on (negative: it trails; -infinity:
+  // there is none). The overall_* scores are on those frames too.
+  double excluded_lead = 0.0;
+  // True after this frame's scores contradicted the prior (evidence rule 4).
+  bool hint_contradicted = false;
+  // Frames whose scores contradicted the prior (once > 0, nothing commits),
+  // and the scores the last time they did, kept across reseeds for the
+  // report at the end of the drive.
+  std::size_t frames_hint_contradicted = 0;
+  double contradicted_best_log_likelihood = 0.0;
+  int contradicted_best_matched = 0;
+  int contradicted_best_unmatched = 0;
+  double contradicted_overall_log_likelihood = 0.0;
+  int contradicted_overall_matched = 0;
+  int contradicted_overall_unmatched = 0;
+  double contradicted_overall_start_from_hint_m = 0.0;
 };
 
 class Relocalizer {
@@ -124,6 +185,16 @@ class Relocalizer {
     int matched = 0;
     int unmatched = 0;
     int frames_scored = 0;
+    // Its start (the odometry run back to the first frame) lies where the
+    // prior allows; always true without a prior.
+    bool allowed = true;
+    // The scores since the hypotheses the prior excludes were born, which
+    // compare across the two kinds (rules 4 and 5).
+    struct {
+      double log_likelihood = 0.0;
+      int matched = 0;
+      int unmatched = 0;
+    } check;
   };
   // The Gauss-Newton terms of one frame's matches: sum H^T R^-1 H and
   // sum H^T R^-1 r (r = predicted - measured, H = dr/d(right perturbation)).
@@ -135,6 +206,18 @@ class Relocalizer {
              const Eigen::Matrix2d& R);
   };
   void Seed(double stamp_s, const FloorObservations& observations);
+  // Every pose that puts a seen junction (with a seen line through it) on an
+  // atlas junction and the line on one of the atlas lines through it.
+  void SeedFromJunctions(double stamp_s, const FloorObservations& observations,
+                         std::vector<Hypothesis>* born) const;
+  // With a prior and no excluded hypothesis alive (the seed was a line
+  // seed): the excluded junction seeds of this frame, to check the prior.
+  void AddExcludedHypotheses(double stamp_s, const FloorObservations& observations);
+  Hypothesis NewHypothesis(double stamp_s, const core::SE2& T,
+                           const core::Matrix3& covariance) const;
+  core::Matrix3 BirthCovariance() const;
+  bool IsLost(const Hypothesis& h) const;
+  bool MeetsMatchRule(int matched, int unmatched) const;
   // With a prior and no junction in view, within the first max_track_m of
   // the drive: hypotheses from the frame's longest line against every atlas
   // line the vehicle can be near.
@@ -147,9 +230,13 @@ class Relocalizer {
                            Information* update) const;
   double JunctionLogLikelihood(const Hypothesis& h, const JunctionObservation& o,
                                Information* update) const;
-  // Drops hypotheses far below the best and merges those on one pose.
+  // Drops hypotheses far below the best of their kind (allowed by the prior
+  // or not), merges those of one kind on one pose, and fills status_.
   void PruneAndUpdateStatus();
   bool IsSamePose(const core::SE2& a, const core::SE2& b) const;
+  // Where the drive started if the vehicle is at T_map_base now.
+  Eigen::Vector2d StartOf(const core::SE2& T_map_base) const;
+  bool PriorAllows(const core::SE2& T_map_base) const;
   std::optional<PoseEstimate> TryCommit() const;
 
   Atlas atlas_;
@@ -169,6 +256,13 @@ class Relocalizer {
   std::vector<std::vector<std::size_t>> cell_lines_;
   std::vector<std::vector<std::size_t>> cell_junctions_;
   std::vector<Hypothesis> hypotheses_;
+  // After PruneAndUpdateStatus: the best hypothesis the prior allows (by
+  // log-likelihood), the best it excludes (by check.log_likelihood), and how
+  // far the latter leads the former on the frames both were scored on
+  // (-inf without an excluded one).
+  std::optional<std::size_t> best_;
+  std::optional<std::size_t> best_excluded_;
+  double excluded_lead_ = 0.0;
   RelocalizerStatus status_;
   bool committed_ = false;
   // The odometry from the first frame to the current one.
