@@ -203,14 +203,14 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
             const double value = f->kind == "nan" ? std::numeric_limits<double>::quiet_NaN() : 0.0;
             event.wheel.left_delta_rad = event.wheel.right_delta_rad = value;
           }
-          if (f && f->kind == "duplicate") m.events.PushWait(EstimatorEvent(event));
+          if (f && f->kind == "duplicate") m.PushEvent(EstimatorEvent(event));
           if (f && f->kind == "reorder" && !swapped) {
             swapped = std::move(event);  // delivered after the next reading
             break;
           }
-          m.events.PushWait(std::move(event));
+          m.PushEvent(std::move(event));
           if (swapped) {
-            m.events.PushWait(std::move(*swapped));
+            m.PushEvent(std::move(*swapped));
             swapped.reset();
           }
           break;
@@ -221,7 +221,7 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
           event.kind = EstimatorEvent::Kind::kScan;
           event.scan = std::move(e.scan);
           event.scan.stamp_s += shift_s;
-          m.events.PushWait(std::move(event));
+          m.PushEvent(std::move(event));
           break;
         }
         case core::DatasetEvent::Kind::kFrame: {
@@ -239,7 +239,7 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
       }
     });
     if (swapped) {
-      m.events.PushWait(std::move(*swapped));
+      m.PushEvent(std::move(*swapped));
       swapped.reset();
     }
     replayed = stats.status();

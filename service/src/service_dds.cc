@@ -57,19 +57,19 @@ core::Status Service::Impl::CreateDds() {
       event.wheel = {odometry.stamp_s, wheels.left_rad, wheels.right_rad};
       event.T_odom_base = odometry.T_odom_base;
       replay_now_s.store(odometry.stamp_s);
-      events.PushWait(std::move(event));
+      PushEvent(std::move(event));
     };
     cb.on_wheels = [this](const core::WheelEncoderReading& reading) {
       EstimatorEvent event;
       event.wheel = reading;
       replay_now_s.store(reading.stamp_s);
-      events.PushWait(std::move(event));
+      PushEvent(std::move(event));
     };
     cb.on_scan = [this](const core::LaserScan& scan) {
       EstimatorEvent event;
       event.kind = EstimatorEvent::Kind::kScan;
       event.scan = scan;
-      events.PushWait(std::move(event));
+      PushEvent(std::move(event));
     };
     cb.on_image = [this](double stamp_s, const cv::Mat& grey) {
       FrameJob job;
@@ -82,7 +82,7 @@ core::Status Service::Impl::CreateDds() {
       EstimatorEvent event;
       event.kind = EstimatorEvent::Kind::kInitialPose;
       event.initial_pose = pose;
-      events.PushWait(std::move(event));
+      PushEvent(std::move(event));
     };
     core::Result<io::DdsInputs> inputs = io::DdsInputs::Create(*dds, o, std::move(cb));
     if (!inputs.ok()) return inputs.status().WithContext("inputs.dds");

@@ -57,6 +57,7 @@ struct FrameJob {
   // Injected faults (InjectedFault): a black frame, or one that does not decode.
   bool black = false;
   bool corrupt = false;
+  std::uint64_t seq = 0;  // arrival order among all inputs (Service::Impl::input_seq)
 };
 
 // Resident set size [MB] (/proc/self/statm).
@@ -69,6 +70,7 @@ inline double ResidentMb() {
 struct Observed {
   loc::ConvertedObservations observations;
   Clock::time_point arrived;
+  std::uint64_t seq = 0;  // its frame's arrival order
 };
 struct EstimatorEvent {
   enum class Kind { kWheel, kScan, kInitialPose } kind = Kind::kWheel;
@@ -78,12 +80,18 @@ struct EstimatorEvent {
   std::optional<core::SE2> T_odom_base;
   core::LaserScan scan;
   io::PlanarPoseStamped initial_pose;  // kInitialPose (rt/initialpose)
+  std::uint64_t seq = 0;               // arrival order among all inputs (PushEvent)
 };
 // A wheel reading waiting in the estimator for the frame of its time.
+// A wheel reading waiting for the frames of its time, or a scan that came
+// after it (scans keep their place in the arrival order, so that a clock step
+// the readings reveal comes before the scans on the new clock).
 struct HeldReading {
   core::WheelEncoderReading reading;
   std::optional<core::SE2> T_odom_base;
   std::chrono::steady_clock::time_point since;
+  std::optional<core::LaserScan> scan;  // set: a scan, not a reading
+  std::uint64_t seq = 0;
 };
 
 inline loc::LocalizerOptions PresetOptions(const std::string& preset) {
@@ -155,6 +163,14 @@ struct Service::Impl {
   std::atomic<long> camera_source_errors{0}, camera_reopens{0};
   void CameraInput(const std::atomic<bool>& done);
   void PushFrame(FrameJob job);
+  // Every input in arrival order: frames (PushFrame) and events (PushEvent)
+  // share one sequence, which tells the estimator what came after what when
+  // the stamps cannot (a clock that stepped back).
+  std::atomic<std::uint64_t> input_seq{0};
+  void PushEvent(EstimatorEvent event) {
+    event.seq = input_seq++;
+    events.PushWait(std::move(event));
+  }
 
   // inputs.dds / output.dds (service_dds.cc). The inputs are polled by the
   // input loop (Run's thread); the outputs are written by the estimator.
@@ -194,9 +210,13 @@ struct Service::Impl {
     if (auto it = pending_frames.find(stamp_s); it != pending_frames.end())
       pending_frames.erase(it);
   }
-  bool FramePendingAtOrBefore(double stamp_s) {
+  // A frame in the camera stage stamped in [stamp_s - lag_s, stamp_s]: one
+  // further behind would be too late for the localizer anyway (its
+  // max_frame_lag_s), e.g. a frame on a clock that has stepped back.
+  bool FramePendingAtOrBefore(double stamp_s, double lag_s) {
     std::lock_guard<std::mutex> lock(pending_mutex);
-    return !pending_frames.empty() && *pending_frames.begin() <= stamp_s + 1e-9;
+    const auto it = pending_frames.lower_bound(stamp_s - lag_s - 1e-9);
+    return it != pending_frames.end() && *it <= stamp_s + 1e-9;
   }
 };
 

@@ -4,6 +4,7 @@
 namespace groundline::service {
 
 void Service::Impl::PushFrame(FrameJob job) {
+  job.seq = input_seq++;
   const double previous_s = frame_watermark_s.exchange(job.stamp_s);
   if (previous_s > -1e299 && job.stamp_s > previous_s) {
     const double dt = job.stamp_s - previous_s;
@@ -65,8 +66,12 @@ void Service::Impl::CameraStage() {
     if (!job) continue;
     // The motion since the last keyframe extrapolated to the frame's time.
     const KeyframeSelector::Options& due = localizer->options().keyframes;
-    const double ahead_s = std::max(0.0, job->stamp_s - since_stamp_s.load());
-    if (since_keyframe_m.load() + speed_mps.load() * ahead_s <
+    // Judged only for a frame near the estimator's time: one far behind it
+    // is on a clock that stepped back (the estimator has not got there yet).
+    const double behind_s = since_stamp_s.load() - job->stamp_s;
+    const double ahead_s = std::max(0.0, -behind_s);
+    if (behind_s <= localizer->options().max_frame_lag_s &&
+        since_keyframe_m.load() + speed_mps.load() * ahead_s <
             not_due_fraction * due.min_translation_m &&
         since_keyframe_rad.load() + yaw_rate_radps.load() * ahead_s <
             not_due_fraction * due.min_rotation_rad) {
@@ -98,7 +103,7 @@ void Service::Impl::CameraStage() {
       }
       // Its own queue, ahead of any backlog of readings; the frame stays
       // pending until the estimator has taken it.
-      observed.PushWait(Observed{std::move(seen).value(), job->arrived});
+      observed.PushWait(Observed{std::move(seen).value(), job->arrived, job->seq});
     } else {
       ++camera_unreadable;
       ReleasePending(job->stamp_s);
@@ -188,6 +193,7 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     }
   };
   std::deque<Observed> taken;  // observations in stamp order, waiting for their reading
+  const double max_lag_s = localizer->options().max_frame_lag_s;
   const auto frame_expected = [&](double stamp_s) {
     const double period = frame_period_s.load();
     if (period <= 0.0) return false;
@@ -196,7 +202,10 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     const bool stalled =
         since_frame > std::chrono::duration_cast<Clock::duration>(
                           std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
-    return !stalled && stamp_s + 1e-9 >= frame_watermark_s.load() + 0.9 * period;
+    // The next frame is due at the reading's time, and not so long ago that
+    // the localizer would drop it as late.
+    const double due_s = frame_watermark_s.load() + 0.9 * period;
+    return !stalled && stamp_s + 1e-9 >= due_s && stamp_s - due_s <= max_lag_s;
   };
   while (!events.closed_and_empty() || !observed.closed_and_empty() || !held.empty()) {
     while (std::optional<Observed> o = observed.Pop(std::chrono::milliseconds(0))) {
@@ -208,14 +217,17 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (event) {
       switch (event->kind) {
         case EstimatorEvent::Kind::kWheel:
-          held.push_back({event->wheel, event->T_odom_base, Clock::now()});
+          held.push_back({event->wheel, event->T_odom_base, Clock::now(), std::nullopt, event->seq});
           break;
         case EstimatorEvent::Kind::kInitialPose: {
           // A start from rt/initialpose; an unset stamp (0) means "now".
           const io::PlanarPoseStamped& p = event->initial_pose;
-          const double stamp_s = p.stamp_s > 0.0 ? p.stamp_s
-                                 : !held.empty() ? held.back().reading.stamp_s
-                                                 : replay_now_s.load();
+          double stamp_s = p.stamp_s > 0.0 ? p.stamp_s : replay_now_s.load();
+          for (auto it = held.rbegin(); p.stamp_s <= 0.0 && it != held.rend(); ++it) {
+            if (it->scan) continue;
+            stamp_s = it->reading.stamp_s;  // the newest reading waiting
+            break;
+          }
           const core::Status s =
               localizer->started()
                   ? core::Status::Error(
@@ -233,7 +245,15 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
           break;
         }
         case EstimatorEvent::Kind::kScan:
-          localizer->AddScan(std::move(event->scan));
+          if (held.empty()) {
+            localizer->AddScan(std::move(event->scan));
+          } else {
+            HeldReading h;
+            h.since = Clock::now();
+            h.seq = event->seq;
+            h.scan = std::move(event->scan);
+            held.push_back(std::move(h));
+          }
           break;
       }
     }
@@ -241,12 +261,24 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     // enough), each after the observations of its time.
     const bool closing = events.closed_and_empty();
     while (!held.empty()) {
+      if (held.front().scan) {
+        localizer->AddScan(std::move(*held.front().scan));
+        held.pop_front();
+        continue;
+      }
       const core::WheelEncoderReading& reading = held.front().reading;
-      const bool waiting =
-          FramePendingAtOrBefore(reading.stamp_s) || (!closing && frame_expected(reading.stamp_s));
+      const bool waiting = FramePendingAtOrBefore(reading.stamp_s, max_lag_s) ||
+                           (!closing && frame_expected(reading.stamp_s));
       if (waiting && Clock::now() - held.front().since < wait) break;
-      while (!taken.empty() &&
-             taken.front().observations.observations.stamp_s <= reading.stamp_s + 1e-9) {
+      // The observations of the reading's time; one far older than the
+      // reading that arrived after it is on a clock that stepped back: it
+      // waits for the readings of that clock.
+      const auto before_reading = [&](const Observed& o) {
+        const double t = o.observations.observations.stamp_s;
+        return t <= reading.stamp_s + 1e-9 &&
+               (t >= reading.stamp_s - max_lag_s || o.seq < held.front().seq);
+      };
+      while (!taken.empty() && before_reading(taken.front())) {
         last_frame_arrival = taken.front().arrived;
         localizer->AddFloorObservations(std::move(taken.front().observations));
         taken.pop_front();
