@@ -44,6 +44,10 @@ core::Status LocalizerOptions::Validate() const {
     return core::Status::Error("localizer option reorder_tolerance_s: expected >= 0, got " +
                                std::to_string(reorder_tolerance_s));
   }
+  if (lidar_local_map_scans < 0) {
+    return core::Status::Error("localizer option lidar_local_map_scans: expected >= 0, got " +
+                               std::to_string(lidar_local_map_scans));
+  }
   if (clock_jump_readings < 2) {
     return core::Status::Error("localizer option clock_jump_readings: expected >= 2, got " +
                                std::to_string(clock_jump_readings));

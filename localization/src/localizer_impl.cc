@@ -319,7 +319,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
       k.predicted = {stamp_s, T_map_start * odometry->T_odom_base(), odometry->covariance()};
       k.pose = k.predicted;
       if (options.mode == LocalizerMode::kLidar) {
-        lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s);
+        lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s, &counters);
         CountLidar(scan);
         k.pose = {stamp_s, scan.T_odom_base, core::Matrix3::Zero()};
         k.has_covariance = false;
@@ -390,7 +390,7 @@ std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
   k.predicted = PropagateFromKeyframe(smoother->Latest(), motion, stamp_s);
   std::optional<RelativePoseMeasurement> relative;
   if (lidar) {
-    lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s);
+    lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s, &counters);
     CountLidar(scan);
     relative = scan.relative;
     k.lidar = std::move(scan);

@@ -128,6 +128,7 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"solves_unconverged", c.solves_unconverged},
           {"lidar_failures", c.lidar_failures},
           {"lidar_restarts", c.lidar_restarts},
+          {"lidar_local_map_renewals", c.lidar_local_map_renewals},
           {"lines_used", c.lines_used},
           {"lines_rejected", c.lines_rejected},
           {"lines_dropped", c.lines_dropped},

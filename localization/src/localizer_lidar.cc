@@ -15,6 +15,7 @@ LidarStage::LidarStage(const LidarSetup& setup, const LocalizerOptions& options)
       history_s_(options.odometry_history_s),
       scan_odometry_options_(options.scan_odometry),
       max_scan_gap_s_(options.max_scan_gap_s),
+      local_map_scans_(options.lidar_local_map_scans),
       scan_odometry_(std::make_unique<lidar::ScanOdometry>(options.scan_odometry)),
       last_matched_s_(-std::numeric_limits<double>::infinity()),
       last_received_s_(-std::numeric_limits<double>::infinity()) {}
@@ -77,6 +78,7 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     // match across the gap would be a guess, so the scan odometry restarts.
     if (std::isfinite(last_matched_s_) && describes_s - last_matched_s_ > max_scan_gap_s_) {
       scan_odometry_ = std::make_unique<lidar::ScanOdometry>(scan_odometry_options_);
+      scans_in_local_map_ = 0;
       last_.reset();
       ++counters->lidar_restarts;
     }
@@ -84,8 +86,9 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     const lidar::ScanPoints points =
         lidar::ScanPointsFromRanges(scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad,
                                     scan.range_max_m, setup_.T_base_lidar, points_options_);
+    ++scans_in_local_map_;
     core::Result<lidar::ScanReport> report =
-        scan_odometry_->AddScan(describes_s, OdometryAt(describes_s), points);
+        scan_odometry_->AddScan(describes_s, T_fix_ * OdometryAt(describes_s), points);
     if (!report.ok()) {
       ++counters->lidar_failures;
       continue;
@@ -95,8 +98,17 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
   }
 }
 
-lidar::ScanOdometryKeyframe LidarStage::Keyframe(double stamp_s) {
-  return scan_odometry_->Keyframe(stamp_s, OdometryAt(stamp_s));
+lidar::ScanOdometryKeyframe LidarStage::Keyframe(double stamp_s, LocalizerCounters* counters) {
+  const core::SE2 T_odom_base = OdometryAt(stamp_s);
+  lidar::ScanOdometryKeyframe k = scan_odometry_->Keyframe(stamp_s, T_fix_ * T_odom_base);
+  if (local_map_scans_ > 0 && scans_in_local_map_ >= local_map_scans_) {
+    // The fresh scan odometry starts where this one's estimate is now.
+    T_fix_ = k.T_odom_base * T_odom_base.Inverse();
+    scan_odometry_ = std::make_unique<lidar::ScanOdometry>(scan_odometry_options_);
+    scans_in_local_map_ = 0;
+    ++counters->lidar_local_map_renewals;
+  }
+  return k;
 }
 
 core::SE2 LidarStage::OdometryAt(double stamp_s) const {

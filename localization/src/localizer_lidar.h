@@ -29,8 +29,9 @@ class LidarStage {
   // The odometry pose at a reading's time (strictly increasing); matches
   // the queued scans it now covers.
   void AddOdometry(double stamp_s, const core::SE2& T_odom_base, LocalizerCounters* counters);
-  // A keyframe at stamp_s (the odometry must cover it).
-  lidar::ScanOdometryKeyframe Keyframe(double stamp_s);
+  // A keyframe at stamp_s (the odometry must cover it); renews the scan
+  // odometry after LocalizerOptions::lidar_local_map_scans (counted).
+  lidar::ScanOdometryKeyframe Keyframe(double stamp_s, LocalizerCounters* counters);
   // The straight faces of the last matched scan in base_link at stamp_s.
   std::vector<LineObservation> WallObservations(double stamp_s) const;
   // T_odom_base at stamp_s, interpolated in the history (clamped).
@@ -47,6 +48,11 @@ class LidarStage {
   double history_s_;
   lidar::ScanOdometryOptions scan_odometry_options_;
   double max_scan_gap_s_;
+  int local_map_scans_;
+  int scans_in_local_map_ = 0;
+  // Left factor on the wheel odometry given to the scan odometry: a renewed
+  // one continues from the previous one's estimate (T_fix * odometry).
+  core::SE2 T_fix_;
   std::unique_ptr<lidar::ScanOdometry> scan_odometry_;
   double last_matched_s_;
   core::Trajectory odometry_;  // T_odom_base at the wheel readings, recent history

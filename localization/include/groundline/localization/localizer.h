@@ -93,6 +93,12 @@ struct LocalizerOptions {
   lidar::ScanPointsOptions scan_points;
   lidar::WallLineOptions walls;
   RelocalizerOptions relocalizer;
+  // The scan odometry keeps a record per scan (its pose graph) for as long
+  // as it runs; after this many scans a fresh one takes over at a keyframe,
+  // continuing from the estimate there (one keyframe without a LiDAR
+  // relative pose), so that memory stays bounded over a shift: 9000 scans
+  // are 10 min at 15 Hz. 0: never.
+  int lidar_local_map_scans = 9000;
   // Scans further apart than this (a silent LiDAR) restart the scan odometry
   // (a fresh local map, no relative measurement across the gap) [s].
   double max_scan_gap_s = 1.0;
@@ -193,6 +199,7 @@ struct LocalizerCounters {
   long solves_unconverged = 0;
   long lidar_failures = 0;
   long lidar_restarts = 0;  // the scan odometry restarted after a gap
+  long lidar_local_map_renewals = 0;  // a fresh scan odometry after lidar_local_map_scans
   long lines_used = 0;
   long lines_rejected = 0;
   long lines_dropped = 0;
