@@ -145,15 +145,15 @@ std::optional<KeyframeOutput> LocalizerImpl::Coast(double stamp_s) {
   // linearly with the time since it (variance (sigma_v T)^2 at T).
   core::WheelEncoderReading guess{stamp_s, last_left_radps * dt_s, last_right_radps * dt_s};
   const double t1 = stamp_s - coast_since_s, t0 = t1 - dt_s;
-  const double dv2 = t1 * t1 - t0 * t0;
-  OdometryIncrement unknown;
-  unknown.covariance =
-      core::Vector3(options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
-                    options.odometry_gap_speed_mps * options.odometry_gap_speed_mps * dv2,
-                    options.odometry_gap_yaw_rate_radps * options.odometry_gap_yaw_rate_radps * dv2)
-          .asDiagonal();
-  odometry->Integrate(unknown);
+  WidenByUnknownMotion(t1 * t1 - t0 * t0);
   return Advance(guess, *last_reading_s);
+}
+
+void LocalizerImpl::WidenByUnknownMotion(double seconds2) {
+  const double v = options.odometry_gap_speed_mps, w = options.odometry_gap_yaw_rate_radps;
+  OdometryIncrement unknown;
+  unknown.covariance = core::Vector3(v * v, v * v, w * w).asDiagonal() * seconds2;
+  odometry->Integrate(unknown);
 }
 
 std::optional<KeyframeOutput> LocalizerImpl::BehindReading(const core::WheelEncoderReading& r) {
@@ -265,12 +265,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Advance(const core::WheelEncoderRea
   }
   if (r.stamp_s <= current.stamp_s) return std::nullopt;  // at or before the start
   if (gap_s > options.max_odometry_gap_s) {
-    // The motion over the gap is unknown: widen the odometry by it.
-    const double s_m = options.odometry_gap_speed_mps * gap_s;
-    const double s_rad = options.odometry_gap_yaw_rate_radps * gap_s;
-    OdometryIncrement unknown;
-    unknown.covariance = core::Vector3(s_m * s_m, s_m * s_m, s_rad * s_rad).asDiagonal();
-    odometry->Integrate(unknown);
+    WidenByUnknownMotion(gap_s * gap_s);  // the motion over the gap is unknown
   }
 
   // The frame whose turn it is: the newest one up to this reading. Inside

@@ -96,6 +96,10 @@ class LocalizerImpl {
   // (LocalizerOptions::max_coast_s), so that the outputs, the LiDAR and the
   // lines go on.
   std::optional<KeyframeOutput> Coast(double stamp_s);
+  // Adds the covariance of unknown motion to the odometry: speed and yaw-rate
+  // errors of odometry_gap_speed_mps / _yaw_rate_radps over seconds2 [s^2]
+  // (a gap of T: T^2; a coast from T0 to T1: T1^2 - T0^2).
+  void WidenByUnknownMotion(double seconds2);
   // Integrates a reading taken (or coasted), the keyframe decision, the outputs.
   std::optional<KeyframeOutput> Advance(const core::WheelEncoderReading& reading,
                                         std::optional<double> previous_s);
