@@ -1,88 +1,16 @@
 #include <Eigen/LU>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
 #include "groundline/core/atomic_file.h"
+#include "groundline/core/json_fields.h"
 #include "groundline/localization/atlas.h"
 
 namespace groundline::localization {
 namespace {
 
 using nlohmann::json;
-
-// Reads fields of one JSON object, remembering the first error with its path.
-class FieldReader {
- public:
-  FieldReader(std::string file) : file_(std::move(file)) {}
-
-  const json* Get(const json& object, const std::string& path, const char* key) {
-    if (!object.is_object() || !object.contains(key)) {
-      Fail(path + key, "a value", "nothing (missing)");
-      return nullptr;
-    }
-    return &object.at(key);
-  }
-  double Number(const json& object, const std::string& path, const char* key) {
-    const json* value = Get(object, path, key);
-    if (value == nullptr) return 0.0;
-    if (!value->is_number()) {
-      Fail(path + key, "a number", value->dump());
-      return 0.0;
-    }
-    return value->get<double>();
-  }
-  // An id: an integral number within +-2^53 (every such double is exact; a
-  // larger or fractional one cannot be cast to an integer, found by fuzzing).
-  std::int64_t Id(const json& object, const std::string& path, const char* key) {
-    const double value = Number(object, path, key);
-    if (!(std::abs(value) <= 9007199254740992.0) || std::floor(value) != value) {
-      const json* raw = Get(object, path, key);
-      Fail(path + key, "an integer id", raw != nullptr ? raw->dump() : "nothing");
-      return 0;
-    }
-    return static_cast<std::int64_t>(value);
-  }
-  std::vector<double> Numbers(const json& object, const std::string& path, const char* key,
-                              size_t count) {
-    const json* value = Get(object, path, key);
-    std::vector<double> out(count, 0.0);
-    if (value == nullptr) return out;
-    if (!value->is_array() || value->size() != count) {
-      Fail(path + key, "an array of " + std::to_string(count) + " numbers", value->dump());
-      return out;
-    }
-    for (size_t i = 0; i < count; ++i) {
-      if (!(*value)[i].is_number()) {
-        Fail(path + key, "an array of numbers", value->dump());
-        return out;
-      }
-      out[i] = (*value)[i].get<double>();
-    }
-    return out;
-  }
-  std::string String(const json& object, const std::string& path, const char* key) {
-    const json* value = Get(object, path, key);
-    if (value == nullptr) return {};
-    if (!value->is_string()) {
-      Fail(path + key, "a string", value->dump());
-      return {};
-    }
-    return value->get<std::string>();
-  }
-  void Fail(const std::string& field, const std::string& expected, const std::string& got) {
-    if (!status_.ok()) return;
-    status_ = core::Status::Error(file_ + ": field '" + field + "': expected " + expected +
-                                  ", got " + got);
-  }
-  const core::Status& status() const { return status_; }
-
- private:
-  std::string file_;
-  core::Status status_ = core::Status::Ok();
-};
 
 Eigen::Matrix2d Matrix2(const std::vector<double>& v) {
   Eigen::Matrix2d m;
@@ -140,16 +68,10 @@ core::Status Atlas::Validate() const {
 }
 
 core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) return core::Status::Error(path.string() + ": cannot open the atlas file");
-  const std::string file = path.filename().string();
   json root;
-  try {
-    root = json::parse(in);
-  } catch (const json::exception& error) {  // parse_error, and out_of_range for 1e999
-    return core::Status::Error(file + ": not valid JSON (" + error.what() + ")");
-  }
-  FieldReader reader(file);
+  if (core::Status s = core::ReadJsonFile(path, "atlas file", &root); !s.ok()) return s;
+  const std::string file = path.filename().string();
+  core::JsonFieldReader reader(file);
   const std::string format = reader.String(root, "", "format");
   if (reader.status().ok() && format != kAtlasFormatName) {
     reader.Fail("format", std::string("\"") + kAtlasFormatName + "\"", "\"" + format + "\"");

@@ -1,3 +1,4 @@
+#include "groundline/service/service_state.h"
 #include "service_impl.h"
 
 namespace groundline::service {
@@ -49,22 +50,11 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   const fs::path state_path = fs::path(config.output_dir) / "state.json";
   core::Status started = core::Status::Ok();
   if (config.resume && fs::exists(state_path)) {
-    std::ifstream in(state_path);
-    const nlohmann::json state = nlohmann::json::parse(in, nullptr, false);
-    if (state.is_discarded() || !state.contains("stamp_s") || !state.contains("cov") ||
-        state["cov"].size() != 9) {
-      return core::Status::Error(state_path.string() +
-                                 ": expected the service's saved state (stamp_s, x_m, y_m, "
-                                 "yaw_rad, cov[9]); delete it or set start.resume: false");
-    }
-    core::Matrix3 cov;
-    for (int i = 0; i < 9; ++i) cov(i / 3, i % 3) = state["cov"][i].get<double>();
-    impl->resume_after_s = state["stamp_s"].get<double>();
-    started = impl->localizer->SetInitialPose(
-        impl->resume_after_s,
-        core::SE2(state["x_m"].get<double>(), state["y_m"].get<double>(),
-                  state["yaw_rad"].get<double>()),
-        cov);
+    core::Result<SavedState> state = ReadServiceState(state_path);
+    if (!state.ok()) return state.status();
+    impl->resume_after_s = state->stamp_s;
+    started =
+        impl->localizer->SetInitialPose(state->stamp_s, state->T_map_base, state->covariance);
     if (!started.ok()) return started.WithContext(state_path.string());
   } else if (config.wait_for_initial_pose) {
     // Started by the first rt/initialpose (the estimator applies it).
@@ -130,8 +120,19 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   if (ec)
     return core::Status::Error(out.string() +
                                ": cannot create the output directory: " + ec.message());
-  const auto mode =
-      std::ios::out | (std::isfinite(m.resume_after_s) ? std::ios::app : std::ios::trunc);
+  const bool resuming = std::isfinite(m.resume_after_s);
+  int stale_lines = 0;
+  if (resuming) {
+    for (const auto& [name, format] :
+         {std::pair{"trajectory.tum", StreamedFormat::kTum},
+          std::pair{"trajectory_odometry_rate.tum", StreamedFormat::kTum},
+          std::pair{"health.jsonl", StreamedFormat::kJsonLines}}) {
+      core::Result<int> removed = TrimStreamedOutput(out / name, format, m.resume_after_s);
+      if (!removed.ok()) return removed.status();
+      stale_lines += *removed;
+    }
+  }
+  const auto mode = std::ios::out | (resuming ? std::ios::app : std::ios::trunc);
   std::ofstream keyframes(out / "trajectory.tum", mode),
       odometry(out / "trajectory_odometry_rate.tum", mode), health(out / "health.jsonl", mode);
   if (!keyframes || !odometry || !health) {
@@ -257,20 +258,13 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   const double wall_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
   // The state a restart resumes from, and the summary.
-  nlohmann::ordered_json state;
+  SavedState state;
   {
     std::lock_guard<std::mutex> lock(m.status_mutex);
-    const loc::PoseEstimate& p = m.pose;
-    state = {{"stamp_s", p.stamp_s},
-             {"x_m", p.T_map_base.x()},
-             {"y_m", p.T_map_base.y()},
-             {"yaw_rad", p.T_map_base.yaw()},
-             {"cov", nlohmann::ordered_json::array()}};
-    for (int i = 0; i < 9; ++i) state["cov"].push_back(p.covariance(i / 3, i % 3));
+    state = {m.pose.stamp_s, m.pose.T_map_base, m.pose.covariance};
     m.cpu_replay_s = cpu_replay_s;
   }
-  if (core::Status s = core::WriteFileAtomically(out / "state.json", state.dump(2) + "\n"); !s.ok())
-    return s;
+  if (core::Status s = WriteServiceState(out / "state.json", state); !s.ok()) return s;
   if (m.localizer->options().mode == loc::LocalizerMode::kMapping) {
     if (core::Status s = loc::WriteAtlas(out / "atlas.json", m.localizer->CurrentAtlas()); !s.ok())
       return s;
@@ -278,6 +272,11 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   nlohmann::ordered_json summary = StatusJsonOf(m);
   summary["wall_s"] = wall_s;
   summary["stopped"] = stop.load();
+  if (resuming) {
+    // Lines the previous run wrote after its saved state (killed before it
+    // could save again), cut from the streamed outputs before appending.
+    summary["resumed"] = {{"from_s", m.resume_after_s}, {"stale_lines_removed", stale_lines}};
+  }
   if (core::Status s = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
       !s.ok())
     return s;

@@ -16,6 +16,7 @@
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/service/service_config.h"
+#include "groundline/service/service_state.h"
 #include "groundline/sim/sim_run.h"
 #include "simulated_drive.h"
 #include "test_data.h"
@@ -130,6 +131,46 @@ TEST(ServiceConfig, TheSampleConfigsAreValid) {
   EXPECT_EQ(dds->dds_inputs.qos, "sensor_data");
 }
 
+TEST(ServiceState, RoundTripsExactlyAndADamagedFileNamesTheField) {
+  const auto dir = testing::ScratchDir("service_state");
+  SavedState state;
+  state.stamp_s = 1234.0625;
+  state.T_map_base = core::SE2(10.1, -3.3, 2.5);
+  state.covariance << 4e-4, 1e-5, 0, 1e-5, 3e-4, 2e-6, 0, 2e-6, 1e-5;
+  ASSERT_TRUE(WriteServiceState(dir / "state.json", state).ok());
+  const core::Result<SavedState> again = ReadServiceState(dir / "state.json");
+  ASSERT_TRUE(again.ok()) << again.message();
+  EXPECT_EQ(again->stamp_s, state.stamp_s);
+  EXPECT_EQ(again->T_map_base.x(), state.T_map_base.x());
+  EXPECT_EQ(again->T_map_base.yaw(), state.T_map_base.yaw());
+  EXPECT_EQ(again->covariance, state.covariance);
+
+  struct Case {
+    const char* text;
+    const char* expected;  // in the message
+  } cases[] = {
+      {"{\"stamp_s\": 1, \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": [1, 0, 0", "not valid JSON"},
+      {"", "not valid JSON"},
+      {"[1, 2, 3]", "field 'stamp_s'"},
+      {"{\"stamp_s\": \"1\", \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": []}",
+       "field 'stamp_s': expected a number"},
+      {"{\"stamp_s\": 1, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": []}", "field 'x_m'"},
+      {"{\"stamp_s\": 1, \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": [1, 0, 0]}",
+       "field 'cov': expected an array of 9 numbers"},
+      {"{\"stamp_s\": 1, \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, "
+       "\"cov\": [1, 0, 0, 0, -1, 0, 0, 0, 1]}",
+       "field 'cov': expected a symmetric positive definite"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir / "bad.json") << c.text;
+    const core::Result<SavedState> bad = ReadServiceState(dir / "bad.json");
+    ASSERT_FALSE(bad.ok()) << c.text;
+    EXPECT_NE(bad.message().find("bad.json"), std::string::npos) << bad.message();
+    EXPECT_NE(bad.message().find(c.expected), std::string::npos) << bad.message();
+    EXPECT_NE(bad.message().find("start.resume: false"), std::string::npos) << bad.message();
+  }
+}
+
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
 #ifdef __SANITIZE_ADDRESS__
   GTEST_SKIP()
@@ -163,12 +204,19 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
   stopper.join();
   ASSERT_TRUE(stopped.ok()) << stopped.message();
   EXPECT_TRUE((*stopped)["stopped"].get<bool>());
-  std::ifstream state_file(dir / "out" / "state.json");
-  const nlohmann::json state = nlohmann::json::parse(state_file);
-  const double stopped_at_s = state["stamp_s"].get<double>();
+  const core::Result<SavedState> state = ReadServiceState(dir / "out" / "state.json");
+  ASSERT_TRUE(state.ok()) << state.message();
+  const double stopped_at_s = state->stamp_s;
   EXPECT_GT(stopped_at_s, 1.0);
   EXPECT_LT(stopped_at_s, end_s - 1.0);
   first->reset();
+  // As if the run had been killed after the save: lines past the saved state
+  // and a last line cut in the middle. The restart cuts them off.
+  std::ofstream(dir / "out" / "trajectory.tum", std::ios::app)
+      << stopped_at_s + 5.0 << " 1 2 0 0 0 0 1\n"
+      << stopped_at_s + 6.0 << " 1 2";
+  std::ofstream(dir / "out" / "health.jsonl", std::ios::app)
+      << "{\"stamp_s\": " << stopped_at_s + 5.0 << "}\n{\"stamp_s\": 1";
 
   // A restart resumes from the state and runs to the end of the drive.
   config.replay_speed = 0.0;
@@ -178,6 +226,17 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
   core::Result<nlohmann::ordered_json> finished = (*second)->Run(never);
   ASSERT_TRUE(finished.ok()) << finished.message();
   EXPECT_FALSE((*finished)["stopped"].get<bool>());
+  EXPECT_EQ((*finished)["resumed"]["stale_lines_removed"].get<int>(), 4);
+  std::ifstream health(dir / "out" / "health.jsonl");
+  int health_lines = 0;
+  double last_health_s = -1e300;
+  for (std::string line; std::getline(health, line); ++health_lines) {
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    ASSERT_TRUE(j.is_object() && j.contains("stamp_s")) << "line " << health_lines << ": " << line;
+    EXPECT_GT(j["stamp_s"].get<double>(), last_health_s) << "line " << health_lines;
+    last_health_s = j["stamp_s"].get<double>();
+  }
+  EXPECT_GT(health_lines, 10);
   const core::Result<core::Trajectory> keyframes =
       core::ReadTumTrajectory(dir / "out" / "trajectory.tum");
   ASSERT_TRUE(keyframes.ok()) << keyframes.message();  // strictly increasing across the restart
