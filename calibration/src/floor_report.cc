@@ -10,6 +10,20 @@
 #include "text_util.h"
 
 namespace groundline::calibration {
+namespace {
+
+// nlohmann's get<int>() casts a floating-point value as it is, undefined
+// behaviour for 1e30: integers are checked as doubles first.
+int IntegerOf(const nlohmann::json& v) {
+  if (!v.is_number()) throw nlohmann::json::other_error::create(501, "expected an integer", &v);
+  const double d = v.get<double>();
+  if (!(d >= -2147483648.0 && d <= 2147483647.0) || std::floor(d) != d) {
+    throw nlohmann::json::other_error::create(501, "expected an integer within int range", &v);
+  }
+  return static_cast<int>(d);
+}
+
+}  // namespace
 
 core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     const std::filesystem::path& report_json) {
@@ -51,10 +65,14 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
     s.views = static_cast<int>(j.at(field).size());
     field = "quadrant_corners";
     const nlohmann::json& q = j.at(field);
-    s.quadrant_corners = {q.at("top_left").get<int>(), q.at("top_right").get<int>(),
-                          q.at("bottom_left").get<int>(), q.at("bottom_right").get<int>()};
+    s.quadrant_corners = {IntegerOf(q.at("top_left")), IntegerOf(q.at("top_right")),
+                          IntegerOf(q.at("bottom_left")), IntegerOf(q.at("bottom_right"))};
     field = "imager_size_px";
-    s.imager_size_px = j.at(field).get<std::array<int, 2>>();
+    const nlohmann::json& size = j.at(field);
+    if (!size.is_array() || size.size() != 2) {
+      throw nlohmann::json::other_error::create(501, "expected [width, height]", &size);
+    }
+    s.imager_size_px = {IntegerOf(size[0]), IntegerOf(size[1])};
     field = "intrinsics";
     s.intrinsics = j.at(field).get<std::vector<double>>();
     field = "camera_fingerprint";
@@ -64,8 +82,8 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
       for (const nlohmann::json& m : j.at(field).at("covariance_maps")) {
         IntrinsicsReportSummary::CovarianceMap map;
         map.range_m = m.at("range_m").get<double>();
-        map.cells_x = m.at("cells_x").get<int>();
-        map.cells_y = m.at("cells_y").get<int>();
+        map.cells_x = IntegerOf(m.at("cells_x"));
+        map.cells_y = IntegerOf(m.at("cells_y"));
         for (const nlohmann::json& c : m.at("covariance_px2")) {
           Eigen::Matrix2d v = Eigen::Matrix2d::Constant(std::nan(""));
           if (!c.is_null()) {

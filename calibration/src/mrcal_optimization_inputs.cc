@@ -81,7 +81,11 @@ void PutU32(std::string* out, std::uint32_t v) {
 // far below 4 GB.
 std::string Zip(const std::vector<std::pair<std::string, std::string>>& members) {
   std::string out, central;
-  for (const auto& [name, data] : members) {
+  for (const auto& member : members) {
+    // Named references, not a structured binding: clang 14 (the fuzz build)
+    // cannot capture a binding in the lambda below.
+    const std::string& name = member.first;
+    const std::string& data = member.second;
     const std::uint32_t crc = Crc32(data);
     const std::uint32_t offset = static_cast<std::uint32_t>(out.size());
     const auto common = [&](std::string* s) {
