@@ -56,6 +56,11 @@ class LocalizerImpl {
   core::SE2 T_odom_keyframe;
   PoseEstimate current;
   std::deque<PoseEstimate> history;  // odometry-rate poses, newest last
+  // The wheel odometry at history's stamps: T_odom_base, its covariance.
+  std::deque<PoseEstimate> odometry_history;
+  // A re-initialization stamped after the newest reading (SetInitialPose),
+  // in localizer time: applied when the odometry reaches its stamp.
+  std::optional<PoseEstimate> pending_pose;
   std::optional<PendingFrame> pending;
   std::optional<double> last_reading_s;
   double last_frame_s = -std::numeric_limits<double>::infinity();
@@ -85,6 +90,13 @@ class LocalizerImpl {
 
  private:
   void Start(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
+  // SetInitialPose after the start: the time rules, then Reinitialize now
+  // or later (pending_pose).
+  core::Status Restart(const PoseEstimate& given);
+  // The estimate restarts at the newest reading from `given` (stamped
+  // within odometry_history), carried there by the wheel odometry
+  // (localizer_reinit.cc).
+  void Reinitialize(const PoseEstimate& given);
   std::optional<KeyframeOutput> Relocalize(const core::WheelEncoderReading& reading);
   // A reading at or before the newest one: a duplicate, late (merged), out
   // of order, or part of a backward clock jump.
