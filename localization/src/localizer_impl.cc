@@ -105,6 +105,7 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
                           const core::Matrix3& covariance) {
   started = true;
   T_map_start = T_map_base;
+  T_reinit = core::SE2();
   odometry.emplace(setup.drive, options.noise);
   // Dead reckoning carries the start's uncertainty; the smoother has its own prior.
   if (!smoother) odometry->Reset(core::SE2(), covariance);
@@ -325,7 +326,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
       odometry->StartKeyframe();
       KeyframeOutput k;
       k.stamp_s = stamp_s;
-      k.predicted = {stamp_s, T_map_start * odometry->T_odom_base(), odometry->covariance()};
+      k.predicted = {stamp_s, DeadReckoning(), odometry->covariance()};
       k.pose = k.predicted;
       if (options.mode == LocalizerMode::kLidar) {
         lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s, &counters);
@@ -455,7 +456,7 @@ void LocalizerImpl::UpdateCurrent(double stamp_s) {
     current = PropagateFromKeyframe(smoother->Latest(), odometry->SinceKeyframe(), stamp_s);
   } else {
     // Dead reckoning (or the LiDAR estimate) composed with the odometry since.
-    const core::SE2 T_map_odom = T_map_start * odometry->T_odom_base();
+    const core::SE2 T_map_odom = DeadReckoning();
     current = {
         stamp_s, keyframe.T_map_base * T_odom_keyframe.Between(T_map_odom),
         options.mode == LocalizerMode::kOdometry ? odometry->covariance() : core::Matrix3::Zero()};

@@ -50,6 +50,10 @@ class LocalizerImpl {
 
   bool started = false;
   core::SE2 T_map_start;
+  // Left factor on the dead reckoning T_map_start * T_odom_base (kOdometry's
+  // estimate, kLidar's prediction): a re-initialization moves it to the
+  // given pose; the LiDAR stage is given the odometry without it, continuous.
+  core::SE2 T_reinit;
   std::optional<OdometryIntegrator> odometry;
   KeyframeSelector selector{KeyframeSelector::Options()};
   PoseEstimate keyframe;  // kOdometry / kLidar: the last keyframe's estimate
@@ -123,6 +127,7 @@ class LocalizerImpl {
   // The frame's observations stamped stamp_s; nullopt when unreadable.
   std::optional<ConvertedObservations> Observe(PendingFrame& frame, double stamp_s);
   void UpdateCurrent(double stamp_s);
+  core::SE2 DeadReckoning() const { return T_reinit * T_map_start * odometry->T_odom_base(); }
   void CountLidar(const lidar::ScanOdometryKeyframe& k);
 };
 

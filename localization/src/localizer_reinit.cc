@@ -77,8 +77,9 @@ void LocalizerImpl::Reinitialize(const PoseEstimate& given) {
     const core::SE2 T_odom_base = odometry->T_odom_base();  // Reset clears what it refers to
     odometry->Reset(T_odom_base, covariance);
   }
+  T_reinit = T_map_base * (T_map_start * odometry->T_odom_base()).Inverse();
   keyframe = {now_s, T_map_base, covariance};
-  T_odom_keyframe = T_map_start * odometry->T_odom_base();
+  T_odom_keyframe = DeadReckoning();
   if (lidar) lidar->Renew(now_s, T_map_base);
   // What came before belongs to the old estimate: PoseAt and a later
   // re-initialization start from here.

@@ -417,6 +417,39 @@ TEST(Localizer, ARenewedScanOdometryContinuesFromItsEstimate) {
   EXPECT_LT(worst_b, 0.10);
 }
 
+TEST(Localizer, AReinitializationMovesTheDeadReckoningWithItsCovarianceAndKeepsTheOdomFrame) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  // The pose 50 ms before the newest reading (1.00 s), facing +y.
+  const core::Matrix3 given = core::Vector3(1e-4, 4e-4, 1e-6).asDiagonal();
+  ASSERT_TRUE(localizer->SetInitialPose(0.95, core::SE2(5.0, -1.0, std::numbers::pi / 2), given)
+                  .ok());
+  const PoseEstimate now = localizer->Current();
+  EXPECT_DOUBLE_EQ(now.stamp_s, 1.0);
+  EXPECT_TRUE(now.T_map_base.IsApprox(core::SE2(5.0, -0.95, std::numbers::pi / 2), 1e-9, 1e-9));
+  // Carried 5 cm straight ahead (tangent space at the pose, right
+  // perturbation): the given covariance, plus the yaw's lever arm on y, plus
+  // the odometry's own noise over the 5 cm.
+  EXPECT_GT(now.covariance(0, 0), given(0, 0));
+  EXPECT_LT(now.covariance(0, 0), given(0, 0) + 1e-5);
+  EXPECT_GT(now.covariance(1, 1), given(1, 1) + 0.05 * 0.05 * given(2, 2));
+  EXPECT_LT(now.covariance(1, 1), given(1, 1) + 1e-5);
+  std::vector<KeyframeOutput> keyframes;
+  for (int k = 101; k <= 200; ++k) {
+    if (auto out = localizer->AddWheelReading(Straight(k))) keyframes.push_back(*out);
+  }
+  ASSERT_FALSE(keyframes.empty());
+  for (const KeyframeOutput& k : keyframes) EXPECT_NEAR(k.pose.T_map_base.x(), 5.0, 1e-9);
+  EXPECT_TRUE(localizer->Current().T_map_base.IsApprox(
+      core::SE2(5.0, 0.05, std::numbers::pi / 2), 1e-9, 1e-9));
+  EXPECT_GT(localizer->Current().covariance(0, 0), now.covariance(0, 0));
+  // Before the re-initialization: not carried across it.
+  EXPECT_FALSE(localizer->SetInitialPose(0.97, core::SE2(), given).ok());
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.reinitializations, 1);
+  EXPECT_EQ(c.initial_poses_dropped_late, 1);
+}
+
 // Translation errors against the truth (in the predicted pose's place,
 // DriveTheCircle) of the keyframes stamped in [from_s, to_s): the smallest
 // and the largest [m].
