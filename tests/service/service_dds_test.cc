@@ -279,9 +279,10 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
 }
 
 // The service's own process on DDS: joint states in, started by an
-// rt/initialpose (a second one refused and counted), the pose, map -> odom
-// and diagnostics out to this process.
-TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
+// rt/initialpose and moved mid-run by another (one stamped on another clock
+// refused and counted), the pose, map -> odom and diagnostics out to this
+// process.
+TEST(ServiceDds, StartsAndReinitializesFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
   io::testing::UseLoopbackConfig();
   ::setenv("ROS_DOMAIN_ID", std::to_string(kDomainId).c_str(), 1);
   const auto dir = testing::ScratchDir("service_dds_start");
@@ -362,38 +363,58 @@ TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) 
   }));
   publish_readings(51, 150);
   ASSERT_TRUE(status_until(readings_taken(150)));
-  start.stamp_s = kT0 + 1.6;
+  // Mid-run: one stamped 100 s ahead of the odometry (another clock) is
+  // refused and counted; then RViz's "2D Pose Estimate" moves the running
+  // estimate: the pose at 1.45 s, carried by the wheels to the newest
+  // reading (1.49 s).
+  start.stamp_s = kT0 + 100.0;
   ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(start).msg()).ok());
   ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
     return j["dds"]["initial_poses"]["refused"].get<long>() == 1;
   }));
+  io::PlanarPoseStamped moved = start;
+  moved.stamp_s = kT0 + 1.45;
+  moved.T_frame_base = core::SE2(5.0, -1.0, 0.0);
+  ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(moved).msg()).ok());
+  ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
+    return j["dds"]["initial_poses"]["applied"].get<long>() == 2;
+  }));
+  const nlohmann::ordered_json reinitialized = (*service)->StatusJson();
+  EXPECT_NEAR(reinitialized["pose"]["x_m"].get<double>(), 5.04, 1e-6);
+  EXPECT_NEAR(reinitialized["pose"]["y_m"].get<double>(), -1.0, 1e-6);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a diagnostics period or two
-  publish_readings(150, 160);
-  ASSERT_TRUE(status_until(readings_taken(160)));
+  publish_readings(150, 200);
+  ASSERT_TRUE(status_until(readings_taken(200)));
   stop.store(true);
   run.join();
   ASSERT_TRUE(summary.ok()) << summary.message();
 
-  // From the start pose 1.09 m along its heading (readings 51..159).
+  // From the given pose 0.54 m along its heading (1.45 s to 1.99 s).
   const nlohmann::ordered_json& end = *summary;
-  EXPECT_NEAR(end["pose"]["x_m"].get<double>(), 2.0, 1e-6);
-  EXPECT_NEAR(end["pose"]["y_m"].get<double>(), 3.0 + 1.09, 1e-6);
-  EXPECT_NEAR(end["pose"]["yaw_deg"].get<double>(), 90.0, 1e-6);
+  EXPECT_NEAR(end["pose"]["x_m"].get<double>(), 5.0 + 0.54, 1e-6);
+  EXPECT_NEAR(end["pose"]["y_m"].get<double>(), -1.0, 1e-6);
+  EXPECT_NEAR(end["pose"]["yaw_deg"].get<double>(), 0.0, 1e-6);
   EXPECT_EQ(end["counters"]["wheel_before_start"].get<long>(), 51);
-  EXPECT_NE(end["dds"]["initial_poses"]["last_error"].get<std::string>().find("already started"),
-            std::string::npos);
+  EXPECT_EQ(end["counters"]["reinitializations"].get<long>(), 1);
+  EXPECT_EQ(end["counters"]["initial_poses_dropped_ahead"].get<long>(), 1);
+  EXPECT_NE(end["dds"]["initial_poses"]["last_error"].get<std::string>().find("max_sensor_lead_s"),
+            std::string::npos)
+      << end["dds"]["initial_poses"]["last_error"];
 
-  // The outputs arrived: keyframe poses, map -> odom consistent with the
-  // service's own odometry frame (the joint states integrated from the
-  // first, 1.59 m straight), diagnostics naming the localizer.
+  // The outputs arrived: keyframe poses that follow the re-initialization,
+  // map -> odom consistent with the service's own odometry frame (the joint
+  // states integrated from the first, 1.99 m straight), diagnostics naming
+  // the localizer and its re-initialization.
   std::vector<io::PlanarPoseStamped> poses;
   ASSERT_TRUE(pose->Take([&](const io::RosPoseWithCovarianceStamped& m) {
                     poses.push_back(io::FromPoseWithCovarianceStamped(m));
                   })
                   .ok());
   ASSERT_FALSE(poses.empty());  // transient local, depth 1: at least the last
-  EXPECT_GT(poses.back().T_frame_base.y(), 3.5);
-  EXPECT_NEAR(poses.back().T_frame_base.x(), 2.0, 1e-6);
+  EXPECT_GT(poses.back().stamp_s, kT0 + 1.49);
+  EXPECT_GT(poses.back().T_frame_base.x(), 5.2);
+  EXPECT_NEAR(poses.back().T_frame_base.y(), -1.0, 1e-6);
+  EXPECT_NEAR(poses.back().T_frame_base.yaw(), 0.0, 1e-6);
   core::SE2 T_map_odom;
   int transforms = 0;
   ASSERT_TRUE(tf->Take([&](const io::RosTfMessage& m) {
@@ -408,20 +429,27 @@ TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) 
                   }
                 }).ok());
   EXPECT_EQ(transforms, end["dds"]["outputs"]["tf"].get<int>());
-  EXPECT_EQ(transforms, 160 - 51);  // one per reading after the start
-  const core::SE2 T_odom_base(1.59, 0.0, 0.0);
-  EXPECT_TRUE((T_map_odom * T_odom_base)
-                  .IsApprox(core::SE2(2.0, 3.0 + 1.09, std::numbers::pi / 2), 1e-6, 1e-6));
-  bool localizer_seen = false;
+  EXPECT_EQ(transforms, 200 - 51);  // one per reading after the start
+  const core::SE2 T_odom_base(1.99, 0.0, 0.0);
+  EXPECT_TRUE((T_map_odom * T_odom_base).IsApprox(core::SE2(5.54, -1.0, 0.0), 1e-6, 1e-6));
+  bool localizer_seen = false, reinitialization_seen = false;
   ASSERT_TRUE(diagnostics
                   ->Take([&](const io::RosDiagnosticArray& m) {
                     for (std::uint32_t i = 0; i < m.status._length; ++i) {
-                      if (std::string(m.status._buffer[i].name) == "groundline: localizer")
-                        localizer_seen = true;
+                      const auto& status = m.status._buffer[i];
+                      if (std::string(status.name) != "groundline: localizer") continue;
+                      localizer_seen = true;
+                      for (std::uint32_t v = 0; v < status.values._length; ++v) {
+                        if (std::string(status.values._buffer[v].key) == "reinitializations" &&
+                            std::string(status.values._buffer[v].value) == "1") {
+                          reinitialization_seen = true;
+                        }
+                      }
                     }
                   })
                   .ok());
   EXPECT_TRUE(localizer_seen);
+  EXPECT_TRUE(reinitialization_seen);
 }
 
 }  // namespace
