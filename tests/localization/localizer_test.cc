@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -422,8 +422,8 @@ TEST(Localizer, AReinitializationMovesTheDeadReckoningWithItsCovarianceAndKeepsT
   for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
   // The pose 50 ms before the newest reading (1.00 s), facing +y.
   const core::Matrix3 given = core::Vector3(1e-4, 4e-4, 1e-6).asDiagonal();
-  ASSERT_TRUE(localizer->SetInitialPose(0.95, core::SE2(5.0, -1.0, std::numbers::pi / 2), given)
-                  .ok());
+  ASSERT_TRUE(
+      localizer->SetInitialPose(0.95, core::SE2(5.0, -1.0, std::numbers::pi / 2), given).ok());
   const PoseEstimate now = localizer->Current();
   EXPECT_DOUBLE_EQ(now.stamp_s, 1.0);
   EXPECT_TRUE(now.T_map_base.IsApprox(core::SE2(5.0, -0.95, std::numbers::pi / 2), 1e-9, 1e-9));
@@ -440,8 +440,8 @@ TEST(Localizer, AReinitializationMovesTheDeadReckoningWithItsCovarianceAndKeepsT
   }
   ASSERT_FALSE(keyframes.empty());
   for (const KeyframeOutput& k : keyframes) EXPECT_NEAR(k.pose.T_map_base.x(), 5.0, 1e-9);
-  EXPECT_TRUE(localizer->Current().T_map_base.IsApprox(
-      core::SE2(5.0, 0.05, std::numbers::pi / 2), 1e-9, 1e-9));
+  EXPECT_TRUE(localizer->Current().T_map_base.IsApprox(core::SE2(5.0, 0.05, std::numbers::pi / 2),
+                                                       1e-9, 1e-9));
   EXPECT_GT(localizer->Current().covariance(0, 0), now.covariance(0, 0));
   // Before the re-initialization: not carried across it.
   EXPECT_FALSE(localizer->SetInitialPose(0.97, core::SE2(), given).ok());
@@ -510,8 +510,9 @@ TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose
   // after the re-initialization, near the shelf).
   EXPECT_LT(most_first, 0.08);
   EXPECT_LT(most_after, 0.08);
-  EXPECT_LT((localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
-            0.08);
+  EXPECT_LT(
+      (localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
+      0.08);
 }
 
 // The smoother's path (kLines on the room's walls, the LiDAR alone): a
@@ -554,11 +555,12 @@ TEST(Localizer, AReinitializationAheadOfTheOdometryRestartsTheSmootherAtItsStamp
   EXPECT_LT((applied->T_map_base.translation() - CircleTruth(8.01).translation()).norm(), 0.002);
   const auto [least_before, most_before] = ErrorRange(keyframes, 0.0, 8.0);
   const auto [least_after, most_after] = ErrorRange(keyframes, 8.0, 21.0);
-  std::printf("keyframe error before %.3f..%.3f m, after %.4f..%.4f m\n", least_before,
-              most_before, least_after, most_after);
+  std::printf("keyframe error before %.3f..%.3f m, after %.4f..%.4f m\n", least_before, most_before,
+              least_after, most_after);
   EXPECT_LT(most_after, 0.02);
-  EXPECT_LT((localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
-            0.02);
+  EXPECT_LT(
+      (localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
+      0.02);
 }
 
 TEST(Localizer, RefusesWhatItsSetupCannotDo) {

@@ -7,9 +7,10 @@
 // the re-initialization, its accuracy against the ground truth from then on
 // is that of the file replay of the same dataset, nothing is lost (every
 // published message accepted, every pose the service wrote received), and
-// bad messages injected by this process are dropped and counted. Reliable keep-all QoS on both ends (inputs.dds.qos: lossless,
-// replay-dds --lossless), so that a loaded machine slows the chain down
-// instead of losing data: nothing here depends on timing.
+// bad messages injected by this process are dropped and counted. Reliable
+// keep-all QoS on both ends (inputs.dds.qos: lossless, replay-dds
+// --lossless), so that a loaded machine slows the chain down instead of
+// losing data: nothing here depends on timing.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
@@ -129,7 +130,8 @@ double AteRmse(const core::Trajectory& estimate, const core::Trajectory& truth) 
   return std::sqrt(sum / static_cast<double>(estimate.size()));
 }
 
-TEST(ServiceDds, ReplayToServeToListenerFollowsAReinitializationMatchesTheFileReplayAndLosesNothing) {
+TEST(ServiceDds,
+     ReplayToServeToListenerFollowsAReinitializationMatchesTheFileReplayAndLosesNothing) {
   io::testing::UseLoopbackConfig();
 #ifdef __SANITIZE_ADDRESS__
   // Scan matching under AddressSanitizer is several times slower: a shorter drive.
@@ -170,17 +172,17 @@ TEST(ServiceDds, ReplayToServeToListenerFollowsAReinitializationMatchesTheFileRe
   const core::SE2 wrong_start =
       core::InterpolatePose(truth, simulated->dataset.wheel_encoders.front().stamp_s) *
       core::SE2(1.5, 0.0, 10.0 * deg);
-  std::ofstream(dir / "serve.yaml") << "inputs:\n"
-                                    << "  replay: {dataset: drive}\n"
-                                    << "  dds: {odometry: odom, scan: true, image: false, "
-                                       "initial_pose: true, namespace: "
-                                    << ns << ", stamp_check: none, qos: lossless}\n"
-                                    << "localizer: {preset: " << preset << "}\n"
-                                    << "start: {resume: false, initial_pose: [" << wrong_start.x()
-                                    << ", " << wrong_start.y() << ", " << wrong_start.yaw() / deg
-                                    << "]}\n"
-                                    << "output:\n  dir: dds\n  dds: {namespace: " << ns << "}\n"
-                                    << "http: {enabled: false}\n";
+  std::ofstream(dir / "serve.yaml")
+      << "inputs:\n"
+      << "  replay: {dataset: drive}\n"
+      << "  dds: {odometry: odom, scan: true, image: false, "
+         "initial_pose: true, namespace: "
+      << ns << ", stamp_check: none, qos: lossless}\n"
+      << "localizer: {preset: " << preset << "}\n"
+      << "start: {resume: false, initial_pose: [" << wrong_start.x() << ", " << wrong_start.y()
+      << ", " << wrong_start.yaw() / deg << "]}\n"
+      << "output:\n  dir: dds\n  dds: {namespace: " << ns << "}\n"
+      << "http: {enabled: false}\n";
   Child serve({GROUNDLINE_CLI, "serve", "--config", (dir / "serve.yaml").string()},
               dir / "serve.log");
   ASSERT_TRUE(serve.started());

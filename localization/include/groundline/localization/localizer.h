@@ -201,10 +201,10 @@ struct LocalizerCounters {
   long lidar_failures = 0;
   long lidar_restarts = 0;  // the scan odometry restarted after a gap
   long lidar_local_map_renewals = 0;  // a fresh scan odometry after lidar_local_map_scans
-  long reinitializations = 0;           // initial poses applied after the start
-  long initial_poses_dropped_ahead = 0; // max_sensor_lead_s ahead of the odometry
-  long initial_poses_dropped_late = 0;  // before the odometry history (SetInitialPose)
-  long initial_poses_superseded = 0;    // replaced before the odometry reached their stamp
+  long reinitializations = 0;         // initial poses applied after the start
+  long initial_poses_dropped_ahead = 0;  // max_sensor_lead_s ahead of the odometry
+  long initial_poses_dropped_late = 0;   // before the odometry history (SetInitialPose)
+  long initial_poses_superseded = 0;     // replaced before the odometry reached their stamp
   long lines_used = 0;
   long lines_rejected = 0;
   long lines_dropped = 0;
