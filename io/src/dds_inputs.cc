@@ -120,6 +120,18 @@ struct DdsInputs::Impl {
     DdsInputCounters& c = counters[static_cast<int>(which)];
     ++c.received;
     core::Status s = valid;
+    if (which == DdsInput::kInitialPose) {
+      // A command, not a stream: each one stands alone (an unset stamp, 0,
+      // may repeat; the localizer judges its time), and it does not move the
+      // sensors' newest stamp.
+      if (!s.ok()) {
+        ++c.dropped;
+        c.last_drop_reason = s.message();
+        return false;
+      }
+      ++c.accepted;
+      return true;
+    }
     const double stamp_s = FromRosTime(header.stamp);
     std::optional<double>& last = last_stamp_s[static_cast<int>(which)];
     std::vector<double>& run = older_run[static_cast<int>(which)];

@@ -73,8 +73,20 @@ core::Status LocalizerImpl::SetInitialPose(double stamp_s, const core::SE2& T_ma
     return core::Status::Error(
         "initial pose: expected a symmetric positive definite 3x3 covariance (x, y, yaw)");
   }
-  if (started) return core::Status::Error("initial pose: the localizer has already started");
+  // The newest wheel reading's time tells whether the stamp is on its clock.
+  std::optional<double> newest_s = last_reading_s;
+  if (started) newest_s = std::max(newest_s.value_or(current.stamp_s), current.stamp_s);
+  if (newest_s && stamp_s > *newest_s + options.max_sensor_lead_s) {
+    ++counters.initial_poses_dropped_ahead;
+    return core::Status::Error(
+        "initial pose: stamped " + std::to_string(stamp_s - *newest_s) +
+        " s after the newest wheel reading (max_sensor_lead_s " +
+        std::to_string(options.max_sensor_lead_s) +
+        "): not the odometry's clock; dropped (stamp it on the odometry's clock)");
+  }
+  if (started) return Restart({stamp_s, T_map_base, covariance});
   relocalizer.reset();
+  relocalizer_odometry.reset();
   Start(stamp_s, T_map_base, covariance);
   return core::Status::Ok();
 }
@@ -93,6 +105,7 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
                           const core::Matrix3& covariance) {
   started = true;
   T_map_start = T_map_base;
+  T_reinit = core::SE2();
   odometry.emplace(setup.drive, options.noise);
   // Dead reckoning carries the start's uncertainty; the smoother has its own prior.
   if (!smoother) odometry->Reset(core::SE2(), covariance);
@@ -100,6 +113,8 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
   keyframe = current;
   T_odom_keyframe = T_map_base;
   history.assign(1, current);
+  odometry_history.assign(1, {stamp_s, odometry->T_odom_base(), odometry->covariance()});
+  pending_pose.reset();
   if (smoother) smoother->Initialize(stamp_s, T_map_base, covariance);
   if (lidar) lidar->Start(stamp_s, T_map_base);
   if (pending && pending->stamp_s < stamp_s - kSameInstantS) {
@@ -311,7 +326,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
       odometry->StartKeyframe();
       KeyframeOutput k;
       k.stamp_s = stamp_s;
-      k.predicted = {stamp_s, T_map_start * odometry->T_odom_base(), odometry->covariance()};
+      k.predicted = {stamp_s, DeadReckoning(), odometry->covariance()};
       k.pose = k.predicted;
       if (options.mode == LocalizerMode::kLidar) {
         lidar::ScanOdometryKeyframe scan = lidar->Keyframe(stamp_s, &counters);
@@ -344,6 +359,10 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
     ++counters.keyframes;
   }
   UpdateCurrent(stamp_s);
+  if (pending_pose && pending_pose->stamp_s <= stamp_s + kSameInstantS) {
+    const PoseEstimate given = *pending_pose;
+    Reinitialize(given);
+  }
   return out;
 }
 
@@ -437,14 +456,16 @@ void LocalizerImpl::UpdateCurrent(double stamp_s) {
     current = PropagateFromKeyframe(smoother->Latest(), odometry->SinceKeyframe(), stamp_s);
   } else {
     // Dead reckoning (or the LiDAR estimate) composed with the odometry since.
-    const core::SE2 T_map_odom = T_map_start * odometry->T_odom_base();
+    const core::SE2 T_map_odom = DeadReckoning();
     current = {
         stamp_s, keyframe.T_map_base * T_odom_keyframe.Between(T_map_odom),
         options.mode == LocalizerMode::kOdometry ? odometry->covariance() : core::Matrix3::Zero()};
   }
   history.push_back(current);
+  odometry_history.push_back({stamp_s, odometry->T_odom_base(), odometry->covariance()});
   while (history.size() > 2 && history[1].stamp_s < stamp_s - options.odometry_history_s) {
     history.pop_front();
+    odometry_history.pop_front();
   }
 }
 

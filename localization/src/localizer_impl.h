@@ -50,12 +50,21 @@ class LocalizerImpl {
 
   bool started = false;
   core::SE2 T_map_start;
+  // Left factor on the dead reckoning T_map_start * T_odom_base (kOdometry's
+  // estimate, kLidar's prediction): a re-initialization moves it to the
+  // given pose; the LiDAR stage is given the odometry without it, continuous.
+  core::SE2 T_reinit;
   std::optional<OdometryIntegrator> odometry;
   KeyframeSelector selector{KeyframeSelector::Options()};
   PoseEstimate keyframe;  // kOdometry / kLidar: the last keyframe's estimate
   core::SE2 T_odom_keyframe;
   PoseEstimate current;
   std::deque<PoseEstimate> history;  // odometry-rate poses, newest last
+  // The wheel odometry at history's stamps: T_odom_base, its covariance.
+  std::deque<PoseEstimate> odometry_history;
+  // A re-initialization stamped after the newest reading (SetInitialPose),
+  // in localizer time: applied when the odometry reaches its stamp.
+  std::optional<PoseEstimate> pending_pose;
   std::optional<PendingFrame> pending;
   std::optional<double> last_reading_s;
   double last_frame_s = -std::numeric_limits<double>::infinity();
@@ -85,6 +94,13 @@ class LocalizerImpl {
 
  private:
   void Start(double stamp_s, const core::SE2& T_map_base, const core::Matrix3& covariance);
+  // SetInitialPose after the start: the time rules, then Reinitialize now
+  // or later (pending_pose).
+  core::Status Restart(const PoseEstimate& given);
+  // The estimate restarts at the newest reading from `given` (stamped
+  // within odometry_history), carried there by the wheel odometry
+  // (localizer_reinit.cc).
+  void Reinitialize(const PoseEstimate& given);
   std::optional<KeyframeOutput> Relocalize(const core::WheelEncoderReading& reading);
   // A reading at or before the newest one: a duplicate, late (merged), out
   // of order, or part of a backward clock jump.
@@ -111,6 +127,7 @@ class LocalizerImpl {
   // The frame's observations stamped stamp_s; nullopt when unreadable.
   std::optional<ConvertedObservations> Observe(PendingFrame& frame, double stamp_s);
   void UpdateCurrent(double stamp_s);
+  core::SE2 DeadReckoning() const { return T_reinit * T_map_start * odometry->T_odom_base(); }
   void CountLidar(const lidar::ScanOdometryKeyframe& k);
 };
 

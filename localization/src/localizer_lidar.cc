@@ -103,12 +103,16 @@ lidar::ScanOdometryKeyframe LidarStage::Keyframe(double stamp_s, LocalizerCounte
   lidar::ScanOdometryKeyframe k = scan_odometry_->Keyframe(stamp_s, T_fix_ * T_odom_base);
   if (local_map_scans_ > 0 && scans_in_local_map_ >= local_map_scans_) {
     // The fresh scan odometry starts where this one's estimate is now.
-    T_fix_ = k.T_odom_base * T_odom_base.Inverse();
-    scan_odometry_ = std::make_unique<lidar::ScanOdometry>(scan_odometry_options_);
-    scans_in_local_map_ = 0;
+    Renew(stamp_s, k.T_odom_base);
     ++counters->lidar_local_map_renewals;
   }
   return k;
+}
+
+void LidarStage::Renew(double stamp_s, const core::SE2& T_map_base) {
+  T_fix_ = T_map_base * OdometryAt(stamp_s).Inverse();
+  scan_odometry_ = std::make_unique<lidar::ScanOdometry>(scan_odometry_options_);
+  scans_in_local_map_ = 0;
 }
 
 core::SE2 LidarStage::OdometryAt(double stamp_s) const {

@@ -32,6 +32,10 @@ class LidarStage {
   // A keyframe at stamp_s (the odometry must cover it); renews the scan
   // odometry after LocalizerOptions::lidar_local_map_scans (counted).
   lidar::ScanOdometryKeyframe Keyframe(double stamp_s, LocalizerCounters* counters);
+  // A re-initialization (Localizer::SetInitialPose after the start): a fresh
+  // scan odometry continues from T_map_base at stamp_s (the odometry must
+  // cover it), so that the old local map does not pull the estimate back.
+  void Renew(double stamp_s, const core::SE2& T_map_base);
   // The straight faces of the last matched scan in base_link at stamp_s.
   std::vector<LineObservation> WallObservations(double stamp_s) const;
   // T_odom_base at stamp_s, interpolated in the history (clamped).
@@ -51,7 +55,8 @@ class LidarStage {
   int local_map_scans_;
   int scans_in_local_map_ = 0;
   // Left factor on the wheel odometry given to the scan odometry: a renewed
-  // one continues from the previous one's estimate (T_fix * odometry).
+  // one continues from the previous one's estimate, or from a
+  // re-initialization's pose (T_fix * odometry).
   core::SE2 T_fix_;
   std::unique_ptr<lidar::ScanOdometry> scan_odometry_;
   double last_matched_s_;

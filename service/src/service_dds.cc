@@ -214,6 +214,7 @@ void Service::Impl::PublishDiagnostics() {
   estimate.values = {
       {"mode", loc::ModeName(localizer->options())},
       {"keyframes", std::to_string(c.keyframes)},
+      {"reinitializations", std::to_string(c.reinitializations)},
       {"lines per frame (last keyframe)", last("lines_used", 0)},
       {"lines rejected (last keyframe)", last("lines_rejected", 0)},
       {"lidar degenerate (last keyframe)",

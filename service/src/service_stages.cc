@@ -220,7 +220,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
           held.push_back({event->wheel, event->T_odom_base, Clock::now(), std::nullopt, event->seq});
           break;
         case EstimatorEvent::Kind::kInitialPose: {
-          // A start from rt/initialpose; an unset stamp (0) means "now".
+          // rt/initialpose: the start, or a re-initialization of the running
+          // estimate (Localizer::SetInitialPose); an unset stamp (0) means "now".
           const io::PlanarPoseStamped& p = event->initial_pose;
           double stamp_s = p.stamp_s > 0.0 ? p.stamp_s : replay_now_s.load();
           for (auto it = held.rbegin(); p.stamp_s <= 0.0 && it != held.rend(); ++it) {
@@ -228,19 +229,15 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
             stamp_s = it->reading.stamp_s;  // the newest reading waiting
             break;
           }
-          const core::Status s =
-              localizer->started()
-                  ? core::Status::Error(
-                        "rt/initialpose: the localizer has already started (it does not "
-                        "restart mid-run; restart the service to move it)")
-                  : localizer->SetInitialPose(stamp_s, p.T_frame_base, p.covariance);
+          const core::Status s = localizer->SetInitialPose(stamp_s, p.T_frame_base, p.covariance);
           std::lock_guard<std::mutex> lock(status_mutex);
+          counters = localizer->counters();
           if (s.ok()) {
             ++initial_poses_applied;
             pose = localizer->Current();
           } else {
             ++initial_poses_refused;
-            initial_pose_last_error = s.message();
+            initial_pose_last_error = "rt/initialpose: " + s.message();
           }
           break;
         }

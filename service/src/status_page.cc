@@ -78,7 +78,8 @@ async function tick() {
       row('walls used (last)', k.walls_used ?? '-') +
       row('solve [ms] (last)', k.solve_ms === undefined ? '-' : k.solve_ms.toFixed(2)) +
       row('latency median / p99 [ms]', h.latency_ms.median.toFixed(2) + ' / ' + h.latency_ms.p99.toFixed(2)) +
-      row('keyframes', c.keyframes);
+      row('keyframes', c.keyframes) +
+      row('re-initializations', c.reinitializations);
     const dds = h.dds || {};
     for (const [name, d] of Object.entries(dds.inputs || {})) {
       if (d.received || d.matched_writers) {

@@ -136,13 +136,24 @@ TEST_F(DdsOutputsTest, InitialPoseReachesItsCallbackAndWrongFrameIsDropped) {
   right.stamp_s = 2.0;
   right.frame_id = "map";
   right.T_frame_base = core::SE2(4.0, 5.0, -1.0);
+  // Commands, not a stream: one stamped earlier, and two unset stamps
+  // (`ros2 topic pub` twice), are each taken.
+  PlanarPoseStamped earlier = right;
+  earlier.stamp_s = 1.5;
+  PlanarPoseStamped unset = right;
+  unset.stamp_s = 0.0;
   ASSERT_TRUE(rviz->Write(ToPoseWithCovarianceStamped(wrong).msg()).ok());
   ASSERT_TRUE(rviz->Write(ToPoseWithCovarianceStamped(right).msg()).ok());
-  for (int i = 0; i < 100 && inputs->counters(DdsInput::kInitialPose).received < 2; ++i) {
+  ASSERT_TRUE(rviz->Write(ToPoseWithCovarianceStamped(earlier).msg()).ok());
+  ASSERT_TRUE(rviz->Write(ToPoseWithCovarianceStamped(unset).msg()).ok());
+  ASSERT_TRUE(rviz->Write(ToPoseWithCovarianceStamped(unset).msg()).ok());
+  for (int i = 0; i < 100 && inputs->counters(DdsInput::kInitialPose).received < 5; ++i) {
     ASSERT_TRUE(inputs->Poll(std::chrono::milliseconds(100)).ok());
   }
-  ASSERT_EQ(poses.size(), 1u);
+  ASSERT_EQ(poses.size(), 4u);
   EXPECT_TRUE(poses[0].T_frame_base.IsApprox(right.T_frame_base, 1e-12, 1e-12));
+  EXPECT_DOUBLE_EQ(poses[1].stamp_s, 1.5);
+  EXPECT_DOUBLE_EQ(poses[3].stamp_s, 0.0);
   const DdsInputCounters& c = inputs->counters(DdsInput::kInitialPose);
   EXPECT_EQ(c.dropped, 1u);
   EXPECT_NE(c.last_drop_reason.find("'header.frame_id': expected 'map', got 'odom'"),

@@ -7,12 +7,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+#include <cstdio>
+#include <functional>
 #include <limits>
+#include <numbers>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "lidar_test_world.h"
 
+#include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/odometry_integrator.h"
 
 namespace groundline::localization {
@@ -316,24 +321,22 @@ TEST(Localizer, FramesBeforeTheStartOrFarBehindTheOdometryAreDropped) {
   EXPECT_EQ(localizer->counters().frames_used, 0);
 }
 
-// kLidar around a 1.2 m circle in the room of lidar_test_world.h at 0.5 m/s
-// for 20 s, the wheels over-reading by 2 %; returns the keyframes.
-std::vector<KeyframeOutput> CircleInTheRoom(int local_map_scans, LocalizerCounters* counters) {
-  const std::vector<testing::Segment> walls = testing::RoomWorld();
-  LocalizerOptions options;
-  options.mode = LocalizerMode::kLidar;
-  options.lidar_local_map_scans = local_map_scans;
-  LocalizerSetup setup = Vehicle();
-  setup.lidar = LidarSetup{core::SE2(), 15.0, core::LidarStamp::kMidSweep};
-  std::unique_ptr<Localizer> localizer = std::move(Localizer::Create(options, setup)).value();
+// The 1.2 m circle in the room of lidar_test_world.h at 0.5 m/s.
+core::SE2 CircleTruth(double t) {
   constexpr double kR = 1.2, kV = 0.5;
-  const auto truth = [&](double t) {
-    const double a = kV * t / kR;
-    return core::SE2(-0.5 + kR * std::sin(a), kR - kR * std::cos(a), a);
-  };
-  EXPECT_TRUE(localizer->SetInitialPose(0.0, truth(0.0), StartCovariance()).ok());
+  const double a = kV * t / kR;
+  return core::SE2(-0.5 + kR * std::sin(a), kR - kR * std::cos(a), a);
+}
+
+// Drives the circle for 20 s, the wheels over-reading by 2 %, the LiDAR at
+// 15 Hz (mid-sweep stamps); before_reading(t) runs before the reading at t.
+// Returns the keyframes, each with the truth in the predicted pose's place.
+std::vector<KeyframeOutput> DriveTheCircle(Localizer& localizer,
+                                           const std::function<void(double)>& before_reading) {
+  const std::vector<testing::Segment> walls = testing::RoomWorld();
+  constexpr double kR = 1.2, kV = 0.5;
   std::vector<KeyframeOutput> keyframes;
-  const double w = kV / kR, track = setup.drive.track_m;
+  const double w = kV / kR, track = Vehicle().drive.track_m;
   int scan_k = 1;
   for (int k = 1; k <= 2000; ++k) {
     const double t = k * kPeriodS;
@@ -344,23 +347,39 @@ std::vector<KeyframeOutput> CircleInTheRoom(int local_map_scans, LocalizerCounte
       scan.angle_increment_rad = std::numbers::pi / 180.0;
       scan.range_min_m = 0.05;
       scan.range_max_m = 20.0;
-      const core::SE2 T = truth(scan.stamp_s);
+      const core::SE2 T = CircleTruth(scan.stamp_s);
       for (int i = 0; i <= 270; ++i) {
         const double a = T.yaw() + scan.angle_min_rad + i * scan.angle_increment_rad;
         const double r = testing::CastRay(walls, T.translation(), {std::cos(a), std::sin(a)});
         scan.ranges_m.push_back(std::isfinite(r) && r < 20.0 ? r : 0.0);
       }
-      localizer->AddScan(std::move(scan));
+      localizer.AddScan(std::move(scan));
       ++scan_k;
     }
+    if (before_reading) before_reading(t);
     const double left = 1.02 * (kV - w * track / 2.0) * kPeriodS / kRadiusM;
     const double right = 1.02 * (kV + w * track / 2.0) * kPeriodS / kRadiusM;
-    if (auto out = localizer->AddWheelReading({t, left, right})) keyframes.push_back(*out);
+    if (auto out = localizer.AddWheelReading({t, left, right})) keyframes.push_back(*out);
   }
-  for (KeyframeOutput& k : keyframes) {
-    // The error against the truth, kept in the predicted pose's place.
-    k.predicted.T_map_base = truth(k.stamp_s);
-  }
+  for (KeyframeOutput& k : keyframes) k.predicted.T_map_base = CircleTruth(k.stamp_s);
+  return keyframes;
+}
+
+LocalizerSetup VehicleWithLidar() {
+  LocalizerSetup setup = Vehicle();
+  setup.lidar = LidarSetup{core::SE2(), 15.0, core::LidarStamp::kMidSweep};
+  return setup;
+}
+
+// kLidar around the circle; returns the keyframes.
+std::vector<KeyframeOutput> CircleInTheRoom(int local_map_scans, LocalizerCounters* counters) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLidar;
+  options.lidar_local_map_scans = local_map_scans;
+  std::unique_ptr<Localizer> localizer =
+      std::move(Localizer::Create(options, VehicleWithLidar())).value();
+  EXPECT_TRUE(localizer->SetInitialPose(0.0, CircleTruth(0.0), StartCovariance()).ok());
+  std::vector<KeyframeOutput> keyframes = DriveTheCircle(*localizer, nullptr);
   *counters = localizer->counters();
   return keyframes;
 }
@@ -396,6 +415,152 @@ TEST(Localizer, ARenewedScanOdometryContinuesFromItsEstimate) {
   // grow a little after it.
   EXPECT_LT(step_b, step_a + 0.02) << "without renewals " << step_a << " m";
   EXPECT_LT(worst_b, 0.10);
+}
+
+TEST(Localizer, AReinitializationMovesTheDeadReckoningWithItsCovarianceAndKeepsTheOdomFrame) {
+  std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry);
+  for (int k = 1; k <= 100; ++k) localizer->AddWheelReading(Straight(k));
+  // The pose 50 ms before the newest reading (1.00 s), facing +y.
+  const core::Matrix3 given = core::Vector3(1e-4, 4e-4, 1e-6).asDiagonal();
+  ASSERT_TRUE(
+      localizer->SetInitialPose(0.95, core::SE2(5.0, -1.0, std::numbers::pi / 2), given).ok());
+  const PoseEstimate now = localizer->Current();
+  EXPECT_DOUBLE_EQ(now.stamp_s, 1.0);
+  EXPECT_TRUE(now.T_map_base.IsApprox(core::SE2(5.0, -0.95, std::numbers::pi / 2), 1e-9, 1e-9));
+  // Carried 5 cm straight ahead (tangent space at the pose, right
+  // perturbation): the given covariance, plus the yaw's lever arm on y, plus
+  // the odometry's own noise over the 5 cm.
+  EXPECT_GT(now.covariance(0, 0), given(0, 0));
+  EXPECT_LT(now.covariance(0, 0), given(0, 0) + 1e-5);
+  EXPECT_GT(now.covariance(1, 1), given(1, 1) + 0.05 * 0.05 * given(2, 2));
+  EXPECT_LT(now.covariance(1, 1), given(1, 1) + 1e-5);
+  std::vector<KeyframeOutput> keyframes;
+  for (int k = 101; k <= 200; ++k) {
+    if (auto out = localizer->AddWheelReading(Straight(k))) keyframes.push_back(*out);
+  }
+  ASSERT_FALSE(keyframes.empty());
+  for (const KeyframeOutput& k : keyframes) EXPECT_NEAR(k.pose.T_map_base.x(), 5.0, 1e-9);
+  EXPECT_TRUE(localizer->Current().T_map_base.IsApprox(core::SE2(5.0, 0.05, std::numbers::pi / 2),
+                                                       1e-9, 1e-9));
+  EXPECT_GT(localizer->Current().covariance(0, 0), now.covariance(0, 0));
+  // Before the re-initialization: not carried across it.
+  EXPECT_FALSE(localizer->SetInitialPose(0.97, core::SE2(), given).ok());
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.reinitializations, 1);
+  EXPECT_EQ(c.initial_poses_dropped_late, 1);
+}
+
+// Translation errors against the truth (in the predicted pose's place,
+// DriveTheCircle) of the keyframes stamped in [from_s, to_s): the smallest
+// and the largest [m].
+std::pair<double, double> ErrorRange(const std::vector<KeyframeOutput>& ks, double from_s,
+                                     double to_s) {
+  double least = std::numeric_limits<double>::infinity(), most = 0.0;
+  for (const KeyframeOutput& k : ks) {
+    if (k.stamp_s < from_s || k.stamp_s >= to_s) continue;
+    const double e =
+        (k.pose.T_map_base.translation() - k.predicted.T_map_base.translation()).norm();
+    least = std::min(least, e);
+    most = std::max(most, e);
+  }
+  return {least, most};
+}
+
+// Started 1.5 m and 10 deg off, the vehicle is put back on its true pose at
+// 8 s (RViz's "2D Pose Estimate"). Poses far ahead of the odometry or older
+// than its history are dropped and counted first, moving nothing.
+TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLidar;
+  std::unique_ptr<Localizer> localizer =
+      std::move(Localizer::Create(options, VehicleWithLidar())).value();
+  const core::SE2 start_error(1.5, 0.0, 10.0 * std::numbers::pi / 180.0);
+  ASSERT_TRUE(
+      localizer->SetInitialPose(0.0, CircleTruth(0.0) * start_error, StartCovariance()).ok());
+  const core::Matrix3 given = core::Vector3(1e-4, 1e-4, 1e-4).asDiagonal();
+  std::optional<PoseEstimate> after;
+  const std::vector<KeyframeOutput> keyframes = DriveTheCircle(*localizer, [&](double t) {
+    if (std::abs(t - 8.0) > 1e-6) return;  // the newest reading is at 7.99 s
+    const PoseEstimate before = localizer->Current();
+    EXPECT_FALSE(localizer->SetInitialPose(t + 10.0, CircleTruth(t), given).ok());
+    EXPECT_FALSE(localizer->SetInitialPose(t - 5.0, CircleTruth(t - 5.0), given).ok());
+    EXPECT_TRUE(localizer->Current().T_map_base.IsApprox(before.T_map_base));
+    // The true pose at 7.95 s (a click 40 ms old), carried to 7.99 s by the wheels.
+    ASSERT_TRUE(localizer->SetInitialPose(7.95, CircleTruth(7.95), given).ok());
+    after = localizer->Current();
+  });
+  ASSERT_TRUE(after.has_value());
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.reinitializations, 1);
+  EXPECT_EQ(c.initial_poses_dropped_ahead, 1);
+  EXPECT_EQ(c.initial_poses_dropped_late, 1);
+  // 2 cm of wheel travel over-read by 2 %: 0.4 mm.
+  EXPECT_NEAR(after->stamp_s, 7.99, 1e-9);
+  EXPECT_LT((after->T_map_base.translation() - CircleTruth(7.99).translation()).norm(), 0.002);
+  const auto [least_before, most_before] = ErrorRange(keyframes, 0.0, 8.0);
+  const auto [least_after, most_after] = ErrorRange(keyframes, 8.0, 21.0);
+  const double most_first = ErrorRange(keyframes, 8.0, 8.5).second;
+  std::printf("keyframe error before %.3f..%.3f m, after %.4f..%.4f m (first 0.5 s %.4f m)\n",
+              least_before, most_before, least_after, most_after, most_first);
+  EXPECT_GT(least_before, 1.0);
+  // The renewed scan odometry continues from the given pose, with no pull
+  // back to the old one (1.0-1.5 m). Without a map nothing but the given
+  // pose anchors it: what remains is a fresh local map's own error (its
+  // first scans match less well: 2 cm at the start of this drive, 4-6 cm
+  // after the re-initialization, near the shelf).
+  EXPECT_LT(most_first, 0.08);
+  EXPECT_LT(most_after, 0.08);
+  EXPECT_LT(
+      (localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
+      0.08);
+}
+
+// The smoother's path (kLines on the room's walls, the LiDAR alone): a
+// re-initialization stamped just ahead of the odometry is held until a
+// reading reaches it (a newer one replaces a held one), then the window
+// restarts there and the walls hold the estimate at the given pose.
+TEST(Localizer, AReinitializationAheadOfTheOdometryRestartsTheSmootherAtItsStamp) {
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLines;
+  options.use_lidar = true;
+  LocalizerSetup setup = VehicleWithLidar();
+  std::vector<WallSegment> segments;
+  for (const testing::Segment& s : testing::RoomWorld()) segments.push_back({s.a, s.b, false});
+  ASSERT_TRUE(AppendWallLines(segments, AtlasWallOptions(), &setup.atlas).ok());
+  std::unique_ptr<Localizer> localizer =
+      std::move(Localizer::Create(options, std::move(setup))).value();
+  const core::SE2 start_error(1.5, 0.0, 10.0 * std::numbers::pi / 180.0);
+  ASSERT_TRUE(
+      localizer->SetInitialPose(0.0, CircleTruth(0.0) * start_error, StartCovariance()).ok());
+  const core::Matrix3 given = core::Vector3(1e-4, 1e-4, 1e-4).asDiagonal();
+  std::optional<PoseEstimate> held, applied;
+  const std::vector<KeyframeOutput> keyframes = DriveTheCircle(*localizer, [&](double t) {
+    if (std::abs(t - 8.0) < 1e-6) {
+      // 13 and 15 ms after the newest reading (7.99 s): held, the second wins.
+      const core::SE2 wrong = CircleTruth(8.003) * start_error;
+      ASSERT_TRUE(localizer->SetInitialPose(8.003, wrong, given).ok());
+      ASSERT_TRUE(localizer->SetInitialPose(8.005, CircleTruth(8.005), given).ok());
+      held = localizer->Current();
+    } else if (std::abs(t - 8.02) < 1e-6) {
+      applied = localizer->Current();  // at 8.01 s
+    }
+  });
+  ASSERT_TRUE(held && applied);
+  const LocalizerCounters& c = localizer->counters();
+  EXPECT_EQ(c.reinitializations, 1);
+  EXPECT_EQ(c.initial_poses_superseded, 1);
+  EXPECT_GT(c.walls_used, 0);
+  EXPECT_GT((held->T_map_base.translation() - CircleTruth(7.99).translation()).norm(), 0.5);
+  EXPECT_NEAR(applied->stamp_s, 8.01, 1e-9);
+  EXPECT_LT((applied->T_map_base.translation() - CircleTruth(8.01).translation()).norm(), 0.002);
+  const auto [least_before, most_before] = ErrorRange(keyframes, 0.0, 8.0);
+  const auto [least_after, most_after] = ErrorRange(keyframes, 8.0, 21.0);
+  std::printf("keyframe error before %.3f..%.3f m, after %.4f..%.4f m\n", least_before, most_before,
+              least_after, most_after);
+  EXPECT_LT(most_after, 0.02);
+  EXPECT_LT(
+      (localizer->Current().T_map_base.translation() - CircleTruth(20.0).translation()).norm(),
+      0.02);
 }
 
 TEST(Localizer, RefusesWhatItsSetupCannotDo) {

@@ -1,14 +1,16 @@
 // The service on DDS end to end, with real CycloneDDS participants in three
 // processes on loopback (the test's own domain id): `groundline replay-dds`
 // publishes a short simulated zone B drive, `groundline serve` localizes on
-// it (inputs.dds, output.dds), and service_dds_pose_listener receives the
-// pose and map -> odom. Checked: the pose stream arrives whole, its accuracy
-// against the ground truth is that of the file replay of the same dataset,
-// nothing is lost (every published message accepted, every pose the service
-// wrote received), and bad messages injected by this process are dropped and
-// counted. Reliable keep-all QoS on both ends (inputs.dds.qos: lossless,
-// replay-dds --lossless), so that a loaded machine slows the chain down
-// instead of losing data: nothing here depends on timing.
+// it (inputs.dds, output.dds) from a wrong start until this process's
+// /initialpose re-initializes it, and service_dds_pose_listener receives the
+// pose and map -> odom. Checked: the pose stream arrives whole and follows
+// the re-initialization, its accuracy against the ground truth from then on
+// is that of the file replay of the same dataset, nothing is lost (every
+// published message accepted, every pose the service wrote received), and
+// bad messages injected by this process are dropped and counted. Reliable
+// keep-all QoS on both ends (inputs.dds.qos: lossless, replay-dds
+// --lossless), so that a loaded machine slows the chain down instead of
+// losing data: nothing here depends on timing.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
@@ -19,6 +21,7 @@
 #include <csignal>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <regex>
 #include <sstream>
@@ -127,7 +130,8 @@ double AteRmse(const core::Trajectory& estimate, const core::Trajectory& truth) 
   return std::sqrt(sum / static_cast<double>(estimate.size()));
 }
 
-TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
+TEST(ServiceDds,
+     ReplayToServeToListenerFollowsAReinitializationMatchesTheFileReplayAndLosesNothing) {
   io::testing::UseLoopbackConfig();
 #ifdef __SANITIZE_ADDRESS__
   // Scan matching under AddressSanitizer is several times slower: a shorter drive.
@@ -160,17 +164,25 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
       core::ReadTumTrajectory(dir / "file" / "trajectory.tum");
   ASSERT_TRUE(file_poses.ok()) << file_poses.message();
 
-  // The DDS chain. Topics under a namespace of this process.
+  // The DDS chain. Topics under a namespace of this process. The service
+  // starts 1.5 m and 10 deg off the true start; an /initialpose from this
+  // process, stamped 1.5 s into the drive, puts it back on the truth.
   const std::string ns = "gl" + std::to_string(::getpid());
-  std::ofstream(dir / "serve.yaml") << "inputs:\n"
-                                    << "  replay: {dataset: drive}\n"
-                                    << "  dds: {odometry: odom, scan: true, image: false, "
-                                       "initial_pose: true, namespace: "
-                                    << ns << ", stamp_check: none, qos: lossless}\n"
-                                    << "localizer: {preset: " << preset << "}\n"
-                                    << "start: {resume: false}\n"
-                                    << "output:\n  dir: dds\n  dds: {namespace: " << ns << "}\n"
-                                    << "http: {enabled: false}\n";
+  const double deg = std::numbers::pi / 180.0;
+  const core::SE2 wrong_start =
+      core::InterpolatePose(truth, simulated->dataset.wheel_encoders.front().stamp_s) *
+      core::SE2(1.5, 0.0, 10.0 * deg);
+  std::ofstream(dir / "serve.yaml")
+      << "inputs:\n"
+      << "  replay: {dataset: drive}\n"
+      << "  dds: {odometry: odom, scan: true, image: false, "
+         "initial_pose: true, namespace: "
+      << ns << ", stamp_check: none, qos: lossless}\n"
+      << "localizer: {preset: " << preset << "}\n"
+      << "start: {resume: false, initial_pose: [" << wrong_start.x() << ", " << wrong_start.y()
+      << ", " << wrong_start.yaw() / deg << "]}\n"
+      << "output:\n  dir: dds\n  dds: {namespace: " << ns << "}\n"
+      << "http: {enabled: false}\n";
   Child serve({GROUNDLINE_CLI, "serve", "--config", (dir / "serve.yaml").string()},
               dir / "serve.log");
   ASSERT_TRUE(serve.started());
@@ -194,6 +206,21 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
   ASSERT_TRUE(bad_odom.ok() && bad_scan.ok());
   ASSERT_TRUE(io::WaitForMatches(bad_odom->writer(), true, 1, std::chrono::seconds(60)));
   ASSERT_TRUE(io::WaitForMatches(bad_scan->writer(), true, 1, std::chrono::seconds(60)));
+  // RViz's "2D Pose Estimate" with the true pose, sent before the drive is
+  // published: the localizer holds it (1.5 s ahead of its start, within
+  // max_sensor_lead_s) until the odometry reaches its stamp, so that where
+  // it applies does not depend on timing.
+  auto rviz = io::DdsPublisher<io::RosPoseWithCovarianceStamped>::Create(
+      *participant, "rt/" + ns + "/initialpose", io::QosPreset::kDefault);
+  ASSERT_TRUE(rviz.ok());
+  ASSERT_TRUE(io::WaitForMatches(rviz->writer(), true, 1, std::chrono::seconds(60)));
+  io::PlanarPoseStamped put_back;
+  put_back.stamp_s = simulated->dataset.wheel_encoders.front().stamp_s + 1.5;
+  put_back.frame_id = "map";
+  put_back.T_frame_base = core::InterpolatePose(truth, put_back.stamp_s);
+  put_back.covariance = core::Vector3(1e-4, 1e-4, 1e-4).asDiagonal();
+  ASSERT_TRUE(rviz->Write(io::ToPoseWithCovarianceStamped(put_back).msg()).ok());
+  dds_wait_for_acks(rviz->writer().get(), DDS_SECS(10));
 
   Child replay(
       {GROUNDLINE_CLI, "replay-dds", (dir / "drive").string(), "--rate", "4", "--stamps", "dataset",
@@ -247,9 +274,12 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
   EXPECT_EQ(in["scan"]["dropped"].get<long>(), kBad);
   EXPECT_NE(in["scan"]["last_drop_reason"].get<std::string>().find("ranges"), std::string::npos)
       << in["scan"]["last_drop_reason"];
-  // The estimator took every accepted reading.
+  // The estimator took every accepted reading, and the re-initialization.
   EXPECT_EQ(summary["counters"]["wheel_readings"].get<long>(), wheels);
   EXPECT_EQ(summary["counters"]["wheel_dropped_out_of_order"].get<long>(), 0);
+  EXPECT_EQ(summary["dds"]["initial_poses"]["applied"].get<long>(), 1);
+  EXPECT_EQ(summary["dds"]["initial_poses"]["refused"].get<long>(), 0);
+  EXPECT_EQ(summary["counters"]["reinitializations"].get<long>(), 1);
 
   // Every pose the service wrote arrived, and each keyframe was written.
   const nlohmann::json& out = summary["dds"]["outputs"];
@@ -264,24 +294,43 @@ TEST(ServiceDds, ReplayToServeToListenerMatchesTheFileReplayAndLosesNothing) {
   EXPECT_EQ(std::stol(received[2]), out["tf"].get<long>());
   EXPECT_GT(out["tf"].get<long>(), wheels / 2);
 
-  // The same accuracy as the file replay: keyframes at the same stamps, and
-  // ATE within 5 mm of it (float32 ranges, first-ray stamps converted back
-  // to mid-sweep, arrival order across topics).
-  ASSERT_GT(listened->size(), 10u);
-  const double ate_dds_m = AteRmse(*listened, truth);
-  const double ate_file_m = AteRmse(*file_poses, truth);
+  // Before the re-initialization the published poses are the wrong start's;
+  // from it on, the accuracy of the file replay (which started on the
+  // truth): ATE within 5 mm of it (float32 ranges, first-ray stamps
+  // converted back to mid-sweep, arrival order across topics, the restart).
+  const auto split = [&](const core::Trajectory& poses, bool after) {
+    core::Trajectory part;
+    for (const core::StampedPose& p : poses) {
+      if ((p.stamp_s >= put_back.stamp_s) == after) part.push_back(p);
+    }
+    return part;
+  };
+  const core::Trajectory before = split(*listened, false);
+  const core::Trajectory after = split(*listened, true);
+  ASSERT_GE(before.size(), 2u);
+  ASSERT_GT(after.size(), 10u);
+  double least_before_m = std::numeric_limits<double>::infinity();
+  for (const core::StampedPose& p : before) {
+    least_before_m = std::min(least_before_m, AteRmse({p}, truth));
+  }
+  EXPECT_GT(least_before_m, 0.5);
+  const double ate_dds_m = AteRmse(after, truth);
+  const double ate_file_m = AteRmse(split(*file_poses, true), truth);
   EXPECT_NEAR(ate_dds_m, ate_file_m, 0.005) << "DDS " << ate_dds_m << " m, file " << ate_file_m;
   EXPECT_LT(ate_dds_m, 0.05);
   EXPECT_NEAR(static_cast<double>(listened->size()), static_cast<double>(file_poses->size()),
               0.05 * static_cast<double>(file_poses->size()));
-  std::printf("ATE RMSE: DDS chain %.4f m (%zu poses), file replay %.4f m (%zu poses)\n", ate_dds_m,
-              listened->size(), ate_file_m, file_poses->size());
+  std::printf(
+      "ATE RMSE after the re-initialization: DDS chain %.4f m (%zu poses), file replay %.4f m "
+      "(%zu poses); before it the DDS poses are >= %.3f m off\n",
+      ate_dds_m, after.size(), ate_file_m, file_poses->size(), least_before_m);
 }
 
 // The service's own process on DDS: joint states in, started by an
-// rt/initialpose (a second one refused and counted), the pose, map -> odom
-// and diagnostics out to this process.
-TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
+// rt/initialpose and moved mid-run by another (one stamped on another clock
+// refused and counted), the pose, map -> odom and diagnostics out to this
+// process.
+TEST(ServiceDds, StartsAndReinitializesFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
   io::testing::UseLoopbackConfig();
   ::setenv("ROS_DOMAIN_ID", std::to_string(kDomainId).c_str(), 1);
   const auto dir = testing::ScratchDir("service_dds_start");
@@ -362,38 +411,58 @@ TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) 
   }));
   publish_readings(51, 150);
   ASSERT_TRUE(status_until(readings_taken(150)));
-  start.stamp_s = kT0 + 1.6;
+  // Mid-run: one stamped 100 s ahead of the odometry (another clock) is
+  // refused and counted; then RViz's "2D Pose Estimate" moves the running
+  // estimate: the pose at 1.45 s, carried by the wheels to the newest
+  // reading (1.49 s).
+  start.stamp_s = kT0 + 100.0;
   ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(start).msg()).ok());
   ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
     return j["dds"]["initial_poses"]["refused"].get<long>() == 1;
   }));
+  io::PlanarPoseStamped moved = start;
+  moved.stamp_s = kT0 + 1.45;
+  moved.T_frame_base = core::SE2(5.0, -1.0, 0.0);
+  ASSERT_TRUE(initial->Write(io::ToPoseWithCovarianceStamped(moved).msg()).ok());
+  ASSERT_TRUE(status_until([](const nlohmann::ordered_json& j) {
+    return j["dds"]["initial_poses"]["applied"].get<long>() == 2;
+  }));
+  const nlohmann::ordered_json reinitialized = (*service)->StatusJson();
+  EXPECT_NEAR(reinitialized["pose"]["x_m"].get<double>(), 5.04, 1e-6);
+  EXPECT_NEAR(reinitialized["pose"]["y_m"].get<double>(), -1.0, 1e-6);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a diagnostics period or two
-  publish_readings(150, 160);
-  ASSERT_TRUE(status_until(readings_taken(160)));
+  publish_readings(150, 200);
+  ASSERT_TRUE(status_until(readings_taken(200)));
   stop.store(true);
   run.join();
   ASSERT_TRUE(summary.ok()) << summary.message();
 
-  // From the start pose 1.09 m along its heading (readings 51..159).
+  // From the given pose 0.54 m along its heading (1.45 s to 1.99 s).
   const nlohmann::ordered_json& end = *summary;
-  EXPECT_NEAR(end["pose"]["x_m"].get<double>(), 2.0, 1e-6);
-  EXPECT_NEAR(end["pose"]["y_m"].get<double>(), 3.0 + 1.09, 1e-6);
-  EXPECT_NEAR(end["pose"]["yaw_deg"].get<double>(), 90.0, 1e-6);
+  EXPECT_NEAR(end["pose"]["x_m"].get<double>(), 5.0 + 0.54, 1e-6);
+  EXPECT_NEAR(end["pose"]["y_m"].get<double>(), -1.0, 1e-6);
+  EXPECT_NEAR(end["pose"]["yaw_deg"].get<double>(), 0.0, 1e-6);
   EXPECT_EQ(end["counters"]["wheel_before_start"].get<long>(), 51);
-  EXPECT_NE(end["dds"]["initial_poses"]["last_error"].get<std::string>().find("already started"),
-            std::string::npos);
+  EXPECT_EQ(end["counters"]["reinitializations"].get<long>(), 1);
+  EXPECT_EQ(end["counters"]["initial_poses_dropped_ahead"].get<long>(), 1);
+  EXPECT_NE(end["dds"]["initial_poses"]["last_error"].get<std::string>().find("max_sensor_lead_s"),
+            std::string::npos)
+      << end["dds"]["initial_poses"]["last_error"];
 
-  // The outputs arrived: keyframe poses, map -> odom consistent with the
-  // service's own odometry frame (the joint states integrated from the
-  // first, 1.59 m straight), diagnostics naming the localizer.
+  // The outputs arrived: keyframe poses that follow the re-initialization,
+  // map -> odom consistent with the service's own odometry frame (the joint
+  // states integrated from the first, 1.99 m straight), diagnostics naming
+  // the localizer and its re-initialization.
   std::vector<io::PlanarPoseStamped> poses;
   ASSERT_TRUE(pose->Take([&](const io::RosPoseWithCovarianceStamped& m) {
                     poses.push_back(io::FromPoseWithCovarianceStamped(m));
                   })
                   .ok());
   ASSERT_FALSE(poses.empty());  // transient local, depth 1: at least the last
-  EXPECT_GT(poses.back().T_frame_base.y(), 3.5);
-  EXPECT_NEAR(poses.back().T_frame_base.x(), 2.0, 1e-6);
+  EXPECT_GT(poses.back().stamp_s, kT0 + 1.49);
+  EXPECT_GT(poses.back().T_frame_base.x(), 5.2);
+  EXPECT_NEAR(poses.back().T_frame_base.y(), -1.0, 1e-6);
+  EXPECT_NEAR(poses.back().T_frame_base.yaw(), 0.0, 1e-6);
   core::SE2 T_map_odom;
   int transforms = 0;
   ASSERT_TRUE(tf->Take([&](const io::RosTfMessage& m) {
@@ -408,20 +477,27 @@ TEST(ServiceDds, StartsFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) 
                   }
                 }).ok());
   EXPECT_EQ(transforms, end["dds"]["outputs"]["tf"].get<int>());
-  EXPECT_EQ(transforms, 160 - 51);  // one per reading after the start
-  const core::SE2 T_odom_base(1.59, 0.0, 0.0);
-  EXPECT_TRUE((T_map_odom * T_odom_base)
-                  .IsApprox(core::SE2(2.0, 3.0 + 1.09, std::numbers::pi / 2), 1e-6, 1e-6));
-  bool localizer_seen = false;
+  EXPECT_EQ(transforms, 200 - 51);  // one per reading after the start
+  const core::SE2 T_odom_base(1.99, 0.0, 0.0);
+  EXPECT_TRUE((T_map_odom * T_odom_base).IsApprox(core::SE2(5.54, -1.0, 0.0), 1e-6, 1e-6));
+  bool localizer_seen = false, reinitialization_seen = false;
   ASSERT_TRUE(diagnostics
                   ->Take([&](const io::RosDiagnosticArray& m) {
                     for (std::uint32_t i = 0; i < m.status._length; ++i) {
-                      if (std::string(m.status._buffer[i].name) == "groundline: localizer")
-                        localizer_seen = true;
+                      const auto& status = m.status._buffer[i];
+                      if (std::string(status.name) != "groundline: localizer") continue;
+                      localizer_seen = true;
+                      for (std::uint32_t v = 0; v < status.values._length; ++v) {
+                        if (std::string(status.values._buffer[v].key) == "reinitializations" &&
+                            std::string(status.values._buffer[v].value) == "1") {
+                          reinitialization_seen = true;
+                        }
+                      }
                     }
                   })
                   .ok());
   EXPECT_TRUE(localizer_seen);
+  EXPECT_TRUE(reinitialization_seen);
 }
 
 }  // namespace

@@ -7,8 +7,11 @@
 // Order: each Poll takes everything that arrived on every topic and delivers
 // the sensor messages merged by stamp (initial poses first). Across Polls the
 // order is that of arrival, so a message that arrives late on one topic can
-// follow a later-stamped one of another topic; each topic on its own is
-// strictly increasing in stamp (anything else is dropped).
+// follow a later-stamped one of another topic; each sensor topic on its own
+// is strictly increasing in stamp (anything else is dropped). Initial poses
+// are commands: each is taken on its own, whatever its stamp (the
+// localizer's time rules judge it), and none moves the sensors' stamp
+// reference (StampReference::kNewest).
 //
 // Driving it: call Poll() from the service's input loop (or a thread of its
 // own); callbacks run inside Poll, on the calling thread. Not thread-safe.

@@ -11,6 +11,7 @@
 //                     elsewhere (the service's camera thread, FloorFrontEnd)
 //   AddScan           a planar LiDAR scan
 //   SetInitialPose / RequestRelocalization   how the estimate starts
+//                     (SetInitialPose again: a re-initialization mid-run)
 //
 // Pipeline per wheel reading (modes below):
 //  1. the reading is checked (finite, stamps increasing; else dropped and
@@ -200,6 +201,10 @@ struct LocalizerCounters {
   long lidar_failures = 0;
   long lidar_restarts = 0;  // the scan odometry restarted after a gap
   long lidar_local_map_renewals = 0;  // a fresh scan odometry after lidar_local_map_scans
+  long reinitializations = 0;         // initial poses applied after the start
+  long initial_poses_dropped_ahead = 0;  // max_sensor_lead_s ahead of the odometry
+  long initial_poses_dropped_late = 0;   // before the odometry history (SetInitialPose)
+  long initial_poses_superseded = 0;     // replaced before the odometry reached their stamp
   long lines_used = 0;
   long lines_rejected = 0;
   long lines_dropped = 0;
@@ -259,8 +264,28 @@ class Localizer {
                                                          LocalizerSetup setup);
   ~Localizer();
 
-  // Starts the estimate at stamp_s (readings up to it are not integrated).
-  // Errors: non-finite values, a covariance that is not symmetric positive definite.
+  // Before the start: starts the estimate at stamp_s (readings up to it are
+  // not integrated; a relocalization under way is abandoned).
+  // After the start: re-initializes the estimate (a lost vehicle put back by
+  // hand, RViz's "2D Pose Estimate"), counted as `reinitializations`: the
+  // smoother's window restarts with this pose and covariance as its only
+  // prior, the wheel odometry goes on (odom frame and path unchanged), and
+  // the LiDAR scan odometry is renewed to continue from the new pose (one
+  // keyframe without a LiDAR relative pose, as after lidar_local_map_scans),
+  // so that nothing pulls the estimate back to the old one. Its time:
+  //  - after the newest wheel reading by at most max_sensor_lead_s: held
+  //    until the odometry reaches stamp_s and applied there (a later call
+  //    replaces a held one: initial_poses_superseded);
+  //  - at or before the newest reading, within the odometry history
+  //    (odometry_history_s) since the start or the last re-initialization:
+  //    applied at the newest reading, carried there by the wheel odometry
+  //    since stamp_s (pose and covariance; its noise over the span added).
+  // Errors (the pose is dropped and counted, the estimate is unchanged):
+  // stamped more than max_sensor_lead_s after the newest wheel reading
+  // (initial_poses_dropped_ahead; before the start too, once a reading has
+  // arrived: another clock); after the start, stamped before the odometry
+  // history (initial_poses_dropped_late); non-finite values, a covariance
+  // that is not symmetric positive definite.
   core::Status SetInitialPose(double stamp_s, const core::SE2& T_map_base,
                               const core::Matrix3& covariance);
   // kLines: recognize the start on the atlas from the frames (relocalizer.h);
