@@ -15,6 +15,9 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   zlib1g-dev libbz2-dev
   clang-14 libfuzzer-14-dev
+  # Tests only: the status page and the reports are checked in headless
+  # Chromium (tests/integration/*_browser_test.cc skip without it).
+  chromium
 )
 
 SUDO=""

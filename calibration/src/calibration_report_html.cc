@@ -36,8 +36,9 @@ std::string ResidualFieldSvg(const IntrinsicCalibration& c) {
   }
   const double gain = 20.0 / p95;
   std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kPlotWidth << "' height='" << height
-    << "'><rect width='100%' height='100%' fill='#fff' stroke='#888'/>";
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kPlotWidth << "' height='"
+    << height + 20 << "'><rect width='" << kPlotWidth << "' height='" << height
+    << "' fill='#fff' stroke='#888'/>";
   for (const ViewResult& v : c.views) {
     for (std::size_t j = 0; j < v.residual_px.size(); ++j) {
       const Eigen::Vector2d a = v.observed_px[j] * scale;
@@ -49,7 +50,7 @@ std::string ResidualFieldSvg(const IntrinsicCalibration& c) {
         << colour << "' stroke-width='1'/>";
     }
   }
-  s << "<text x='6' y='" << height - 6 << "' font-size='12'>arrow gain " << Fmt("%.0f", gain)
+  s << "<text x='6' y='" << height + 15 << "' font-size='12'>arrow gain " << Fmt("%.0f", gain)
     << "x (20 px arrow = " << Fmt("%.3f", p95) << " px residual, the 95th percentile)</text></svg>";
   return s.str();
 }
@@ -81,7 +82,9 @@ std::string HistogramSvg(const IntrinsicCalibration& c, double max_worst_px) {
     << "' stroke='#d00' stroke-dasharray='4'/><text x='20' y='" << base + 16
     << "' font-size='12'>0 px</text><text x='" << w - 90 << "' y='" << base + 16
     << "' font-size='12'>" << Fmt("%.2f px", top) << "</text><text x='" << x_thr - 4
-    << "' y='28' font-size='12' fill='#d00' text-anchor='end'>worst limit</text></svg>";
+    << "' y='28' font-size='12' fill='#d00' text-anchor='end'>worst limit</text><text x='" << w / 2
+    << "' y='13' font-size='12' text-anchor='middle'>tallest bar: " << peak
+    << " corners</text></svg>";
   return s.str();
 }
 
@@ -123,7 +126,8 @@ std::string CoverageSvg(const CalibrationReport& r, const IntrinsicCalibration& 
   for (int z = 0; z < 8; ++z) {
     const bool ok = r.border_corners[z] >= r.thresholds.min_corners_per_border_zone;
     s << "<text x='" << zx[z] << "' y='" << zy[z] + 5
-      << "' font-size='13' text-anchor='middle' font-style='italic' fill='"
+      << "' font-size='14' text-anchor='middle' font-style='italic' font-weight='bold' "
+         "stroke='#fff' stroke-width='3' paint-order='stroke' fill='"
       << (ok ? "#000" : "#d00") << "'>" << r.border_corners[z] << "</text>";
   }
   s << "<rect width='100%' height='100%' fill='none' stroke='#888'/></svg>";
@@ -182,13 +186,21 @@ std::string UncertaintySvg(const CalibrationReport& r, const IntrinsicCalibratio
       << "' fill='#000' fill-opacity='0.35'><title>not floor</title></rect>";
   }
   s << "<rect width='" << w << "' height='" << h << "' fill='none' stroke='#888'/>";
+  // The legend, the limit itself named; labels take about 7 px a character.
   const double legend[6] = {0.0, 0.5, 1.0, 3.0, 10.0, 30.0};  // x the limit
-  for (int i = 0; i < 6; ++i) {
-    const double x = 10 + i * 105;
+  const bool any_not_computable =
+      std::any_of(m.worst_px.begin(), m.worst_px.end(), [](double v) { return !std::isfinite(v); });
+  double x = 10;
+  for (int i = 0; i < (any_not_computable ? 7 : 6); ++i) {
+    const std::string label = i == 6   ? std::string("not computable")
+                              : i == 2 ? Fmt("%.3g px limit", limit)
+                                       : Fmt("%.3g px", legend[i] * limit);
     s << "<rect x='" << x << "' y='" << h + 12 << "' width='22' height='16' fill='"
-      << UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit) << "' stroke='#888'/><text x='"
-      << x + 28 << "' y='" << h + 25 << "' font-size='12'>" << Fmt("%.3g px", legend[i] * limit)
-      << "</text>";
+      << (i == 6 ? UncertaintyColour(std::nan(""), limit)
+                 : UncertaintyColour(std::max(1e-9, legend[i]) * limit, limit))
+      << "' stroke='#888'/><text x='" << x + 28 << "' y='" << h + 25 << "' font-size='12'"
+      << (i == 2 ? " font-weight='bold'" : "") << ">" << label << "</text>";
+    x += 28 + 7.0 * static_cast<double>(label.size()) + 14;
   }
   s << "</svg>";
   return s.str();
@@ -225,6 +237,39 @@ std::string UncertaintySection(const CalibrationReport& r, const IntrinsicCalibr
     << Fmt("%.1f m", r.uncertainty_map.range_m)
     << " (px, 1 sigma; green: within the limit, yellow to dark red: above it, up to 30x):</p>"
     << UncertaintySvg(r, c);
+  return h.str();
+}
+
+// The intrinsics by name (fx, fy, cx, cy in px; the distortion terms
+// unitless), with the 1-sigma of each when the covariance was computed.
+std::string IntrinsicsTable(const IntrinsicCalibration& c) {
+  // mrcal's LENSMODEL_OPENCV4/5/8/12 and PINHOLE are prefixes of this list
+  // (camera_model.h); other models' parameters are numbered.
+  static constexpr const char* kOpenCvNames[16] = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2",
+                                                   "k3", "k4", "k5", "k6", "s1", "s2", "s3", "s4"};
+  const std::string& model = c.camera.lens_model();
+  const bool named = model.rfind("LENSMODEL_OPENCV", 0) == 0 || model == "LENSMODEL_PINHOLE";
+  const std::vector<double>& values = c.camera.intrinsics();
+  std::ostringstream h;
+  h << "<table><tr><th>parameter</th><th>unit</th><th>value</th>"
+    << (c.covariance ? "<th>1&sigma;</th>" : "") << "</tr>";
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    h << "<tr><td style='text-align:left'>"
+      << (named && k < 16 ? std::string(kOpenCvNames[k]) : "p" + std::to_string(k))
+      << "</td><td style='text-align:left'>" << (k < 4 ? "px" : "-") << "</td><td>"
+      << Fmt("%.6g", values[k]) << "</td>";
+    if (c.covariance) {
+      const int i = c.covariance->state_index_intrinsics + static_cast<int>(k);
+      h << "<td>" << Fmt("%.3g", std::sqrt(std::max(0.0, c.covariance->covariance(i, i))))
+        << "</td>";
+    }
+    h << "</tr>";
+  }
+  h << "</table>";
+  if (c.covariance) {
+    h << "<p>The parameters are correlated: judge the projection uncertainty below, not their "
+         "1&sigma;.</p>";
+  }
   return h.str();
 }
 
@@ -283,24 +328,16 @@ std::string CalibrationReportHtml(const CalibrationReport& r, const IntrinsicCal
     for (const std::string& a : r.advice) h << "<li>" << internal::XmlEscape(a) << "</li>";
     h << "</ul>";
   }
-  h << "<h2>Intrinsics</h2><p style='font-family:monospace'>";
-  for (double v : c.camera.intrinsics()) h << Fmt("%.6g", v) << " ";
-  if (c.covariance) {
-    h << "</p><p>1&sigma; of each (correlated: judge the projection uncertainty below, not "
-         "these):</p><p style='font-family:monospace'>";
-    for (std::size_t k = 0; k < c.camera.intrinsics().size(); ++k) {
-      const int i = c.covariance->state_index_intrinsics + static_cast<int>(k);
-      h << Fmt("%.3g", std::sqrt(std::max(0.0, c.covariance->covariance(i, i)))) << " ";
-    }
-  }
-  h << "</p><p>OpenCV calibrateCamera seed (5 terms): RMS " << Fmt("%.4f px", c.opencv_seed.rms_px)
+  h << "<h2>Intrinsics</h2>" << IntrinsicsTable(c);
+  h << "<p>OpenCV calibrateCamera seed (5 terms): RMS " << Fmt("%.4f px", c.opencv_seed.rms_px)
     << ", fx fy cx cy = ";
   for (int i = 0; i < 4; ++i) h << Fmt("%.3f ", c.opencv_seed.intrinsics[i]);
   h << "</p>";
   h << "<h2>Residual vector field</h2>" << ResidualFieldSvg(c);
   h << "<h2>Residual histogram (|r|, inliers)</h2>" << HistogramSvg(c, r.thresholds.max_worst_px);
-  h << "<h2>Corner coverage over the imager</h2><p>Inlier corners per cell; the numbers are the "
-       "quadrant totals (red: fewer than "
+  h << "<h2>Corner coverage over the imager</h2><p>Inlier corners per cell (the darkest: "
+    << *std::max_element(r.coverage.begin(), r.coverage.end())
+    << "); the numbers are the quadrant totals (red: fewer than "
     << r.thresholds.min_corners_per_quadrant << "). Pink cells hold no corner"
     << ". In italics: the corners in each zone of the outer ring (dashed; red: fewer than "
     << r.thresholds.min_corners_per_border_zone << ").</p>" << CoverageSvg(r, c)

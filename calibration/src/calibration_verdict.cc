@@ -23,6 +23,14 @@ std::string Fixed(double value, int decimals, const char* unit) {
   return text;
 }
 std::string Px(double value) { return Fixed(value, 3, "px"); }
+// A pixel position rounded as the report's tables print it ("10, 470").
+std::string PixelAt(const Eigen::Vector2d& q) {
+  char text[48];
+  std::snprintf(text, sizeof(text), "%.0f, %.0f", q.x(), q.y());
+  return text;
+}
+
+std::string Corners(int n) { return std::to_string(n) + (n == 1 ? " corner" : " corners"); }
 
 // Where a pixel is, in the words of the advice.
 std::string RegionName(const Eigen::Vector2d& q, int w, int h) {
@@ -163,9 +171,8 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
   if (t.require_all_quadrants) {
     for (int q = 0; q < 4; ++q) {
       if (report.quadrant_corners[q] >= t.min_corners_per_quadrant) continue;
-      fail(std::string(kQuadrantNames[q]) +
-               " quadrant: " + std::to_string(report.quadrant_corners[q]) + " corners < " +
-               std::to_string(t.min_corners_per_quadrant),
+      fail(std::string(kQuadrantNames[q]) + " quadrant: " + Corners(report.quadrant_corners[q]) +
+               " < " + std::to_string(t.min_corners_per_quadrant),
            std::string("take more views with the board in the ") + kQuadrantNames[q] +
                " of the image, close to its corner and edges");
     }
@@ -175,7 +182,7 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
     for (int z = 0; z < 8; ++z) {
       if (report.border_corners[z] >= t.min_corners_per_border_zone) continue;
       fail(std::string("image ") + kBorderZoneNames[z] + " (outer " + std::to_string(depth_pct) +
-               "%): " + std::to_string(report.border_corners[z]) + " corners < " +
+               "%): " + Corners(report.border_corners[z]) + " < " +
                std::to_string(t.min_corners_per_border_zone),
            std::string("capture views with the board pushed into the image's ") +
                kBorderZoneNames[z] + ", its corners within " + std::to_string(depth_pct) +
@@ -211,8 +218,7 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
       fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") +
                " cannot be computed in " + std::to_string(judged.cells_not_computable) + " of " +
                std::to_string(report.uncertainty_map.cells_x * report.uncertainty_map.cells_y) +
-               " map cells, first at pixel " + std::to_string(static_cast<int>(q.x())) + "," +
-               std::to_string(static_cast<int>(q.y())) +
+               " map cells, first at pixel " + PixelAt(q) +
                " (the solved lens model does not map those pixels back to rays)",
            "capture views with the board in the image's " + RegionName(q, w, h) +
                ": no corner constrained the lens there");
@@ -220,9 +226,7 @@ CalibrationReport BuildCalibrationReport(const IntrinsicCalibration& calibration
     if (judged.worst_px > t.max_projection_uncertainty_px) {
       fail("projection uncertainty at " + Fixed(judged.range_m, 1, "m") + " " +
                Px(judged.worst_px) + " (1 sigma, worst direction, at pixel " +
-               std::to_string(static_cast<int>(judged.where_px.x())) + "," +
-               std::to_string(static_cast<int>(judged.where_px.y())) + ") > " +
-               Px(t.max_projection_uncertainty_px),
+               PixelAt(judged.where_px) + ") > " + Px(t.max_projection_uncertainty_px),
            "capture more views with the board in the image's " + RegionName(judged.where_px, w, h) +
                " (where the camera is least certain), some of them nearer the working "
                "distance");

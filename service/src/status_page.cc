@@ -1,5 +1,8 @@
 #include "status_page.h"
 
+#include <cmath>
+#include <cstdio>
+
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -19,13 +22,24 @@ table { border-collapse: collapse; font-size: 13px; }
 td { padding: 2px 8px 2px 0; }
 td.v { font-family: monospace; text-align: right; }
 .ok { color: #178017; font-weight: bold; } .bad { color: #b31d1d; font-weight: bold; }
+.legend { font-size: 12px; margin-top: 4px; }
+.legend span.item { white-space: nowrap; }
+.swatch { display: inline-block; width: 14px; height: 3px; vertical-align: middle; margin: 0 3px 0 8px; }
+#bevmsg { width: 360px; padding: 40px 0; text-align: center; color: #777; background: #fafafa; }
 </style></head><body>
 <h1>groundline &mdash; <span id="mode">?</span> <span id="state"></span></h1>
 <div class="row">
 <div class="card"><h2>Pose on the atlas (3&sigma; ellipse, 20 m around)</h2>
-<svg id="map" width="480" height="480" style="background:#fafafa"></svg></div>
+<svg id="map" width="420" height="420" style="background:#fafafa"></svg>
+<div class="legend" style="width:420px">map frame, x right, y up;
+<span class="item"><span class="swatch" style="background:#c90"></span>floor tape</span>
+<span class="item"><span class="swatch" style="background:#a0a"></span>joints</span>
+<span class="item"><span class="swatch" style="background:#777"></span>walls, rack faces</span>
+<span class="item"><span class="swatch" style="background:#1565c0"></span>vehicle, heading, 3&sigma; ellipse</span></div></div>
 <div class="card"><h2>Camera: bird's-eye view and detected lines</h2>
-<img id="bev" width="400" alt="no frame yet"><div style="font-size:12px">green: tape, magenta: joints, red: junctions</div></div>
+<img id="bev" width="360" alt="bird's-eye view" hidden><div id="bevmsg">no camera frame yet</div>
+<div class="legend" style="width:360px">seen from above, vehicle forward up, distances ahead of the axle in m;
+green: tape, magenta: joints, red: junctions</div></div>
 <div class="card"><h2>Health</h2><table id="health"></table></div>
 </div>
 <script>
@@ -33,7 +47,7 @@ let atlas = null, last = null, lastT = 0;
 fetch('/atlas.json').then(r => r.json()).then(a => atlas = a);
 function row(k, v, cls) { return '<tr><td>' + k + '</td><td class="v ' + (cls || '') + '">' + v + '</td></tr>'; }
 function draw(h) {
-  const svg = document.getElementById('map'), W = 480, R = 20, s = W / (2 * R);
+  const svg = document.getElementById('map'), W = 420, R = 20, s = W / (2 * R);
   const px = h.pose.x_m, py = h.pose.y_m;
   const X = x => (x - px) * s + W / 2, Y = y => W / 2 - (y - py) * s;
   let g = '';
@@ -52,6 +66,9 @@ function draw(h) {
   const yaw = h.pose.yaw_deg * Math.PI / 180;
   g += '<line x1="' + X(px) + '" y1="' + Y(py) + '" x2="' + X(px + 1.5 * Math.cos(yaw)) + '" y2="' +
        Y(py + 1.5 * Math.sin(yaw)) + '" stroke="#1565c0" stroke-width="3"/>';
+  g += '<rect x="8" y="' + (W - 30) + '" width="' + (5 * s + 16) + '" height="24" fill="#fafafa" fill-opacity="0.85"/>' +
+       '<line x1="16" y1="' + (W - 12) + '" x2="' + (16 + 5 * s) + '" y2="' + (W - 12) + '" stroke="#222" stroke-width="2"/>' +
+       '<text x="' + (16 + 2.5 * s) + '" y="' + (W - 17) + '" font-size="12" text-anchor="middle">5 m</text>';
   svg.innerHTML = g;
 }
 async function tick() {
@@ -61,7 +78,10 @@ async function tick() {
     const rate = f => (last && now > lastT) ? ((c[f] - last.counters[f]) / (now - lastT)).toFixed(1) + ' /s' : '-';
     document.getElementById('mode').textContent = h.mode;
     const sensors = k.sensors || {};
-    document.getElementById('state').innerHTML = h.started ? '<span class="ok">' + (sensors.degraded_mode || 'running') + '</span>' : '<span class="bad">waiting for a start pose</span>';
+    const mode = sensors.degraded_mode;
+    document.getElementById('state').innerHTML = !h.started ? '<span class="bad">waiting for a start pose</span>' :
+      (!mode || mode === 'full') ? '<span class="ok">running' + (mode ? ', all sensors in use' : '') + '</span>' :
+      '<span class="bad">degraded: the estimate rests on ' + mode + '</span>';
     let t = row('data time [s]', h.stamp_s.toFixed(2)) +
       row('x, y [m]', h.pose.x_m.toFixed(3) + ', ' + h.pose.y_m.toFixed(3)) +
       row('yaw [deg]', h.pose.yaw_deg.toFixed(2)) +
@@ -74,7 +94,7 @@ async function tick() {
       row('clock jumps', c.clock_jumps, c.clock_jumps ? 'bad' : '') +
       row('scans dropped', c.scans_dropped_bad + c.scans_dropped_out_of_order + c.scans_dropped_ahead) +
       row('lines used / rejected (last)', (k.lines_used ?? '-') + ' / ' + (k.lines_rejected ?? '-')) +
-      row('LiDAR degenerate (last)', k.lidar_degenerate === undefined ? '-' : k.lidar_degenerate, k.lidar_degenerate ? 'bad' : 'ok') +
+      row('LiDAR degenerate (last)', k.lidar_degenerate === undefined ? '-' : (k.lidar_degenerate ? 'yes' : 'no'), k.lidar_degenerate ? 'bad' : 'ok') +
       row('walls used (last)', k.walls_used ?? '-') +
       row('solve [ms] (last)', k.solve_ms === undefined ? '-' : k.solve_ms.toFixed(2)) +
       row('latency median / p99 [ms]', h.latency_ms.median.toFixed(2) + ' / ' + h.latency_ms.p99.toFixed(2)) +
@@ -94,7 +114,13 @@ async function tick() {
   } catch (e) { document.getElementById('state').innerHTML = '<span class="bad">service not answering</span>'; }
 }
 setInterval(tick, 500); tick();
-setInterval(() => { document.getElementById('bev').src = '/bev.png?t=' + Date.now(); }, 1000);
+// The BEV replaces its placeholder once a picture loads (a 404 before the
+// first frame, or without a camera, keeps the placeholder, not a broken image).
+const bev = document.getElementById('bev'), bevMsg = document.getElementById('bevmsg');
+bev.onload = () => { bev.hidden = false; bevMsg.hidden = true; };
+bev.onerror = () => { bev.hidden = true; bevMsg.hidden = false; };
+function pollBev() { bev.src = '/bev.png?t=' + Date.now(); }
+setInterval(pollBev, 1000); pollBev();
 </script></body></html>
 )HTML";
 }
@@ -132,6 +158,21 @@ std::vector<std::uint8_t> DrawBevPng(const cv::Mat& bev, const localization::Flo
   }
   for (const localization::JunctionObservation& j : seen.junctions) {
     cv::circle(colour, pixel(j.point_base_m), 6, cv::Scalar(0, 0, 255), 2);
+  }
+  // The scale: distance ahead of the axle (base_link x) every 0.5 m along
+  // the left edge, white on a dark outline to read on any floor.
+  const double x_max_m = grid.options().x_max_m;
+  const double x_min_m = x_max_m - grid.rows() * grid.cell_m();
+  for (double x_m = std::ceil(x_min_m / 0.5) * 0.5; x_m <= x_max_m + 1e-9; x_m += 0.5) {
+    const int row = pixel({x_m, grid.options().y_max_m}).y;
+    char label[16];
+    std::snprintf(label, sizeof(label), "%.1f m", x_m);
+    for (const auto& [bgr, thickness] :
+         {std::pair{cv::Scalar(0, 0, 0), 3}, std::pair{cv::Scalar(255, 255, 255), 1}}) {
+      cv::line(colour, {0, row}, {12, row}, bgr, thickness);
+      cv::putText(colour, label, {16, row + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.45, bgr, thickness,
+                  cv::LINE_AA);
+    }
   }
   std::vector<std::uint8_t> png;
   cv::imencode(".png", colour, png);

@@ -19,7 +19,8 @@ const char* StatusPageHtml();
 // {"lines": [[ax, ay, bx, by, kind], ...], "junctions": [[x, y], ...]} (map frame, m).
 std::string AtlasJson(const localization::Atlas& atlas);
 // The BEV (grey) with the frame's lines drawn (tape green, joints magenta,
-// junctions red), 2x, as PNG bytes.
+// junctions red) and the distance ahead of the axle marked every 0.5 m on
+// its left edge, 2x, as PNG bytes.
 std::vector<std::uint8_t> DrawBevPng(const cv::Mat& bev, const localization::FloorFrontEnd& camera,
                                      const localization::FloorObservations& seen);
 
