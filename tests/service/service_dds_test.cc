@@ -11,10 +11,7 @@
 // keep-all QoS on both ends (inputs.dds.qos: lossless, replay-dds
 // --lossless), so that a loaded machine slows the chain down instead of
 // losing data: nothing here depends on timing.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -39,6 +36,7 @@
 #include "groundline/io/dds_pubsub.h"
 #include "groundline/service/service.h"
 #include "groundline/service/service_config.h"
+#include "child_process.h"
 #include "simulated_drive.h"
 #include "test_data.h"
 
@@ -57,67 +55,10 @@ std::string ReadText(const std::filesystem::path& path) {
 }
 
 // A child process with stdout and stderr in a file, on the test's domain.
-class Child {
+class Child : public testing::ChildProcess {
  public:
-  Child(std::vector<std::string> args, const std::filesystem::path& log) : log_(log) {
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    std::vector<char*> env;
-    for (char** e = environ; *e != nullptr; ++e) {
-      if (std::string(*e).rfind("ROS_DOMAIN_ID=", 0) != 0) env.push_back(*e);
-    }
-    env.push_back(domain_.data());
-    env.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), env.data()) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~Child() {
-    if (pid_ > 0 && !exited_) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  bool started() const { return pid_ > 0; }
-  // The exit code once exited within `timeout`, else -1.
-  int Wait(std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (!exited_ && std::chrono::steady_clock::now() < deadline) {
-      int status = 0;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        exited_ = true;
-        code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return exited_ ? code_ : -1;
-  }
-  void Terminate() {
-    if (pid_ > 0 && !exited_) kill(pid_, SIGTERM);
-  }
-  // Waits until the output contains `text`; false after `timeout` or an exit.
-  bool WaitForOutput(const std::string& text, std::chrono::seconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (output().find(text) != std::string::npos) return true;
-      if (Wait(std::chrono::seconds(0)) >= 0) return output().find(text) != std::string::npos;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  }
-  std::string output() const { return ReadText(log_); }
-
- private:
-  std::filesystem::path log_;
-  std::string domain_ = "ROS_DOMAIN_ID=" + std::to_string(kDomainId);
-  pid_t pid_ = -1;
-  bool exited_ = false;
-  int code_ = -1;
+  Child(std::vector<std::string> args, const std::filesystem::path& log)
+      : ChildProcess(std::move(args), log, {}, {"ROS_DOMAIN_ID=" + std::to_string(kDomainId)}) {}
 };
 
 // ATE RMSE [m] of the estimate against the ground truth, interpolated at its stamps.

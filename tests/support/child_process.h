@@ -25,14 +25,27 @@ namespace groundline::testing {
 class ChildProcess {
  public:
   // Starts argv[0] (an absolute path, or a name looked up in PATH) with the
-  // test's environment; started() is false if it could not be spawned.
+  // test's environment, where each "NAME=value" of `environment` replaces or
+  // adds that variable; started() is false if it could not be spawned.
   // output() reads the stdout log.
   ChildProcess(std::vector<std::string> argv, const std::filesystem::path& log,
-               const std::filesystem::path& stderr_log = {})
-      : log_(log) {
+               const std::filesystem::path& stderr_log = {},
+               std::vector<std::string> environment = {})
+      : log_(log), environment_(std::move(environment)) {
     std::vector<char*> args;
     for (std::string& a : argv) args.push_back(a.data());
     args.push_back(nullptr);
+    std::vector<char*> env;
+    for (char** e = environ; *e != nullptr; ++e) {
+      const std::string entry(*e);
+      bool replaced = false;
+      for (const std::string& o : environment_) {
+        replaced = replaced || entry.compare(0, o.find('=') + 1, o, 0, o.find('=') + 1) == 0;
+      }
+      if (!replaced) env.push_back(*e);
+    }
+    for (std::string& o : environment_) env.push_back(o.data());
+    env.push_back(nullptr);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -42,7 +55,7 @@ class ChildProcess {
       posix_spawn_file_actions_addopen(&actions, 2, stderr_log.c_str(),
                                        O_WRONLY | O_CREAT | O_TRUNC, 0644);
     }
-    if (posix_spawnp(&pid_, args[0], &actions, nullptr, args.data(), environ) != 0) pid_ = -1;
+    if (posix_spawnp(&pid_, args[0], &actions, nullptr, args.data(), env.data()) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&actions);
   }
   ChildProcess(const ChildProcess&) = delete;
@@ -99,6 +112,7 @@ class ChildProcess {
 
  private:
   std::filesystem::path log_;
+  std::vector<std::string> environment_;  // outlives the spawn: env points into it
   pid_t pid_ = -1;
   bool exited_ = false;
   int code_ = -1;
