@@ -7,20 +7,10 @@
 #include <string>
 
 #include "groundline/core/run_timing.h"
+#include "groundline/core/covariance.h"
 #include "groundline/core/trajectory_association.h"
 
 namespace groundline::localization::internal {
-namespace {
-
-// Stamps within this of each other are the same instant (text round trips).
-constexpr double kSameInstantS = 1e-9;
-
-bool IsCovariance(const core::Matrix3& c) {
-  if (!c.allFinite() || !c.isApprox(c.transpose(), 1e-9)) return false;
-  return Eigen::LLT<core::Matrix3>(c).info() == Eigen::Success;
-}
-
-}  // namespace
 
 core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const LocalizerOptions& options,
                                                                    LocalizerSetup setup) {
@@ -69,7 +59,7 @@ core::Status LocalizerImpl::SetInitialPose(double stamp_s, const core::SE2& T_ma
       !std::isfinite(T_map_base.yaw())) {
     return core::Status::Error("initial pose: expected a finite stamp, x, y and yaw");
   }
-  if (!IsCovariance(covariance)) {
+  if (!core::IsCovariance(covariance)) {
     return core::Status::Error(
         "initial pose: expected a symmetric positive definite 3x3 covariance (x, y, yaw)");
   }

@@ -14,6 +14,9 @@
 
 namespace groundline::localization::internal {
 
+// Stamps within this of each other are the same instant (text round trips).
+inline constexpr double kSameInstantS = 1e-9;
+
 class LocalizerImpl {
  public:
   static core::Result<std::unique_ptr<LocalizerImpl>> Create(const LocalizerOptions& options,

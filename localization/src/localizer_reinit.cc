@@ -9,9 +9,6 @@
 namespace groundline::localization::internal {
 namespace {
 
-// Stamps within this of each other are the same instant (localizer_impl.cc).
-constexpr double kSameInstantS = 1e-9;
-
 // The wheel odometry at stamp_s inside the history (stamps increasing):
 // the pose interpolated, the covariance of the reading at or after it (the
 // integrator's covariance only grows between readings).

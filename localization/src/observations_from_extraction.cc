@@ -1,15 +1,9 @@
 #include "groundline/localization/observations_from_extraction.h"
 
-#include <Eigen/Cholesky>
+#include "groundline/core/covariance.h"
 
 namespace groundline::localization {
 namespace {
-
-bool IsSymmetricPositiveDefinite(const Eigen::Matrix2d& m) {
-  if (!m.allFinite()) return false;
-  if (std::abs(m(0, 1) - m(1, 0)) > 1e-9 * (std::abs(m(0, 0)) + std::abs(m(1, 1)))) return false;
-  return Eigen::LLT<Eigen::Matrix2d>(m).info() == Eigen::Success;
-}
 
 core::MarkingKind KindOf(const perception::LineKind& kind) {
   if (kind.polarity == perception::LinePolarity::kDark) return core::MarkingKind::kJoint;
@@ -30,7 +24,7 @@ ConvertedObservations ObservationsFromExtraction(double stamp_s,
       ++out.skipped_bar_edges;
       continue;
     }
-    if (!IsSymmetricPositiveDefinite(line.covariance)) {
+    if (!core::IsCovariance(line.covariance)) {
       ++out.dropped_lines;
       continue;
     }
@@ -43,7 +37,7 @@ ConvertedObservations ObservationsFromExtraction(double stamp_s,
     out.observations.lines.push_back(observation);
   }
   for (const perception::Junction& junction : extraction.junctions) {
-    if (!IsSymmetricPositiveDefinite(junction.covariance)) {
+    if (!core::IsCovariance(junction.covariance)) {
       ++out.dropped_junctions;
       continue;
     }

@@ -1,6 +1,5 @@
 #include "groundline/service/service_state.h"
 
-#include <Eigen/Cholesky>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -10,6 +9,7 @@
 #include <sstream>
 
 #include "groundline/core/atomic_file.h"
+#include "groundline/core/covariance.h"
 #include "groundline/core/json_fields.h"
 
 namespace groundline::service {
@@ -30,9 +30,7 @@ core::Result<SavedState> ReadServiceState(const std::filesystem::path& path) {
   if (!reader.ok()) return core::Status::Error(reader.status().message() + hint);
   state.T_map_base = core::SE2(x, y, yaw);
   for (int i = 0; i < 9; ++i) state.covariance(i / 3, i % 3) = cov[i];
-  const core::Matrix3& c = state.covariance;
-  if (!c.allFinite() || !c.isApprox(c.transpose(), 1e-9) ||
-      Eigen::LLT<core::Matrix3>(c).info() != Eigen::Success) {
+  if (!core::IsCovariance(state.covariance)) {
     return core::Status::Error(path.string() +
                                ": field 'cov': expected a symmetric positive definite 3x3 "
                                "covariance (9 numbers, row-major)" +
