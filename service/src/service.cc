@@ -299,6 +299,19 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   j["mode"] = loc::ModeName(m.localizer->options());
   j["started"] = m.localizer->started();
   j["counters"] = loc::CountersJson(m.counters);
+  // Per second of data time (the sensors' own rates, also in a replay faster
+  // than real time); null until a second of data has passed.
+  if (m.rate_samples.size() >= 2 &&
+      m.rate_samples.back().stamp_s - m.rate_samples.front().stamp_s >= 1.0) {
+    const Impl::RateSample& a = m.rate_samples.front();
+    const Impl::RateSample& b = m.rate_samples.back();
+    const double dt = b.stamp_s - a.stamp_s;
+    j["rates_hz"] = {{"wheel_readings", static_cast<double>(b.wheel_readings - a.wheel_readings) / dt},
+                     {"frames", static_cast<double>(b.frames - a.frames) / dt},
+                     {"scans", static_cast<double>(b.scans - a.scans) / dt}};
+  } else {
+    j["rates_hz"] = nullptr;
+  }
   j["camera_stage"] = {{"processed", m.camera_processed.load()},
                        {"skipped_not_due", m.camera_not_due.load()},
                        {"dropped_queue_full", m.camera_dropped.load()},

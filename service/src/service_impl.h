@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <ctime>
 #include <fstream>
 #include <limits>
@@ -136,6 +137,14 @@ struct Service::Impl {
   nlohmann::ordered_json last_keyframe;
   loc::PoseEstimate pose;
   loc::LocalizerCounters counters;
+  // The input counters over the last kRateWindowS of data (a sample every
+  // 0.1 s of data), from which /health.json gives rates per second of data.
+  struct RateSample {
+    double stamp_s;
+    long wheel_readings, frames, scans;
+  };
+  static constexpr double kRateWindowS = 2.0;
+  std::deque<RateSample> rate_samples;
   std::vector<std::uint8_t> bev_png;
   std::string atlas_json;
   std::vector<double> latency_ms;

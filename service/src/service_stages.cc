@@ -175,6 +175,10 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       last_keyframe = std::move(line);
     }
     counters = localizer->counters();
+    if (rate_samples.empty() || r.stamp_s >= rate_samples.back().stamp_s + 0.1) {
+      rate_samples.push_back({r.stamp_s, counters.wheel_readings, counters.frames, counters.scans});
+      while (rate_samples.front().stamp_s < r.stamp_s - kRateWindowS) rate_samples.pop_front();
+    }
     PublishDds(moved && have_odom_frame ? &T_odom_base : nullptr, k);
     const loc::RelativeMotion since = localizer->SinceKeyframe();
     since_keyframe_m.store(since.T_start_end.translation().norm());

@@ -43,7 +43,7 @@ green: tape, magenta: joints, red: junctions</div></div>
 <div class="card"><h2>Health</h2><table id="health"></table></div>
 </div>
 <script>
-let atlas = null, last = null, lastT = 0;
+let atlas = null;
 fetch('/atlas.json').then(r => r.json()).then(a => atlas = a);
 function row(k, v, cls) { return '<tr><td>' + k + '</td><td class="v ' + (cls || '') + '">' + v + '</td></tr>'; }
 function draw(h) {
@@ -74,8 +74,9 @@ function draw(h) {
 async function tick() {
   try {
     const h = await (await fetch('/health.json')).json();
-    const now = performance.now() / 1000, c = h.counters, k = h.last_keyframe || {};
-    const rate = f => (last && now > lastT) ? ((c[f] - last.counters[f]) / (now - lastT)).toFixed(1) + ' /s' : '-';
+    const c = h.counters, k = h.last_keyframe || {};
+    // The service's rates, per second of data time.
+    const rate = f => h.rates_hz ? h.rates_hz[f].toFixed(1) + ' /s' : '-';
     document.getElementById('mode').textContent = h.mode;
     const sensors = k.sensors || {};
     const mode = sensors.degraded_mode;
@@ -110,7 +111,6 @@ async function tick() {
     if (dds.outputs) t += row('DDS out poses / tf / diagnostics', dds.outputs.poses + ' / ' + dds.outputs.tf + ' / ' + dds.outputs.diagnostics, dds.outputs.write_errors ? 'bad' : '');
     document.getElementById('health').innerHTML = t;
     draw(h);
-    last = h; lastT = now;
   } catch (e) { document.getElementById('state').innerHTML = '<span class="bad">service not answering</span>'; }
 }
 setInterval(tick, 500); tick();

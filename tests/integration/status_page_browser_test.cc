@@ -205,11 +205,17 @@ TEST(StatusPageBrowser, ShowsTheLivePoseRatesCountersAndMapOfARunningService) {
   EXPECT_GT(sigma_x_mm, 0.0);
   EXPECT_LT(sigma_x_mm, 200.0);
 
-  // Rates need two polls; the page prints '-' until it has them.
-  for (const char* rate : {"odometry in", "frames in", "scans in"}) {
-    const std::optional<std::string> cell = HealthCell(dom, rate);
-    ASSERT_TRUE(cell) << rate;
-    EXPECT_TRUE(std::regex_match(*cell, std::regex(R"(\d+\.\d /s)"))) << rate << ": " << *cell;
+  // The service's rates per second of data (the page shows '-' for the first
+  // second of data): the drive's 100 Hz odometry, 15 Hz LiDAR, 1 Hz camera.
+  const struct {
+    const char* row;
+    double hz;
+  } rates[] = {{"odometry in", 100.0}, {"frames in", 1.0}, {"scans in", 15.0}};
+  for (const auto& rate : rates) {
+    const std::optional<std::string> cell = HealthCell(dom, rate.row);
+    ASSERT_TRUE(cell) << rate.row;
+    ASSERT_TRUE(std::regex_match(*cell, std::regex(R"(\d+\.\d /s)"))) << rate.row << ": " << *cell;
+    EXPECT_NEAR(std::stod(*cell), rate.hz, 0.1 * rate.hz + 0.5) << rate.row << ": " << *cell;
   }
   const std::optional<std::string> keyframes = HealthCell(dom, "keyframes");
   ASSERT_TRUE(keyframes);
