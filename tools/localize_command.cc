@@ -313,7 +313,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   if (!replayed.ok()) return Fail(replayed.message());
   if (flags.relocalize && !localizer.started()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
-    if (s != nullptr && s->frames_hint_contradicted > 0 && options.relocalizer.near_m) {
+    if (s != nullptr && s->hint_rejected && options.relocalizer.near_m) {
       return Fail(HintNotSupported(flags.dataset_dir, *options.relocalizer.near_m, *s));
     }
     return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +

@@ -221,6 +221,10 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
     const bool lost = !best_ || (IsLost(hypotheses_[*best_]) &&
                                  (!best_excluded_ || IsLost(hypotheses_[*best_excluded_])));
     if (lost || status_.travel_since_seed_m > options_.max_track_m) {
+      // The drive has one start: a seed whose frames contradict the prior
+      // at its end contradicts it for the rest of the drive.
+      earlier_seed_contradicted_ = earlier_seed_contradicted_ || seed_contradicted_;
+      seed_contradicted_ = false;
       hypotheses_.clear();
       best_.reset();
       best_excluded_.reset();
@@ -531,6 +535,18 @@ void Relocalizer::PruneAndUpdateStatus() {
   status_.hint_contradicted = excluded != nullptr &&
                               MeetsMatchRule(excluded->check.matched, excluded->check.unmatched) &&
                               excluded_lead_ >= options_.hint_contradiction_margin;
+  // The verdict is that of all the frames since the exclusions were born,
+  // not of the first few: a handful of observations that perception got
+  // wrong can cost the true hypothesis a lead of 15 that one of thousands
+  // of twins elsewhere happens to fit, and the frames after take it back.
+  // Once given, it stands until the lead falls below the tie margin, where
+  // rule 5 lets the hypothesis the prior allows commit.
+  if (status_.hint_contradicted) {
+    seed_contradicted_ = true;
+  } else if (excluded_lead_ < options_.hint_tie_margin) {
+    seed_contradicted_ = false;
+  }
+  status_.hint_rejected = earlier_seed_contradicted_ || seed_contradicted_;
   if (status_.hint_contradicted) {
     ++status_.frames_hint_contradicted;
     status_.contradicted_best_log_likelihood = best ? best->check.log_likelihood : kNone;
@@ -546,8 +562,8 @@ void Relocalizer::PruneAndUpdateStatus() {
 
 std::optional<PoseEstimate> Relocalizer::TryCommit() const {
   // The evidence rule of RelocalizerOptions.
-  if (!best_ || status_.frames_hint_contradicted > 0) return std::nullopt;  // rule 4
-  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;      // rule 5
+  if (!best_ || status_.hint_rejected) return std::nullopt;             // rule 4
+  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;  // rule 5
   const Hypothesis& best = hypotheses_[*best_];
   const bool leads =
       status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;

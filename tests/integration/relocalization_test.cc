@@ -5,7 +5,8 @@
 // keyframe; the smoother refines it from there). Zone A's floor is distinctive
 // enough to commit without a prior; zone B's repeating aisles are not; with a
 // 2 m prior on the start, zones A, B and C commit; a prior far from the true
-// start is reported as contradicted by the floor and nothing commits.
+// start is reported as contradicted by the floor and nothing commits, a
+// right one is not, even where a twin elsewhere outscores it for a while.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,11 +30,18 @@ struct Outcome {
   Eigen::Vector2d true_start_m = Eigen::Vector2d::Zero();
 };
 
+// The observations' errors: those of the floor map's own lines, or coarser
+// ones like the lines extracted from rendered images (junctions 4 cm and
+// endpoints 2.5 cm 1 sigma, the camera's own +-1 m footprint), which now and
+// then leave a frame's marking unmatched at the true pose.
+enum class Perception { kFloorMap, kCoarse };
+
 // near_radius_m > 0: a coarse prior of that radius around a point 60 % of
 // the radius away from the true start, moved by hint_offset_m (a wrong hint).
 Outcome Relocalize(sim::Zone zone, std::uint64_t seed, double duration_s,
                    double near_radius_m = 0.0,
-                   const Eigen::Vector2d& hint_offset_m = Eigen::Vector2d::Zero()) {
+                   const Eigen::Vector2d& hint_offset_m = Eigen::Vector2d::Zero(),
+                   Perception perception = Perception::kFloorMap) {
   const testing::ZoneDrive drive = testing::MakeZoneDrive(zone, seed, duration_s);
   const localization::Atlas atlas =
       localization::AtlasFromFloorMap(drive.map, localization::AtlasFromFloorMapOptions());
@@ -45,7 +53,13 @@ Outcome Relocalize(sim::Zone zone, std::uint64_t seed, double duration_s,
     options.near_radius_m = near_radius_m;
   }
   localization::Relocalizer relocalizer(atlas, options);
-  sim::FloorDrive floor_drive(drive.map, drive.trajectory, testing::TestDriveOptions(seed));
+  sim::FloorDriveOptions drive_options = testing::TestDriveOptions(seed);
+  if (perception == Perception::kCoarse) {
+    drive_options.observations.junction_sigma_m = 0.04;
+    drive_options.observations.endpoint_sigma_m = 0.025;
+    drive_options.observations.half_width_m = 1.0;
+  }
+  sim::FloorDrive floor_drive(drive.map, drive.trajectory, drive_options);
   sim::DriveKeyframe keyframe;
   Outcome outcome;
   outcome.true_start_m = drive.trajectory.front().pose.translation();
@@ -153,12 +167,46 @@ TEST_P(RelocalizationWrongHint, IsReportedAndNothingCommits) {
       s.overall_log_likelihood, (s.overall_start_m - o.true_start_m).norm());
   EXPECT_FALSE(o.committed);
   EXPECT_GE(o.seeds, 1u);
+  EXPECT_TRUE(s.hint_rejected);
   EXPECT_GT(s.frames_hint_contradicted, 0u);
   // The better explanation starts outside the hint's circle.
   EXPECT_GT(s.contradicted_overall_start_from_hint_m, 2.0);
   EXPECT_GE(s.contradicted_overall_log_likelihood - s.contradicted_best_log_likelihood,
             localization::RelocalizerOptions().hint_contradiction_margin);
 }
+
+// A right hint (the true start 1.2 m from it, inside its 2 m circle) with
+// the coarse perception: a few frames' markings go unmatched at the true
+// pose, and among the thousands of hypotheses the hint excludes a twin tens
+// of metres away fits them, leading the true pose by 15 or more for some
+// metres of driving. The frames after take that lead back: the hint is not
+// contradicted at the end, and a commit is right. Zone A seeds 1 and 9 were
+// reported as contradicted when the first frames' lead decided the verdict.
+class RelocalizationRightHint
+    : public ::testing::TestWithParam<std::tuple<sim::Zone, std::uint64_t>> {};
+
+TEST_P(RelocalizationRightHint, IsNotContradictedAndACommitIsRight) {
+  const auto [zone, seed] = GetParam();
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "CI time: zone A keeps thousands of hypotheses the hint excludes, minutes "
+                  "under AddressSanitizer; the release build runs this test";
+#endif
+  const Outcome o = Relocalize(zone, seed, 60.0, 2.0, Eigen::Vector2d::Zero(), Perception::kCoarse);
+  const localization::RelocalizerStatus& s = o.status;
+  std::printf(
+      "zone %d seed %lu, right hint, coarse perception: committed %d after %.1f m, error %.3f m "
+      "%.3f deg; %zu frames contradicted the hint (allowed %.1f, overall %.1f), rejected %d\n",
+      static_cast<int>(zone), static_cast<unsigned long>(seed), o.committed, o.travel_m, o.error_m,
+      o.error_deg, s.frames_hint_contradicted, s.contradicted_best_log_likelihood,
+      s.contradicted_overall_log_likelihood, s.hint_rejected);
+  EXPECT_FALSE(s.hint_rejected);
+  EXPECT_TRUE(o.committed);
+  ExpectRightPose(o);
+}
+
+INSTANTIATE_TEST_SUITE_P(ZoneA, RelocalizationRightHint,
+                         ::testing::Values(std::make_tuple(sim::Zone::kA, 1u),
+                                           std::make_tuple(sim::Zone::kA, 9u)));
 
 INSTANTIATE_TEST_SUITE_P(Zones, RelocalizationWrongHint,
                          ::testing::Values(std::make_tuple(sim::Zone::kA, 1u, 20.0, 0.0),

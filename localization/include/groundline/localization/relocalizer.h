@@ -20,10 +20,10 @@
 // A coarse prior is a claim, not a fact: an operator may name the wrong
 // charger. The relocalizer therefore also keeps the hypotheses the prior
 // excludes (born from junctions anywhere on the atlas) and scores them on
-// the same frames; they never commit, but when one of them explains the
+// the same frames; they never commit, but while one of them explains the
 // floor much better than every hypothesis the prior allows, the prior is
-// reported as contradicted and nothing commits (RelocalizerOptions, "the
-// evidence rule").
+// contradicted and nothing commits (RelocalizerOptions, "the evidence
+// rule").
 //
 // Frames: hypotheses are T_map_base; observations in base_link (x forward,
 // y left); metres and radians.
@@ -80,12 +80,16 @@ struct RelocalizerOptions {
   //  2. min_travel_m has been driven since the seed;
   //  3. it matched at least min_matched observations and at least
   //     min_match_share of all its observations;
-  //  4. with a prior (near_m): the prior has never been contradicted. It is
+  //  4. with a prior (near_m): the prior is not contradicted. It is
   //     contradicted when a hypothesis it excludes, itself meeting rule 3,
-  //     leads the best it allows by hint_contradiction_margin or more: the
-  //     floor seen is explained better by a start the prior rules out. The
-  //     drive has one start, so the verdict stands for the rest of the drive
-  //     (reseeds included): nothing commits, and status() says why.
+  //     leads the best it allows by hint_contradiction_margin or more on all
+  //     the frames both were scored on: the floor seen is explained better
+  //     by a start the prior rules out. The verdict is withdrawn when later
+  //     frames bring that lead below hint_tie_margin (a few perception
+  //     errors early in the drive, which one of thousands of twins elsewhere
+  //     happens to fit, are outweighed by what follows). The drive has one
+  //     start, so a verdict standing when the search reseeds stands for the
+  //     rest of the drive: nothing commits, and status() says why.
   //  5. with a prior: no hypothesis it excludes scores better than the one
   //     that would commit by hint_tie_margin or more. The prior breaks ties
   //     between twins (a floor that repeats); it does not overrule the floor.
@@ -149,11 +153,13 @@ struct RelocalizerStatus {
   // on the frames both were scored on (negative: it trails; -infinity:
   // there is none). The overall_* scores are on those frames too.
   double excluded_lead = 0.0;
-  // True after this frame's scores contradicted the prior (evidence rule 4).
+  // True after this frame's scores contradicted the prior.
   bool hint_contradicted = false;
-  // Frames whose scores contradicted the prior (once > 0, nothing commits),
-  // and the scores the last time they did, kept across reseeds for the
-  // report at the end of the drive.
+  // The verdict of evidence rule 4 on the frames so far: the prior is
+  // contradicted and nothing commits.
+  bool hint_rejected = false;
+  // Frames whose scores contradicted the prior, and the scores the last time
+  // they did, kept across reseeds for the report at the end of the drive.
   std::size_t frames_hint_contradicted = 0;
   double contradicted_best_log_likelihood = 0.0;
   int contradicted_best_matched = 0;
@@ -264,6 +270,10 @@ class Relocalizer {
   std::optional<std::size_t> best_excluded_;
   double excluded_lead_ = 0.0;
   RelocalizerStatus status_;
+  // Rule 4's verdict on the current seed's frames, and whether an earlier
+  // seed ended with it.
+  bool seed_contradicted_ = false;
+  bool earlier_seed_contradicted_ = false;
   bool committed_ = false;
   // The odometry from the first frame to the current one.
   bool started_ = false;
