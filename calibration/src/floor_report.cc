@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "floor_report_rows.h"
+#include "groundline/core/json_fields.h"
 #include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
 #include "text_util.h"
@@ -12,15 +13,11 @@
 namespace groundline::calibration {
 namespace {
 
-// nlohmann's get<int>() casts a floating-point value as it is, undefined
-// behaviour for 1e30: integers are checked as doubles first.
+// An int field (core::JsonInteger: no unchecked cast), else the walk's exception.
 int IntegerOf(const nlohmann::json& v) {
-  if (!v.is_number()) throw nlohmann::json::other_error::create(501, "expected an integer", &v);
-  const double d = v.get<double>();
-  if (!(d >= -2147483648.0 && d <= 2147483647.0) || std::floor(d) != d) {
-    throw nlohmann::json::other_error::create(501, "expected an integer within int range", &v);
-  }
-  return static_cast<int>(d);
+  const std::optional<std::int64_t> i = core::JsonInteger(v, -2147483648LL, 2147483647LL);
+  if (!i) throw nlohmann::json::other_error::create(501, "expected an integer within int range", &v);
+  return static_cast<int>(*i);
 }
 
 }  // namespace

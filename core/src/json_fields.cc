@@ -56,19 +56,27 @@ std::int64_t JsonFieldReader::Id(const json& object, const std::string& path, co
   return IntegerIn(object, path, key, -kExact, kExact, "an integer id (integral, within +-2^53)");
 }
 
+std::optional<std::int64_t> JsonInteger(const json& value, std::int64_t min, std::int64_t max) {
+  if (!value.is_number()) return std::nullopt;
+  const double v = value.get<double>();
+  if (!(v >= static_cast<double>(min) && v <= static_cast<double>(max)) || std::floor(v) != v) {
+    return std::nullopt;
+  }
+  return static_cast<std::int64_t>(v);
+}
+
 std::int64_t JsonFieldReader::IntegerIn(const json& object, const std::string& path,
                                         const char* key, std::int64_t min, std::int64_t max,
                                         const std::string& expected) {
-  const double value = Number(object, path, key);
+  Number(object, path, key);
   if (!ok()) return 0;
-  // Compared as doubles before any cast: a cast of an out-of-range double is
-  // undefined behaviour.
-  if (!(value >= static_cast<double>(min) && value <= static_cast<double>(max)) ||
-      std::floor(value) != value) {
-    Fail(path + key, expected, Get(object, path, key)->dump());
+  const json& value = *Get(object, path, key);
+  const std::optional<std::int64_t> integer = JsonInteger(value, min, max);
+  if (!integer) {
+    Fail(path + key, expected, value.dump());
     return 0;
   }
-  return static_cast<std::int64_t>(value);
+  return *integer;
 }
 
 std::vector<double> JsonFieldReader::Numbers(const json& object, const std::string& path,

@@ -61,6 +61,12 @@ bool Deserialize(const std::uint8_t* data, std::size_t size, gio::DdsSample<T>* 
   return true;
 }
 
+// Whether the validator accepted the message; a refusal must say why.
+bool Accepted(const groundline::core::Status& valid) {
+  if (!valid.ok()) gf::FuzzCheck(!valid.message().empty(), "an error has a message");
+  return valid.ok();
+}
+
 gio::DdsCheck Check(bool frames, const char* frame) {
   gio::DdsCheck check;
   if (frames) check.frame_id = frame;
@@ -71,10 +77,7 @@ void Odometry(const std::uint8_t* data, std::size_t size, bool frames) {
   gio::DdsSample<gio::RosOdometry> s;
   if (!Deserialize(data, size, &s)) return;
   const auto valid = gio::ValidateOdometry(s.msg(), Check(frames, "odom"), frames ? "base_link" : "");
-  if (!valid.ok()) {
-    gf::FuzzCheck(!valid.message().empty(), "an error has a message");
-    return;
-  }
+  if (!Accepted(valid)) return;
   const gio::PlanarOdometry o = gio::FromOdometry(s.msg());
   gf::FuzzCheck(std::isfinite(o.stamp_s) && std::isfinite(o.T_odom_base.x()) &&
                     std::isfinite(o.T_odom_base.y()) && std::isfinite(o.T_odom_base.yaw()),
@@ -86,17 +89,14 @@ void JointState(const std::uint8_t* data, std::size_t size, bool frames) {
   if (!Deserialize(data, size, &s)) return;
   const auto valid = gio::ValidateJointState(s.msg(), Check(frames, "base_link"),
                                              {"left_wheel_joint", "right_wheel_joint"});
-  if (!valid.ok()) gf::FuzzCheck(!valid.message().empty(), "an error has a message");
+  Accepted(valid);
 }
 
 void Scan(const std::uint8_t* data, std::size_t size, bool frames) {
   gio::DdsSample<gio::RosLaserScan> s;
   if (!Deserialize(data, size, &s)) return;
   const auto valid = gio::ValidateLaserScan(s.msg(), Check(frames, "laser"));
-  if (!valid.ok()) {
-    gf::FuzzCheck(!valid.message().empty(), "an error has a message");
-    return;
-  }
+  if (!Accepted(valid)) return;
   const groundline::core::LaserScan scan = gio::FromLaserScan(s.msg());
   gf::FuzzCheck(scan.ranges_m.size() == s.msg().ranges._length,
                 "an accepted scan keeps one range per ray");
@@ -106,10 +106,7 @@ void Image(const std::uint8_t* data, std::size_t size, bool frames) {
   gio::DdsSample<gio::RosImage> s;
   if (!Deserialize(data, size, &s)) return;
   const auto valid = gio::ValidateImage(s.msg(), Check(frames, "camera"));
-  if (!valid.ok()) {
-    gf::FuzzCheck(!valid.message().empty(), "an error has a message");
-    return;
-  }
+  if (!Accepted(valid)) return;
   const auto grey = gio::FromMono8Image(s.msg());
   gf::FuzzCheck(grey.ok() && grey->cols == static_cast<int>(s.msg().width) &&
                     grey->rows == static_cast<int>(s.msg().height),
@@ -120,10 +117,7 @@ void InitialPose(const std::uint8_t* data, std::size_t size, bool frames) {
   gio::DdsSample<gio::RosPoseWithCovarianceStamped> s;
   if (!Deserialize(data, size, &s)) return;
   const auto valid = gio::ValidatePoseWithCovarianceStamped(s.msg(), Check(frames, "map"));
-  if (!valid.ok()) {
-    gf::FuzzCheck(!valid.message().empty(), "an error has a message");
-    return;
-  }
+  if (!Accepted(valid)) return;
   const gio::PlanarPoseStamped p = gio::FromPoseWithCovarianceStamped(s.msg());
   gf::FuzzCheck(std::isfinite(p.T_frame_base.x()) && std::isfinite(p.T_frame_base.yaw()) &&
                     p.covariance.allFinite(),

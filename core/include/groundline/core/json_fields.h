@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ namespace groundline::core {
 // including numbers out of double's range.
 Status ReadJsonFile(const std::filesystem::path& path, const std::string& what,
                     nlohmann::json* out);
+
+// The value as an integer when it is a number, integral and within
+// [min, max]; compared as a double before any cast (nlohmann's get<int>()
+// casts 1e30 as it is, undefined behaviour).
+std::optional<std::int64_t> JsonInteger(const nlohmann::json& value, std::int64_t min,
+                                        std::int64_t max);
 
 class JsonFieldReader {
  public:
