@@ -59,7 +59,7 @@ TEST(CalibTargets, OpenCvChessboardMatchesAllThirteenLeftImages) {
     if (i == 10) continue;  // the set has no left10.jpg
     char name[32];
     std::snprintf(name, sizeof(name), "left%02d.jpg", i);
-    EXPECT_EQ(DetectChessboard(testing::SharedDataDir() / "calib/opencv_chessboard" / name, target),
+    EXPECT_EQ(DetectChessboard(::groundline::testing::SharedDataDir() / "calib/opencv_chessboard" / name, target),
               54u)
         << name;
     ++images;
@@ -72,7 +72,7 @@ TEST(CalibTargets, KalibrCheckerboardMatchesItsImage) {
   const YAML::Node target = LoadTargets().at("kalibr_checkerboard_9x8_50mm");
   EXPECT_EQ(
       DetectChessboard(
-          testing::SharedDataDir() / "calib/kalibr_test_images/testImageCheckerboard.jpg", target),
+          ::groundline::testing::SharedDataDir() / "calib/kalibr_test_images/testImageCheckerboard.jpg", target),
       72u);
   // A wrong declaration is not found: the check can fail.
   YAML::Node wrong = YAML::Clone(target);
@@ -80,7 +80,7 @@ TEST(CalibTargets, KalibrCheckerboardMatchesItsImage) {
   wrong["inner_corners_x"] = 10;
   EXPECT_EQ(
       DetectChessboard(
-          testing::SharedDataDir() / "calib/kalibr_test_images/testImageCheckerboard.jpg", wrong),
+          ::groundline::testing::SharedDataDir() / "calib/kalibr_test_images/testImageCheckerboard.jpg", wrong),
       0u);
 }
 

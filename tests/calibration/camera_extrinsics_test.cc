@@ -8,12 +8,13 @@
 
 #include "groundline/core/se2.h"
 #include "jacobian_check.h"
+#include "test_units.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using ::groundline::testing::kPi;
+using ::groundline::testing::kDeg;
 
 // The reference camera: 6 mm lens, 5.3 um pixels, 1280 x 1024 sensor.
 Eigen::Matrix3d ReferenceK() {

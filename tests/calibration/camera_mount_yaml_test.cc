@@ -9,11 +9,12 @@
 #include <string>
 
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 const char kExample[] =
     "format: groundline_camera_extrinsics\n"
@@ -62,7 +63,7 @@ TEST(CameraMountYaml, ParsesTheDocumentedExample) {
 }
 
 TEST(CameraMountYaml, WriteThenReadRoundTripsRandomMounts) {
-  const std::filesystem::path dir = testing::ScratchDir("yaml");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("yaml");
   std::mt19937 rng(99);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
@@ -147,7 +148,7 @@ TEST(CameraMountYaml, WrongFormatVersionAndUnknownKeysAreRejected) {
 }
 
 TEST(CameraMountYaml, FileErrorsNameTheFile) {
-  const std::filesystem::path dir = testing::ScratchDir("files");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("files");
   const std::filesystem::path missing = dir / "absent.yaml";
   const core::Result<CameraMount> absent = ReadCameraMountYaml(missing);
   ASSERT_FALSE(absent.ok());

@@ -12,11 +12,14 @@
 
 #include "groundline/sim/commissioning_scene.h"
 #include "jacobian_check.h"
+#include "test_units.h"
+#include "commissioning_fixture.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::CommissioningSceneOrFail;
+using ::groundline::testing::kDeg;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 Vector6d ToVector(const CameraMount& m) {
@@ -59,14 +62,9 @@ std::vector<FloorImage> NoisyCorners(const sim::CommissioningScene& scene, doubl
   return images;
 }
 
-sim::CommissioningScene Scene(const sim::CommissioningOptions& options) {
-  core::Result<sim::CommissioningScene> scene = sim::MakeCommissioningScene(options);
-  EXPECT_TRUE(scene.ok()) << scene.message();
-  return std::move(scene).value();
-}
 
 TEST(FloorExtrinsics, PixelJacobianMatchesNumericDifferentiation) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   const core::SE2 T_floor_base(0.3, -0.05, 0.2);
   for (const Eigen::Vector2d& p :
        {Eigen::Vector2d(1.2, 0.1), Eigen::Vector2d(1.0, -0.4), Eigen::Vector2d(1.5, 0.35)}) {
@@ -81,7 +79,7 @@ TEST(FloorExtrinsics, PixelJacobianMatchesNumericDifferentiation) {
 
 TEST(FloorExtrinsics, RecoversTheMountAndItsBoundsHoldOnSeededTrials) {
   // 20 trials in CI; benchmarks/calibration/floor_extrinsics_trials runs 100.
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions());
   const Vector6d truth = ToVector(scene.true_mount);
   constexpr int kTrials = 20;
   std::array<int, 6> inside{};
@@ -115,7 +113,7 @@ TEST(FloorExtrinsics, SolvesFromOneStationaryViewWithTagsInBaseLink) {
   options.poses = 1;
   options.start_x_m = 0.0;
   options.lateral_jitter_m = options.yaw_jitter_rad = 0.0;
-  const sim::CommissioningScene scene = Scene(options);
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(options);
   std::mt19937_64 rng(7);
   std::vector<FloorImage> images = NoisyCorners(scene, 0.3, rng);
   ASSERT_EQ(images.size(), 1u);
@@ -129,7 +127,7 @@ TEST(FloorExtrinsics, SolvesFromOneStationaryViewWithTagsInBaseLink) {
 }
 
 TEST(FloorExtrinsics, NoiseFreeCornersGiveTheExactMount) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(1);
   const std::vector<FloorImage> images = NoisyCorners(scene, 0.0, rng);
   core::Result<FloorExtrinsicsResult> r = SolveFloorExtrinsics(scene.camera, images, {});
@@ -141,7 +139,7 @@ TEST(FloorExtrinsics, NoiseFreeCornersGiveTheExactMount) {
 }
 
 TEST(FloorExtrinsics, FailsWithTooFewCorners) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::vector<FloorImage> images(1);
   images[0].corners.resize(4);
   core::Result<FloorExtrinsicsResult> r = SolveFloorExtrinsics(scene.camera, images, {});

@@ -9,11 +9,12 @@
 #include "groundline/calibration/camera_extrinsics.h"
 #include "jacobian_check.h"
 #include "test_cameras.h"
+#include "test_units.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 CameraMount RandomFloorMount(std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);

@@ -18,17 +18,15 @@
 #include "groundline/calibration/tag_detection.h"
 #include "groundline/sim/commissioning_scene.h"
 #include "test_data.h"
+#include "test_units.h"
+#include "commissioning_fixture.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::CommissioningSceneOrFail;
+using ::groundline::testing::kDeg;
 
-sim::CommissioningScene Scene(const sim::CommissioningOptions& options) {
-  core::Result<sim::CommissioningScene> scene = sim::MakeCommissioningScene(options);
-  EXPECT_TRUE(scene.ok()) << scene.message();
-  return std::move(scene).value();
-}
 
 // Every tag corner of the rectified floor, detected by libapriltag in the
 // raster, against its surveyed position: the largest distance in metres and
@@ -55,7 +53,7 @@ std::pair<double, int> WorstCornerOffset(const FloorRaster& raster, const TagLay
 TEST(FloorRectification, RenderedTagsLandOnTheirSurveyedOutlines) {
   sim::CommissioningOptions options = sim::CommissioningOptions::Small();
   options.poses = 2;
-  const sim::CommissioningScene scene = Scene(options);
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(options);
   const std::vector<sim::GreyImage> images = sim::RenderCommissioningImages(scene, options).value();
   std::vector<FloorImageView> views;
   for (std::size_t i = 0; i < images.size(); ++i) {
@@ -140,7 +138,7 @@ bool Contains(const std::vector<std::string>& lines, const std::string& text) {
 }
 
 TEST(FloorVerdict, PassesAndNamesTheTagAndImageRegionToFix) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(11);
   const std::vector<FloorImage> clean = Corners(scene, 0.0, rng);
   FloorCalibration good = Solved(scene, clean);
@@ -191,7 +189,7 @@ TEST(FloorVerdict, PassesAndNamesTheTagAndImageRegionToFix) {
 TEST(FloorVerdict, AnImageAtAWrongVehiclePoseIsLeftOutAndNamed) {
   sim::CommissioningOptions options = sim::CommissioningOptions::Small();
   options.poses = 4;
-  const sim::CommissioningScene scene = Scene(options);
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(options);
   std::mt19937_64 rng(21);
   std::vector<FloorImage> images = Corners(scene, 0.0, rng);
   ASSERT_EQ(images.size(), 4u);
@@ -248,7 +246,7 @@ TEST(FloorVerdict, ThresholdsConfigErrorsNameTheFileLineAndKey) {
 }
 
 TEST(FloorExtrinsicsCovariance, SurveyErrorWidensTheBoundsToHoldTheTruth) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   constexpr int kTrials = 30;
   constexpr double kSurveyM = 0.005;
   int inside_with = 0, inside_without = 0;
@@ -291,7 +289,7 @@ TEST(FloorExtrinsicsCovariance, SurveyErrorWidensTheBoundsToHoldTheTruth) {
 // displacement of a one-pixel step in u and in v (central differences of
 // FloorPointOfPixel), and it adds to the mount's part.
 TEST(BevErrorBudget, IntrinsicsUncertaintyIsCarriedToTheFloorThroughTheMount) {
-  const sim::CommissioningScene scene = Scene(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(3);
   FloorCalibration c = Solved(scene, Corners(scene, 0.0, rng));
   const auto constant_map = [](double range_m, double var_px2) {

@@ -22,12 +22,13 @@
 #include "jacobian_check.h"
 #include "test_cameras.h"
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using ::groundline::testing::kPi;
+using ::groundline::testing::kDeg;
 
 CameraMount TiltedMount() {
   CameraMount mount;

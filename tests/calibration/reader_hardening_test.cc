@@ -60,7 +60,7 @@ TEST(ReaderHardening, CameraModelWithAnUnterminatedStringIsRejectedBeforeMrcal) 
 // OpenCV allocated rows x cols before reading 'data': a damaged header asked
 // for gigabytes.
 TEST(ReaderHardening, OpenCvMatrixSizesAreCheckedBeforeOpenCvAllocates) {
-  const std::filesystem::path dir = testing::ScratchDir("opencv");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("opencv");
   const std::string head = "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n";
   const std::string d =
       "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
@@ -84,7 +84,7 @@ TEST(ReaderHardening, OpenCvMatrixSizesAreCheckedBeforeOpenCvAllocates) {
 
 // cv::FileStorage's operator[] asserted (threw) on a document that is not a mapping.
 TEST(ReaderHardening, OpenCvDocumentThatIsNotAMappingIsAnError) {
-  const std::filesystem::path path = testing::ScratchDir("opencv_root") / "camera.yaml";
+  const std::filesystem::path path = ::groundline::testing::ScratchDir("opencv_root") / "camera.yaml";
   std::ofstream(path) << "%YAML:1.0\n---\n- 1\n- 2\n";
   const auto camera = ReadOpenCvCalibration(path);
   ASSERT_FALSE(camera.ok());
@@ -108,7 +108,7 @@ TEST(ReaderHardening, YamlReadersReturnAnErrorForAScalarOrListDocument) {
 // nlohmann's value() threw type_error out of the reader for a 'format' that
 // is not a string.
 TEST(ReaderHardening, IntrinsicsReportWithANonStringFormatIsAnError) {
-  const std::filesystem::path path = testing::ScratchDir("report") / "report.json";
+  const std::filesystem::path path = ::groundline::testing::ScratchDir("report") / "report.json";
   for (const char* text : {R"({"format": 3})", R"([1, 2])", R"({"format": null})"}) {
     std::ofstream(path) << text;
     const auto summary = ReadIntrinsicsReportSummary(path);

@@ -70,7 +70,7 @@ TEST(TagLayout, CornersFollowLibapriltagOrderInTheTagFrame) {
 TEST(TagLayout, WritesAndReadsBackExactly) {
   TagLayout layout = ParseTagLayoutYaml(kGood, "layout.yaml").value();
   layout.tags[0].T_frame_tag = core::SE2(0.1 + 0.2, 1.0 / 3.0, -2.718281828459045);
-  const std::filesystem::path path = testing::ScratchDir("tag_layout") / "layout.yaml";
+  const std::filesystem::path path = ::groundline::testing::ScratchDir("tag_layout") / "layout.yaml";
   ASSERT_TRUE(WriteTagLayout(layout, path).ok());
   core::Result<TagLayout> back = ReadTagLayout(path);
   ASSERT_TRUE(back.ok()) << back.message();

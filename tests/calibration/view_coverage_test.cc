@@ -1,6 +1,7 @@
 // ViewCoverage on views projected through a known pinhole camera, and
 // BoardSharpness on rendered chessboard corners.
 #include "groundline/calibration/view_coverage.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +13,7 @@ namespace {
 
 constexpr int kWidth = 640, kHeight = 480;
 constexpr double kHfovDeg = 60.0;
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+using ::groundline::testing::kDeg;
 
 CalibTarget Chessboard() {
   CalibTarget t;
@@ -24,7 +25,7 @@ CalibTarget Chessboard() {
   return t;
 }
 
-double Focal() { return 0.5 * kWidth / std::tan(0.5 * kHfovDeg * kDegToRad); }
+double Focal() { return 0.5 * kWidth / std::tan(0.5 * kHfovDeg * kDeg); }
 
 // The board centred on pixel (u, v) at `distance_m`, its normal turned by
 // the two tilts; the pinhole is the one ViewCoverage guesses (exact poses).
@@ -32,8 +33,8 @@ BoardObservation ViewAt(const BoardGrid& grid, double u, double v, double distan
                         double tilt_vertical_deg, double tilt_horizontal_deg) {
   const double f = Focal(), cx = 0.5 * (kWidth - 1), cy = 0.5 * (kHeight - 1);
   const Eigen::Matrix3d R =
-      (Eigen::AngleAxisd(tilt_vertical_deg * kDegToRad, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(-tilt_horizontal_deg * kDegToRad, Eigen::Vector3d::UnitX()))
+      (Eigen::AngleAxisd(tilt_vertical_deg * kDeg, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(-tilt_horizontal_deg * kDeg, Eigen::Vector3d::UnitX()))
           .toRotationMatrix();
   Eigen::Vector3d centre_board = Eigen::Vector3d::Zero();
   for (int i : grid.observable) centre_board += grid.Point_board(i);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "groundline/core/dataset.h"
+#include "test_units.h"
 
 namespace groundline::testing {
 
@@ -74,7 +75,7 @@ inline std::size_t LineContaining(const std::filesystem::path& path, const std::
 // checks that they exist (they are file-existence fixtures, not real PNGs).
 inline core::Dataset MakeSyntheticDataset(const std::filesystem::path& dir) {
   using core::Vector2;
-  constexpr double kPi = std::numbers::pi;
+  using ::groundline::testing::kPi;
   core::Dataset d;
   core::DatasetManifest& m = d.manifest;
   m.name = "unit_synthetic";

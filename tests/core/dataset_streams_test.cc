@@ -15,7 +15,7 @@ namespace groundline::core {
 namespace {
 
 TEST(DatasetStreams, MergeEveryEventInTimeOrderScansThenFramesThenReadingsAtOneInstant) {
-  const auto dir = testing::ScratchDir("dataset_streams");
+  const auto dir = ::groundline::testing::ScratchDir("dataset_streams");
   Dataset d = testing::MakeSyntheticDataset(dir);
   // A frame and a scan at exactly a reading's instant.
   d.images.push_back({d.wheel_encoders[60].stamp_s, "000099.png"});
@@ -65,7 +65,7 @@ TEST(DatasetStreams, MergeEveryEventInTimeOrderScansThenFramesThenReadingsAtOneI
 }
 
 TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
-  const auto dir = testing::ScratchDir("manifest_12");
+  const auto dir = ::groundline::testing::ScratchDir("manifest_12");
   Dataset d = testing::MakeSyntheticDataset(dir);
   d.manifest.lidar->stamp = LidarStamp::kFirstRay;
   d.manifest.start_pose =

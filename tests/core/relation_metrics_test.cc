@@ -7,11 +7,12 @@
 #include <numbers>
 
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::core {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 // 5 Hz poses on a loop, and the exact relations between consecutive poses.
 Trajectory Loop(std::size_t n) {

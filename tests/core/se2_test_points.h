@@ -10,10 +10,11 @@
 #include <vector>
 
 #include "groundline/core/se2.h"
+#include "test_units.h"
 
 namespace groundline::core::testing {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 constexpr int kRandomTrials = 1000;
 constexpr unsigned kSeed = 20240611;
 constexpr unsigned kSeedOther = 7;  // a second, independent stream

@@ -19,7 +19,7 @@ std::string Read(const fs::path& p) {
 }
 
 TEST(StagedDirectory, NewFolderAppearsOnlyAtCommit) {
-  const fs::path dir = testing::ScratchDir("staged_new");
+  const fs::path dir = ::groundline::testing::ScratchDir("staged_new");
   const fs::path out = dir / "run";
   core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(out);
   ASSERT_TRUE(staged.ok()) << staged.message();
@@ -38,7 +38,7 @@ TEST(StagedDirectory, NewFolderAppearsOnlyAtCommit) {
 }
 
 TEST(StagedDirectory, ExistingFolderIsMergedAndKeepsOtherFiles) {
-  const fs::path dir = testing::ScratchDir("staged_merge");
+  const fs::path dir = ::groundline::testing::ScratchDir("staged_merge");
   const fs::path out = dir / "run";
   ASSERT_TRUE(core::WriteFileAtomically(out / "old.txt", "kept").ok());
   ASSERT_TRUE(core::WriteFileAtomically(out / "a.txt", "before").ok());
@@ -57,7 +57,7 @@ TEST(StagedDirectory, ExistingFolderIsMergedAndKeepsOtherFiles) {
 }
 
 TEST(StagedDirectory, UncommittedStagingIsRemovedAndTheFolderUntouched) {
-  const fs::path dir = testing::ScratchDir("staged_abort");
+  const fs::path dir = ::groundline::testing::ScratchDir("staged_abort");
   const fs::path out = dir / "run";
   fs::path staging;
   {

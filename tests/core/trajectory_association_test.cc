@@ -1,4 +1,5 @@
 #include "groundline/core/trajectory_association.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +9,7 @@
 namespace groundline::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 // Poses at stamps t0 + i * dt_s moving with the given body velocity.
 Trajectory Constant(std::size_t n, double dt_s, double v_mps, double w_radps,

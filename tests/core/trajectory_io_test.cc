@@ -13,12 +13,13 @@
 #include <string>
 
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::core {
 namespace {
 
 using ::groundline::testing::ScratchDir;
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 void WriteText(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);

@@ -1,4 +1,5 @@
 #include "groundline/core/trajectory_metrics.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +11,8 @@
 namespace groundline::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
+using ::groundline::testing::kPi;
+using ::groundline::testing::kDeg;
 
 // 10 Hz poses along a gentle S-curve.
 Trajectory Curve(std::size_t n) {

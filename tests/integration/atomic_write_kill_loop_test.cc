@@ -158,8 +158,8 @@ TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
   int kills = 100;
   if (const char* env = std::getenv("GROUNDLINE_KILL_LOOP_KILLS")) kills = std::atoi(env);
   ASSERT_GT(kills, 0);
-  const fs::path dir = testing::ScratchDir("files");
-  const fs::path expected_dir = testing::ScratchDir("expected");
+  const fs::path dir = ::groundline::testing::ScratchDir("files");
+  const fs::path expected_dir = ::groundline::testing::ScratchDir("expected");
   const std::vector<Writer> writers = Writers();
   std::mt19937 rng(20261201);
   // A cycle through the four files takes ~5-30 ms (more under ASan).

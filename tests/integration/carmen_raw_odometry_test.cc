@@ -34,7 +34,7 @@ TEST_P(CarmenRawOdometry, ReproducesPublishedRelationErrorWithinOnePercent) {
   const PublishedRawOdometry& p = GetParam();
   GROUNDLINE_REQUIRE_DATA("lidar2d/" + p.log);
   GROUNDLINE_REQUIRE_DATA("lidar2d/" + p.relations);
-  const auto dir = testing::SharedDataDir() / "lidar2d";
+  const auto dir = ::groundline::testing::SharedDataDir() / "lidar2d";
 
   core::Result<io::CarmenLog> log = io::ReadCarmenLog(dir / p.log);
   ASSERT_TRUE(log.ok()) << log.message();

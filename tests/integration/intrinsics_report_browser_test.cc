@@ -74,10 +74,10 @@ std::string HtmlUnescape(std::string s) {
 TEST(IntrinsicsReportBrowser, ShowsTheVerdictUncertaintyAndCoverageAdviceForTheOpenCvViews) {
   GROUNDLINE_REQUIRE_CHROMIUM();
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
-  const std::filesystem::path dir = testing::ScratchDir("intrinsics_report");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("intrinsics_report");
   std::string output;
   const std::string images =
-      (testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   ASSERT_EQ(testing::RunGroundline("calibrate intrinsics --images '" + images +
                                        "' --target opencv_chessboard_9x6_25mm --out " +
                                        testing::Quoted(dir / "cal"),

@@ -28,7 +28,7 @@ TEST(LidarAcesPiece, RelationErrorOfFirstMinuteIsCentimetres) {
 #endif
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.clf.bz2");
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
-  const auto dir = testing::SharedDataDir() / "lidar2d";
+  const auto dir = ::groundline::testing::SharedDataDir() / "lidar2d";
 
   const lidar::LidarSlamOptions options;
   lidar::LidarSlam slam(options);

@@ -99,7 +99,7 @@ TEST(StatusPageBrowser, ShowsTheLivePoseRatesCountersAndMapOfARunningService) {
   GTEST_SKIP() << "the service's scan matching under AddressSanitizer is too slow to keep a "
                   "paced replay alive while the browser loads; runs in the release build";
 #endif
-  const auto dir = testing::ScratchDir("status_page");
+  const auto dir = ::groundline::testing::ScratchDir("status_page");
   // 12 m at 1-2 m/s paced at 0.3 x real time: about 25 s of service for the
   // browser's two runs of a few seconds each; the test stops it when done.
   // The camera at 1 Hz: each simulated frame takes 0.25 s to render. Port 0:

@@ -13,13 +13,14 @@
 #include "groundline/io/carmen.h"
 #include "groundline/io/carmen_trajectory.h"
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::io {
 namespace {
 
 using groundline::testing::SharedDataDir;
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 // Values are written with 2-6 decimals; parsed doubles must match exactly up
 // to the decimal-to-binary rounding.
 constexpr double kTol = 1e-9;

@@ -12,13 +12,14 @@
 
 #include "groundline/io/carmen_trajectory.h"
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::io {
 namespace {
 
 namespace fs = std::filesystem;
 using groundline::testing::ScratchDir;
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 fs::path WriteLog(const std::string& name, const std::vector<std::string>& lines) {
   const fs::path path = ScratchDir(name) / (name + ".clf");

@@ -23,7 +23,7 @@ cv::Mat TestImage(int value) {
 double ExpectedGrey(int value) { return 0.114 * value + 0.587 * 100 + 0.299 * 50; }
 
 TEST(FolderFrameSource, DeliversSortedFilesAsGreyWithRateStampsThenEnds) {
-  const std::filesystem::path dir = testing::ScratchDir("folder");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("folder");
   ASSERT_TRUE(cv::imwrite((dir / "b.png").string(), TestImage(200)));
   ASSERT_TRUE(cv::imwrite((dir / "a.png").string(), TestImage(10)));
   ASSERT_TRUE(cv::imwrite((dir / "c.jpg").string(), TestImage(120)));
@@ -59,7 +59,7 @@ TEST(FolderFrameSource, DeliversSortedFilesAsGreyWithRateStampsThenEnds) {
 }
 
 TEST(FolderFrameSource, CorruptFileIsSkippedAndCountedNotFatal) {
-  const std::filesystem::path dir = testing::ScratchDir("corrupt");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("corrupt");
   ASSERT_TRUE(cv::imwrite((dir / "0.png").string(), TestImage(1)));
   std::ofstream(dir / "1.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";
   ASSERT_TRUE(cv::imwrite((dir / "2.png").string(), TestImage(2)));
@@ -81,7 +81,7 @@ TEST(FolderFrameSource, CorruptFileIsSkippedAndCountedNotFatal) {
 }
 
 TEST(FolderFrameSource, GlobSelectsFilesAndDatasetIndexGivesStamps) {
-  const std::filesystem::path dir = testing::ScratchDir("index");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("index");
   std::filesystem::create_directories(dir / "images");
   for (const char* name : {"000000.png", "000001.png", "other.png"}) {
     ASSERT_TRUE(cv::imwrite((dir / "images" / name).string(), TestImage(5)));
@@ -159,7 +159,7 @@ TEST(FrameSourceUri, ErrorsNameTheUriAndWhatWasExpected) {
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.message().find("no such directory '/no/such/dir'"), std::string::npos)
       << missing.message();
-  const std::filesystem::path empty = testing::ScratchDir("empty");
+  const std::filesystem::path empty = ::groundline::testing::ScratchDir("empty");
   core::Result<std::unique_ptr<FrameSource>> none = OpenFrameSource(empty.string());
   ASSERT_FALSE(none.ok());
   EXPECT_NE(none.message().find("no image file"), std::string::npos) << none.message();

@@ -1,4 +1,5 @@
 #include "groundline/localization/dead_reckoning.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 namespace groundline::localization {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 // Exact wheel increments for driving a circle of radius_m (left turn) at
 // 1 cm per reading, 100 readings per second, starting at t = 0.01 s.

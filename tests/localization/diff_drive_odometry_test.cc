@@ -11,6 +11,7 @@
 
 #include "groundline/localization/odometry_integrator.h"
 #include "jacobian_check.h"
+#include "test_units.h"
 
 namespace groundline::localization {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 using core::Matrix3;
 using core::SE2;
 using core::Vector3;
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 TEST(DiffDriveOdometry, StraightLineIsExact) {
   const DiffDriveParams drive;  // r = 0.125 m, B = 0.760 m

@@ -13,6 +13,7 @@
 
 #include "groundline/core/se2_manifold.h"
 #include "jacobian_check.h"
+#include "random_pose.h"
 
 namespace groundline::localization {
 namespace {
@@ -22,13 +23,9 @@ using perception::HesseLine;
 using RowMajor23 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
 using RowMajor33 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
-SE2 RandomPose(std::mt19937& rng) {
-  std::uniform_real_distribution<double> xy(-5.0, 5.0);
-  std::uniform_real_distribution<double> yaw(-std::numbers::pi, std::numbers::pi);
-  return SE2(xy(rng), xy(rng), yaw(rng));
-}
+using ::groundline::testing::RandomPose;
 
-Eigen::Matrix2d RandomSqrtInformation(std::mt19937& rng) {
+Eigen::Matrix2d RandomSqrtInformation2(std::mt19937& rng) {
   std::uniform_real_distribution<double> entry(-1.0, 1.0);
   Eigen::Matrix2d A;
   for (int i = 0; i < 4; ++i) A(i) = entry(rng);
@@ -69,7 +66,7 @@ TEST(GroundLineFactor, TangentJacobiansMatchNumeric) {
     // Every third trial: a map line through (near) the vehicle, rho_base ~ 0.
     const HesseLine line =
         trial % 3 == 0 ? perception::TransformLine(T_map_base, {0.003, angle(rng)}) : line_map;
-    const GroundLineFactor factor(measured, RandomSqrtInformation(rng));
+    const GroundLineFactor factor(measured, RandomSqrtInformation2(rng));
     Eigen::Matrix<double, 2, 3> J_T;
     Eigen::Matrix2d J_line;
     factor.Residual(T_map_base, line, &J_T, &J_line);
@@ -88,7 +85,7 @@ TEST(JunctionFactor, TangentJacobiansMatchNumeric) {
   for (int trial = 0; trial < 200; ++trial) {
     const SE2 T_map_base = RandomPose(rng);
     const Eigen::Vector2d point(xy(rng), xy(rng));
-    const JunctionFactor factor(Eigen::Vector2d(xy(rng), xy(rng)), RandomSqrtInformation(rng));
+    const JunctionFactor factor(Eigen::Vector2d(xy(rng), xy(rng)), RandomSqrtInformation2(rng));
     Eigen::Matrix<double, 2, 3> J_T;
     Eigen::Matrix2d J_point;
     factor.Residual(T_map_base, point, &J_T, &J_point);
@@ -125,8 +122,8 @@ TEST(FloorFactors, AmbientJacobiansTimesPlusJacobianGiveTangentJacobians) {
     RowMajor33 plus;
     manifold.PlusJacobian(pose, plus.data());
     double line[2] = {1.2, 0.4 + trial * 0.1};
-    const GroundLineFactor line_factor({0.5, -0.2}, RandomSqrtInformation(rng));
-    const JunctionFactor junction_factor({1.0, 0.3}, RandomSqrtInformation(rng));
+    const GroundLineFactor line_factor({0.5, -0.2}, RandomSqrtInformation2(rng));
+    const JunctionFactor junction_factor({1.0, 0.3}, RandomSqrtInformation2(rng));
     for (const ceres::CostFunction* cost :
          {static_cast<const ceres::CostFunction*>(&line_factor),
           static_cast<const ceres::CostFunction*>(&junction_factor)}) {

@@ -6,12 +6,13 @@
 #include <numbers>
 
 #include "groundline/localization/odometry_integrator.h"
+#include "test_units.h"
 
 namespace groundline::localization {
 namespace {
 
 using core::SE2;
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 TEST(KeyframeSelector, DefaultThresholds) {
   const KeyframeSelector selector(KeyframeSelector::Options{});

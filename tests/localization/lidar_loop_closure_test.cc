@@ -11,11 +11,12 @@
 #include "groundline/localization/lidar/pose_graph.h"
 #include "groundline/localization/lidar/scan_matcher.h"
 #include "lidar_test_world.h"
+#include "test_units.h"
 
 namespace groundline::localization::lidar {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 TEST(LidarBranchAndBound, FindsTrueRevisitFromMetresOffEstimate) {
   const auto walls = testing::RoomWorld();

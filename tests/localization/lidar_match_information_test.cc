@@ -10,11 +10,12 @@
 
 #include "groundline/localization/lidar/probability_grid.h"
 #include "lidar_test_world.h"
+#include "test_units.h"
 
 namespace groundline::localization::lidar {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 TEST(LidarMatchInformation, CorridorIsRankTwoWithNullDirectionAlongTheAisle) {
   for (double yaw_deg : {0.0, 30.0, -75.0}) {

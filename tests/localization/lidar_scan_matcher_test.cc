@@ -10,11 +10,12 @@
 
 #include "jacobian_check.h"
 #include "lidar_test_world.h"
+#include "test_units.h"
 
 namespace groundline::localization::lidar {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 using testing::Positions;
 using testing::RoomMap;

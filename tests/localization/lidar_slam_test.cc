@@ -11,11 +11,12 @@
 #include <numbers>
 
 #include "lidar_test_world.h"
+#include "test_units.h"
 
 namespace groundline::localization::lidar {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 TEST(LidarSlam, StaleOdometryDuringATurnInPlaceDoesNotBendTheGraph) {
   const auto walls = testing::RoomWorld();

@@ -14,6 +14,7 @@
 
 #include "groundline/core/se2_manifold.h"
 #include "jacobian_check.h"
+#include "random_pose.h"
 
 namespace groundline::localization {
 namespace {
@@ -22,13 +23,9 @@ using core::Matrix3;
 using core::SE2;
 using core::Vector3;
 
-SE2 RandomPose(std::mt19937& rng, double max_xy_m = 5.0) {
-  std::uniform_real_distribution<double> xy(-max_xy_m, max_xy_m);
-  std::uniform_real_distribution<double> yaw(-std::numbers::pi, std::numbers::pi);
-  return SE2(xy(rng), xy(rng), yaw(rng));
-}
+using ::groundline::testing::RandomPose;
 
-Matrix3 RandomSqrtInformation(std::mt19937& rng) {
+Matrix3 RandomSqrtInformation3(std::mt19937& rng) {
   std::uniform_real_distribution<double> entry(-1.0, 1.0);
   Matrix3 A;
   for (int i = 0; i < 9; ++i) A(i) = entry(rng);
@@ -56,7 +53,7 @@ TEST(RelativePoseFactor, TangentJacobiansMatchNumeric) {
     const SE2 T_w_b = RandomPose(rng);
     const SE2 T_a_b =
         trial % 2 == 0 ? T_w_a.Between(T_w_b) * SE2(0.02, -0.01, 0.03) : RandomPose(rng);
-    const RelativePoseFactor factor(T_a_b, RandomSqrtInformation(rng));
+    const RelativePoseFactor factor(T_a_b, RandomSqrtInformation3(rng));
     Matrix3 J_a;
     Matrix3 J_b;
     factor.Residual(T_w_a, T_w_b, &J_a, &J_b);
@@ -74,7 +71,7 @@ TEST(RelativePoseFactor, AmbientJacobiansTimesPlusJacobianGiveTangentJacobians) 
     const SE2 T_w_a = RandomPose(rng);
     const SE2 T_w_b = RandomPose(rng);
     const RelativePoseFactor factor(T_w_a.Between(T_w_b) * SE2(0.1, 0.0, 0.2),
-                                    RandomSqrtInformation(rng));
+                                    RandomSqrtInformation3(rng));
     double a[3] = {T_w_a.x(), T_w_a.y(), T_w_a.yaw()};
     double b[3] = {T_w_b.x(), T_w_b.y(), T_w_b.yaw()};
     const double* parameters[2] = {a, b};
@@ -100,7 +97,7 @@ TEST(RelativePoseFactor, AmbientJacobiansTimesPlusJacobianGiveTangentJacobians) 
 TEST(SqrtInformation, SquaresBackToTheInformation) {
   std::mt19937 rng(13);
   for (int trial = 0; trial < 50; ++trial) {
-    const Matrix3 S = RandomSqrtInformation(rng);
+    const Matrix3 S = RandomSqrtInformation3(rng);
     const Matrix3 information = S.transpose() * S;
     const Matrix3 S2 = SqrtInformation(information).value();
     EXPECT_LT((S2.transpose() * S2 - information).norm(), 1e-9 * information.norm());

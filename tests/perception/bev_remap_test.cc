@@ -13,6 +13,7 @@
 
 #include "groundline/calibration/floor_projection.h"
 #include "groundline/perception/hesse_line.h"
+#include "test_units.h"
 
 namespace groundline::perception {
 namespace {
@@ -21,7 +22,7 @@ using calibration::CameraModel;
 using calibration::CameraMount;
 using calibration::FloorProjection;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 // The reference camera (fx 1132 px on 1280 x 1024) with mild OPENCV8 distortion.
 CameraModel ReferenceCamera(double scale = 1.0) {

@@ -25,7 +25,7 @@ constexpr double kSquareM = 0.031;
 TEST(DuckietownBev, ParallelRoadLinesStayParallel) {
   GROUNDLINE_REQUIRE_DATA("floor/duckietown/extrinsics/scenario0");
   const std::filesystem::path dir =
-      testing::SharedDataDir() / "floor/duckietown/extrinsics/scenario0";
+      ::groundline::testing::SharedDataDir() / "floor/duckietown/extrinsics/scenario0";
   // cameras.yaml: camera_matrix and plumb_bob distortion of map_0/vehicle_0/camera_0.
   const calibration::CameraModel camera = *calibration::CameraModel::Create(
       "LENSMODEL_OPENCV5",
@@ -98,7 +98,7 @@ TEST(DuckietownBev, ParallelRoadLinesStayParallel) {
   ASSERT_FALSE(road.empty());
   cv::Mat bev;
   remap.Apply(road, &bev);
-  cv::imwrite((testing::ScratchDir("duckietown") / "bev.png").string(), bev);
+  cv::imwrite((::groundline::testing::ScratchDir("duckietown") / "bev.png").string(), bev);
   LineExtractorOptions extract;
   extract.dark = false;
   extract.min_line_length_m = 0.08;

@@ -1,6 +1,7 @@
 // Visible map markings as base_link lines, and the matching of extracted
 // lines to them.
 #include "groundline/perception/ground_truth_lines.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +10,7 @@
 namespace groundline::perception {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 core::FloorMap TestMap() {
   core::FloorMap map;

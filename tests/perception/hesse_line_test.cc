@@ -11,11 +11,12 @@
 
 #include "hesse_line_traits.h"
 #include "jacobian_check.h"
+#include "test_units.h"
 
 namespace groundline::perception {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 // The same line: zero difference in either description.
 void ExpectSameLine(const HesseLine& a, const HesseLine& b, double tol) {

@@ -6,11 +6,12 @@
 #include <vector>
 
 #include "groundline/perception/hesse_line.h"
+#include "test_units.h"
 
 namespace groundline::perception {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 // Points on `line` at along-line coordinates s (from the line's foot point).
 std::vector<Eigen::Vector2d> PointsAt(const HesseLine& line, const std::vector<double>& s) {

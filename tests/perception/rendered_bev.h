@@ -12,10 +12,11 @@
 #include <vector>
 
 #include "groundline/perception/line_extractor.h"
+#include "test_units.h"
 
 namespace groundline::perception {
 
-inline constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 // A floor painter: reflectance (grey level) at a floor point in base_link.
 using Floor = std::function<double(const Eigen::Vector2d&)>;

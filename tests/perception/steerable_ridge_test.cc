@@ -1,6 +1,7 @@
 // SteerableRidgeFilter on synthetic BEV images of bars, grooves and blobs
 // rendered here by supersampling.
 #include "groundline/perception/steerable_ridge.h"
+#include "test_units.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +14,7 @@
 namespace groundline::perception {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 constexpr int kSize = 161;
 constexpr double kBackground = 50.0;
 

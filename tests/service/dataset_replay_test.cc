@@ -64,7 +64,7 @@ TEST(DatasetReplay, TheSameEstimateWithoutTheSimulatorsProvenanceAndWallsBeatOdo
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  const auto scratch = testing::ScratchDir("dataset_replay");
+  const auto scratch = ::groundline::testing::ScratchDir("dataset_replay");
   const auto from_sim = scratch / "from_sim", from_site = scratch / "from_site";
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(25.0, 5, from_sim);
   ASSERT_TRUE(simulated.has_value());

@@ -81,7 +81,7 @@ TEST(ServiceDds,
   const double length_m = 20.0;
 #endif
   const std::string preset = "fusion";
-  const auto dir = testing::ScratchDir("service_dds");
+  const auto dir = ::groundline::testing::ScratchDir("service_dds");
   const std::optional<sim::SimRun> simulated =
       testing::SimulatedZoneBDrive(length_m, 7, dir / "drive");
   ASSERT_TRUE(simulated.has_value());
@@ -274,7 +274,7 @@ TEST(ServiceDds,
 TEST(ServiceDds, StartsAndReinitializesFromTheInitialPoseTopicAndPublishesPoseTfAndDiagnostics) {
   io::testing::UseLoopbackConfig();
   ::setenv("ROS_DOMAIN_ID", std::to_string(kDomainId).c_str(), 1);
-  const auto dir = testing::ScratchDir("service_dds_start");
+  const auto dir = ::groundline::testing::ScratchDir("service_dds_start");
   ASSERT_TRUE(testing::SimulatedZoneBDrive(4.0, 3, dir / "drive").has_value());
   const std::string ns = "gls" + std::to_string(::getpid());
   std::ofstream(dir / "serve.yaml")

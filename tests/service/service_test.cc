@@ -35,7 +35,7 @@ std::filesystem::path WriteConfig(const std::filesystem::path& dir, const std::s
 }
 
 TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
-  const auto dir = testing::ScratchDir("service_config");
+  const auto dir = ::groundline::testing::ScratchDir("service_config");
   struct Case {
     const char* text;
     const char* expected;
@@ -132,7 +132,7 @@ TEST(ServiceConfig, TheSampleConfigsAreValid) {
 }
 
 TEST(ServiceState, RoundTripsExactlyAndADamagedFileNamesTheField) {
-  const auto dir = testing::ScratchDir("service_state");
+  const auto dir = ::groundline::testing::ScratchDir("service_state");
   SavedState state;
   state.stamp_s = 1234.0625;
   state.T_map_base = core::SE2(10.1, -3.3, 2.5);
@@ -176,7 +176,7 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  const auto dir = testing::ScratchDir("service_run");
+  const auto dir = ::groundline::testing::ScratchDir("service_run");
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(20.0, 7, dir / "drive");
   ASSERT_TRUE(simulated.has_value());
   const double end_s = simulated->dataset.wheel_encoders.back().stamp_s;
@@ -252,7 +252,7 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  const auto dir = testing::ScratchDir("service_faults");
+  const auto dir = ::groundline::testing::ScratchDir("service_faults");
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(30.0, 9, dir / "drive");
   ASSERT_TRUE(simulated.has_value());
   struct Case {
@@ -305,7 +305,7 @@ TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionN
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
-  const auto dir = testing::ScratchDir("service_time");
+  const auto dir = ::groundline::testing::ScratchDir("service_time");
   // With the camera (2 Hz): the estimator holds readings for their frames,
   // and the camera stage runs ahead of it; neither may mistake the frames
   // after the clock's step for old ones.

@@ -12,6 +12,7 @@
 #include "groundline/core/trajectory.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "groundline/sim/wheel_encoders.h"
+#include "test_units.h"
 
 namespace groundline::sim::testing {
 
@@ -20,7 +21,7 @@ using core::Vector3;
 using localization::DiffDriveParams;
 using localization::OdometryIntegrator;
 using localization::OdometryNoiseParams;
-constexpr double kPi = std::numbers::pi;
+using ::groundline::testing::kPi;
 
 struct Segment {
   double distance_m;

@@ -3,17 +3,12 @@
 #include <cmath>
 
 #include "groundline/sim/floor_camera.h"
+#include "flat_world.h"
 
 namespace groundline::sim {
 namespace {
 
-World FlatWorld() {
-  World world;
-  world.name = "flat";
-  world.floor_min_m = Vector2(-50, -50);
-  world.floor_max_m = Vector2(50, 50);
-  return world;
-}
+using ::groundline::testing::FlatWorld;
 
 GreyImage RenderFlat(const FloorRenderOptions& options, std::uint64_t frame = 0,
                      const BaseVelocity& velocity = {}) {

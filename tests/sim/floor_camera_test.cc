@@ -7,19 +7,14 @@
 #include <numbers>
 
 #include "groundline/sim/zones.h"
+#include "flat_world.h"
 
 namespace groundline::sim {
 namespace {
 
 using calibration::CameraModel;
 
-World FlatWorld() {
-  World world;
-  world.name = "flat";
-  world.floor_min_m = Vector2(-50, -50);
-  world.floor_max_m = Vector2(50, 50);
-  return world;
-}
+using ::groundline::testing::FlatWorld;
 
 FloorMarking WhiteBand(const Vector2& a, const Vector2& b, double width_m) {
   FloorMarking m;

@@ -16,7 +16,7 @@ namespace {
 // to keep them) and checks that the image has the predicted size and shows the
 // trajectory and the floor where they are.
 TEST(LayoutPng, DrawsEachZoneWithItsRoute) {
-  const std::filesystem::path dir = testing::ScratchDir("png");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("png");
   for (Zone zone : {Zone::kA, Zone::kB, Zone::kC, Zone::kD}) {
     const World world = *BuildZone(zone, 1);
     const core::Result<Route> route = GenerateRoute(world, RouteOptions{});
@@ -56,7 +56,7 @@ TEST(LayoutPng, RefusesOversizedImages) {
   LayoutPngOptions options;
   options.pixels_per_m = 500.0;
   const core::Status status = WriteLayoutPng(*BuildZone(Zone::kB, 1), nullptr,
-                                             testing::ScratchDir("big") / "b.png", options);
+                                             ::groundline::testing::ScratchDir("big") / "b.png", options);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("max_side_px"), std::string::npos);
 }

@@ -6,11 +6,12 @@
 #include <numbers>
 
 #include "groundline/sim/zones.h"
+#include "test_units.h"
 
 namespace groundline::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 // Float ranges: relative precision 2^-24, plus the double arithmetic upstream.
 double FloatTolerance(double range_m) { return 2e-7 * range_m + 1e-6; }

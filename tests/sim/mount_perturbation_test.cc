@@ -13,11 +13,12 @@
 
 #include "groundline/sim/sim_run.h"
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 // Straight along x at 1 m/s, 100 Hz, for duration_s.
 core::Trajectory Straight(double duration_s) {
@@ -125,7 +126,7 @@ TEST(MountPerturbation, FramesAreRenderedThroughTheMountInForce) {
   run.dataset.manifest.camera = core::CameraSensor{320, 256, 1.0};
   run.dataset.images = {{0.5, "000000.png"}, {1.5, "000001.png"}};
   run.dataset.UseDefaultFileNames();
-  const auto dir = testing::ScratchDir("mount_perturbation_frames");
+  const auto dir = ::groundline::testing::ScratchDir("mount_perturbation_frames");
   ASSERT_TRUE(WriteSimulatedImages(dir, run, {}, 2).ok());
 
   for (int frame = 0; frame < 2; ++frame) {

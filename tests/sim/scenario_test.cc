@@ -10,15 +10,16 @@
 #include <string>
 
 #include "test_data.h"
+#include "test_units.h"
 
 namespace groundline::sim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kDeg = std::numbers::pi / 180.0;
+using ::groundline::testing::kDeg;
 
 fs::path Write(const std::string& name, const std::string& text) {
-  const fs::path path = testing::ScratchDir("scenario") / name;
+  const fs::path path = ::groundline::testing::ScratchDir("scenario") / name;
   std::ofstream(path) << text;
   return path;
 }

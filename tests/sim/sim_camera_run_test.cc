@@ -34,7 +34,7 @@ TEST(SimCameraRun, WritesImagesAndCalibrationThatReadBack) {
       run->dataset.ground_truth.back().stamp_s - run->dataset.ground_truth.front().stamp_s;
   EXPECT_NEAR(static_cast<double>(run->dataset.images.size()), duration_s * 0.1, 1.0);
 
-  const auto dir = testing::ScratchDir("sim_camera_run");
+  const auto dir = ::groundline::testing::ScratchDir("sim_camera_run");
   std::vector<std::string> stages;
   ASSERT_TRUE(WriteSimulatedImages(
                   dir, *run,

@@ -63,7 +63,7 @@ TEST(SimRun, WritesAValidDatasetThatReadsBackUnchanged) {
   }
   EXPECT_NEAR(run->route.length_m, 150.0, 0.05 * 150.0);
 
-  const auto dir = testing::ScratchDir("sim_run");
+  const auto dir = ::groundline::testing::ScratchDir("sim_run");
   ASSERT_TRUE(core::WriteDataset(dir, dataset).ok());
   const core::Result<core::Dataset> read = core::ReadDataset(dir);
   ASSERT_TRUE(read.ok()) << read.message();

@@ -15,7 +15,7 @@ using testing::Quoted;
 using testing::RunGroundline;
 
 TEST(CalibrateCli, TargetsWritesSvgAndPngOfEverySheet) {
-  const std::filesystem::path dir = testing::ScratchDir("targets");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("targets");
   std::string output;
   ASSERT_EQ(RunGroundline("targets --target chessboard_9x6_20mm_a4 --target floor_tags_a3_200mm "
                           "--dpi 30 --out " +
@@ -37,10 +37,10 @@ TEST(CalibrateCli, TargetsWritesSvgAndPngOfEverySheet) {
 // px) and FAILs with what to capture next; the files are written anyway.
 TEST(CalibrateCli, IntrinsicsOnOpenCvChessboardViewsFailsForCoverageAndWritesEveryFile) {
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
-  const std::filesystem::path dir = testing::ScratchDir("intrinsics");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("intrinsics");
   std::string output;
   const std::string images =
-      (testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   ASSERT_EQ(RunGroundline("calibrate intrinsics --images '" + images +
                               "' --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "cal"),
                           dir, &output),
@@ -80,7 +80,7 @@ TEST(CalibrateCli, IntrinsicsOnOpenCvChessboardViewsFailsForCoverageAndWritesEve
 }
 
 TEST(CalibrateCli, UsageErrorsExitTwoWithTheReason) {
-  const std::filesystem::path dir = testing::ScratchDir("usage");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("usage");
   std::string output;
   EXPECT_EQ(RunGroundline("calibrate intrinsics --images " + Quoted(dir / "none*.png") +
                               " --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "o"),

@@ -26,9 +26,9 @@ std::string ReadText(const std::filesystem::path& path) {
 
 TEST(CalibrateLiveCli, IntrinsicsFromRecordedFramesGuidesKeepsAndSolvesLikeTheFolderFlow) {
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
-  const std::filesystem::path dir = testing::ScratchDir("live_intrinsics");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("live_intrinsics");
   const std::string uri =
-      "folder:" + (testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      "folder:" + (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   std::string output;
   ASSERT_EQ(RunGroundline("calibrate intrinsics --live '" + uri +
                               "' --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "cal") +
@@ -75,9 +75,9 @@ TEST(CalibrateLiveCli, IntrinsicsFromRecordedFramesGuidesKeepsAndSolvesLikeTheFo
 
 TEST(CalibrateLiveCli, IntrinsicsMaxViewsStopsEarlyAndUsageErrorsExitTwo) {
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
-  const std::filesystem::path dir = testing::ScratchDir("live_limits");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("live_limits");
   const std::string uri =
-      "folder:" + (testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      "folder:" + (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   std::string output;
   const int code = RunGroundline("calibrate intrinsics --live '" + uri +
                                      "' --target opencv_chessboard_9x6_25mm --max-views 5 "
@@ -109,7 +109,7 @@ TEST(CalibrateLiveCli, IntrinsicsMaxViewsStopsEarlyAndUsageErrorsExitTwo) {
 }
 
 TEST(CalibrateLiveCli, FloorFromASimulatedSessionSaysWhichTagsAreMissingAndSolvesLikeTheFolder) {
-  const std::filesystem::path dir = testing::ScratchDir("live_floor");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("live_floor");
   const std::filesystem::path scene = dir / "scene";
   std::string output;
   // The scene of `groundline sim-commissioning --small --poses 2`, rendered

@@ -27,7 +27,7 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
 class CliFlow : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::ScratchDir("flow");
+    dir_ = ::groundline::testing::ScratchDir("flow");
     dataset_ = dir_ / "zone_c";
     std::string out;
     // Zone C with a 150 m route is a short preset route; no LiDAR and no camera
@@ -98,7 +98,7 @@ TEST_F(CliFlow, CorruptDatasetIsReportedWithFileAndLine) {
 }
 
 TEST(CliUsage, BadFlagsAreUsageErrors) {
-  const std::filesystem::path dir = testing::ScratchDir("usage");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("usage");
   std::string out;
   EXPECT_EQ(RunGroundline("sim --zone Q --out " + Quoted(dir / "x"), dir, &out), 2) << out;
   EXPECT_NE(out.find("--zone"), std::string::npos) << out;

@@ -27,7 +27,7 @@ const std::vector<std::string> kCommands = {
     "calibrate floor",   "extract", "replay-dds"};
 
 TEST(CliUsage, EveryCommandHasItsOwnHelpAndUsageErrorsExit2) {
-  const std::filesystem::path dir = testing::ScratchDir("cli_usage");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("cli_usage");
   for (const std::string& command : kCommands) {
     std::string out;
     EXPECT_EQ(RunGroundline(command + " --help", dir, &out), 0) << command << ": " << out;
@@ -39,7 +39,7 @@ TEST(CliUsage, EveryCommandHasItsOwnHelpAndUsageErrorsExit2) {
 }
 
 TEST(CliUsage, MainHelpListsOneLinePerCommand) {
-  const std::filesystem::path dir = testing::ScratchDir("cli_main_help");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("cli_main_help");
   std::string out;
   ASSERT_EQ(RunGroundline("--help", dir, &out), 0) << out;
   const std::size_t list = out.find("Subcommands:\n");
@@ -59,7 +59,7 @@ TEST(CliUsage, MainHelpListsOneLinePerCommand) {
 }
 
 TEST(CliUsage, UnknownCommandExits2WithTheList) {
-  const std::filesystem::path dir = testing::ScratchDir("cli_unknown");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("cli_unknown");
   std::string out;
   EXPECT_EQ(RunGroundline("locallize --dataset x", dir, &out), 2) << out;
   EXPECT_NE(out.find("unknown command 'locallize'; the commands are: localize, serve, sim"),
@@ -70,7 +70,7 @@ TEST(CliUsage, UnknownCommandExits2WithTheList) {
 }
 
 TEST(CliUsage, ContradictoryArgumentsExit2AndBadDataExits1) {
-  const std::filesystem::path dir = testing::ScratchDir("cli_exit_codes");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("cli_exit_codes");
   const std::filesystem::path empty = dir / "empty";
   std::filesystem::create_directories(empty);
   std::ofstream(dir / "garbage.tum") << "this is not a trajectory\n";

@@ -31,7 +31,7 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
 class EvalCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::ScratchDir("eval");
+    dir_ = ::groundline::testing::ScratchDir("eval");
     core::Trajectory reference, offset, rotated;
     for (int i = 0; i < 100; ++i) {
       const double t = 0.1 * i;

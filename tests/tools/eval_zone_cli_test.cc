@@ -23,7 +23,7 @@ using testing::RunGroundline;
 class EvalZoneCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::ScratchDir("eval_zone");
+    dir_ = ::groundline::testing::ScratchDir("eval_zone");
     dataset_ = dir_ / "zone_b";
     std::string out;
     // 100 m from seed 3 drive up the rest of an 85 m aisle and out of it.
@@ -83,7 +83,7 @@ TEST_F(EvalZoneCli, ShiftedTruthGivesItsOffsetEverywhereAndOdometryHasNees) {
 }
 
 TEST(EvalZoneCliUsage, MalformedRunIsAUsageError) {
-  const std::filesystem::path dir = testing::ScratchDir("eval_zone_usage");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("eval_zone_usage");
   std::string out;
   EXPECT_EQ(RunGroundline("eval --dataset x --run nolabel", dir, &out), 2) << out;
   EXPECT_NE(out.find("LABEL=DIR"), std::string::npos) << out;

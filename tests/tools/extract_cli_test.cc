@@ -23,7 +23,7 @@ using testing::Quoted;
 using testing::RunGroundline;
 
 TEST(ExtractCli, FolderWithACorruptImage) {
-  const std::filesystem::path dir = testing::ScratchDir("extract_cli");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("extract_cli");
   const std::filesystem::path images = dir / "images";
   std::filesystem::create_directories(images);
   // A quarter-scale reference camera (same field of view), pinhole.

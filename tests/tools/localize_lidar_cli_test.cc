@@ -29,7 +29,7 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
   // ~4 min of a Debug executable's scan matching under ASan; 1.5 s in release.
   GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
 #endif
-  const std::filesystem::path dir = testing::ScratchDir("localize_lidar");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("localize_lidar");
   const std::filesystem::path dataset = dir / "zone_b";
   std::string out;
   ASSERT_EQ(RunGroundline("sim --zone B --length 15m --seed 3 --no-camera --out " + Quoted(dataset),

@@ -85,7 +85,7 @@ class LocalizeTrust : public ::testing::Test {
     ::flock(lock, LOCK_UN);
     ::close(lock);
     ASSERT_TRUE(fs::exists(shared / "done"));
-    dir_ = testing::ScratchDir("run");
+    dir_ = ::groundline::testing::ScratchDir("run");
   }
   core::Dataset Read() const {
     core::DatasetReadOptions options;
@@ -264,7 +264,7 @@ TEST_F(LocalizeTrust, NonFiniteInitialPoseIsRefusedBeforeAnythingIsWritten) {
 // A small CARMEN log: a robot standing in a 6 m x 4 m room, 60 front-laser
 // scans, with two malformed lines among them.
 TEST(LocalizeCarmenCli, SkippedMalformedLinesAreSaidAndCounted) {
-  const fs::path dir = testing::ScratchDir("localize_carmen_skips");
+  const fs::path dir = ::groundline::testing::ScratchDir("localize_carmen_skips");
   const fs::path log = dir / "room.clf";
   {
     std::ofstream out(log);

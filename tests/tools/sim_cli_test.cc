@@ -33,7 +33,7 @@ perturbations:
 )";
 
 TEST(SimCli, ScenarioRunWithFlagOverrides) {
-  const std::filesystem::path dir = testing::ScratchDir("sim_cli");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("sim_cli");
   const std::filesystem::path scenario = dir / "tiny.yaml";
   std::ofstream(scenario) << kTinyScenario;
   const std::filesystem::path out = dir / "run";
@@ -65,7 +65,7 @@ TEST(SimCli, ScenarioRunWithFlagOverrides) {
 }
 
 TEST(SimCli, FleetScenarioWritesOneDatasetPerRobot) {
-  const std::filesystem::path dir = testing::ScratchDir("sim_cli_fleet");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("sim_cli_fleet");
   const std::filesystem::path scenario = dir / "fleet.yaml";
   std::ofstream(scenario) << "format: groundline-sim-scenario\nversion: 1.0\nzone: D\n"
                              "robots: 2\nroute: {length_m: 30}\ncamera: {enabled: false}\n"
@@ -85,7 +85,7 @@ TEST(SimCli, FleetScenarioWritesOneDatasetPerRobot) {
 }
 
 TEST(SimCli, BadScenarioNamesFileLineAndField) {
-  const std::filesystem::path dir = testing::ScratchDir("sim_cli_bad");
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("sim_cli_bad");
   const std::filesystem::path scenario = dir / "bad.yaml";
   std::ofstream(scenario) << "format: groundline-sim-scenario\nversion: 1.0\nroute:\n"
                              "  max_speed_mps: fast\n";
