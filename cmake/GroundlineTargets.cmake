@@ -36,10 +36,6 @@ function(groundline_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
-  if(GROUNDLINE_UNITY_TESTS)
-    set_target_properties(${name} PROPERTIES UNITY_BUILD ON
-                          UNITY_BUILD_BATCH_SIZE ${GROUNDLINE_UNITY_TESTS_BATCH})
-  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
                        PROPERTIES ENVIRONMENT "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
 endfunction()

@@ -16,7 +16,7 @@
 namespace groundline::tools {
 namespace {
 
-constexpr char kHelp[] =
+constexpr char kCalibrateFloorHelp[] =
     R"(Solves the camera mount (height, pitch, roll, yaw, forward and lateral offset;
 docs/extrinsics.md) from tag36h11 AprilTags lying flat on the floor at surveyed
 positions (the tag layout file, docs/tag_layout.md), seen in the images of
@@ -181,7 +181,7 @@ void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run) {
   auto flags = std::make_shared<CalibrateFloorFlags>();
   CLI::App* cmd = calibrate->add_subcommand(
       "floor", "Camera mount (extrinsics) from AprilTags surveyed on the floor");
-  cmd->footer(kHelp);
+  cmd->footer(kCalibrateFloorHelp);
   CLI::Option* images = cmd->add_option("--images", flags->images, "Directory of the images");
   CLI::Option* live = cmd->add_option(
       "--live", flags->live,

@@ -14,7 +14,7 @@
 namespace groundline::tools {
 namespace {
 
-constexpr char kName[] = "groundline calibrate intrinsics --live";
+constexpr char kLiveName[] = "groundline calibrate intrinsics --live";
 
 // Prints a rejected frame: every one from a recorded source, at most one a
 // second from a camera (30 frames a second would flood the terminal).
@@ -48,19 +48,19 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
   coverage_options.min_corners_per_border_zone =
       setup.thresholds.require_border_coverage ? setup.thresholds.min_corners_per_border_zone : 0;
   if (core::Status s = coverage_options.Validate(); !s.ok()) {
-    std::fprintf(stderr, "%s: --min-views: %s\n", kName, s.message().c_str());
+    std::fprintf(stderr, "%s: --min-views: %s\n", kLiveName, s.message().c_str());
     return 2;
   }
   if (flags.max_views < 0 || flags.duration_s < 0.0 || !(flags.timeout_s > 0.0)) {
     std::fprintf(stderr, "%s: --max-views and --duration must be >= 0, --frame-timeout > 0\n",
-                 kName);
+                 kLiveName);
     return 2;
   }
-  const std::unique_ptr<io::FrameSource> source = OpenLiveSource(flags.live, kName);
+  const std::unique_ptr<io::FrameSource> source = OpenLiveSource(flags.live, kLiveName);
   if (source == nullptr) return 2;
   io::FrameSource& frames = *source;
-  std::printf("%s: %s; board %s. Show the board; Ctrl-C stops and solves what was kept.\n", kName,
-              frames.Describe().c_str(), setup.target.name.c_str());
+  std::printf("%s: %s; board %s. Show the board; Ctrl-C stops and solves what was kept.\n",
+              kLiveName, frames.Describe().c_str(), setup.target.name.c_str());
   std::fflush(stdout);
 
   const BoardDetectionOptions detection;
@@ -81,7 +81,7 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
     core::Result<std::optional<io::Frame>> next = frames.Next(flags.timeout_s);
     if (!next.ok()) {
       if (!session.StopReason().empty()) continue;  // Ctrl-C interrupted the wait
-      std::fprintf(stderr, "%s: %s\n", kName, next.message().c_str());
+      std::fprintf(stderr, "%s: %s\n", kLiveName, next.message().c_str());
       return 1;
     }
     if (!next->has_value()) {
@@ -118,7 +118,7 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
     if (!flags.save_frames.empty()) {
       core::Result<std::string> saved = SaveFrame(flags.save_frames, frame.name, frame.grey);
       if (!saved.ok()) {
-        std::fprintf(stderr, "%s: --save-frames: %s\n", kName, saved.message().c_str());
+        std::fprintf(stderr, "%s: --save-frames: %s\n", kLiveName, saved.message().c_str());
         return 1;
       }
       name = *saved;
@@ -134,8 +134,8 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
       break;
     }
   }
-  std::printf("%s: stopped: %s; %zu views kept, %d frames without the board\n", kName, stop.c_str(),
-              views.size(), frames_without_board);
+  std::printf("%s: stopped: %s; %zu views kept, %d frames without the board\n", kLiveName,
+              stop.c_str(), views.size(), frames_without_board);
   for (const std::string& r : frames.stats().skipped_reasons) {
     std::fprintf(stderr, "  %s\n", r.c_str());
   }
@@ -149,7 +149,7 @@ int RunIntrinsicsLive(const IntrinsicsFlags& flags) {
     for (const std::string& m : missing) std::printf("    %s\n", m.c_str());
   }
   if (views.size() < 3) {
-    std::fprintf(stderr, "%s: %zu views kept; at least 3 are needed to solve\n", kName,
+    std::fprintf(stderr, "%s: %zu views kept; at least 3 are needed to solve\n", kLiveName,
                  views.size());
     return 1;
   }

@@ -48,7 +48,7 @@ struct EvalFlags {
   std::optional<double> to_s;
 };
 
-constexpr char kHelp[] =
+constexpr char kEvalHelp[] =
     R"(Measures the accuracy of estimated trajectories (formulas in docs/metrics.md).
 
 Reads TUM ('t x y z qx qy qz qw', t in s) or EuRoC (.csv, t in ns) trajectories and
@@ -340,7 +340,7 @@ int RunEval(EvalFlags flags) {
 CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* cmd = parent.add_subcommand(
       "eval", "Accuracy of trajectories against ground truth or Kuemmerle relations");
-  cmd->footer(kHelp);
+  cmd->footer(kEvalHelp);
   auto flags = std::make_shared<EvalFlags>();
   cmd->add_option("--est", flags->est_paths,
                   "estimated trajectory (TUM, or EuRoC if .csv); repeat for several");

@@ -48,7 +48,7 @@ struct ExtractFlags {
   double min_dark_contrast = perception::LineExtractorOptions{}.min_dark_side_contrast;
 };
 
-constexpr char kHelp[] =
+constexpr char kExtractHelp[] =
     R"(Extracts floor lines from camera images (docs/perception.md): each image is
 mapped to a metric bird's-eye view (BEV, base_link x 0.6-2.4 m ahead, y +-1 m,
 1 cm cells) through the lens model and the mount, ridges are found with a
@@ -385,7 +385,7 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<ExtractFlags>();
   CLI::App* cmd = parent.add_subcommand(
       "extract", "Floor lines, junctions and their covariances from camera images");
-  cmd->footer(kHelp);
+  cmd->footer(kExtractHelp);
   cmd->add_option("input", flags->input, "Image folder or quoted glob ('dir/*.png')");
   cmd->add_option("--dataset", flags->dataset,
                   "groundline dataset directory (camera, extrinsics, images, ground truth, map)");

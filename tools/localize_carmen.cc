@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/metric_fields.h"
 #include "groundline/core/relation_metrics.h"
@@ -24,22 +25,15 @@ namespace {
 
 namespace lidar = localization::lidar;
 
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-
-int Fail(const std::string& message) {
-  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
-  return 1;
-}
-
 nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T_map_base) {
   nlohmann::ordered_json line;
   line["stamp_s"] = r.stamp_s;
   line["x_m"] = T_map_base.x();
   line["y_m"] = T_map_base.y();
-  line["yaw_deg"] = T_map_base.yaw() * kDegPerRad;
+  line["yaw_deg"] = T_map_base.yaw() * core::kRadToDeg;
   line["local_x_m"] = r.T_local_base.x();
   line["local_y_m"] = r.T_local_base.y();
-  line["local_yaw_deg"] = r.T_local_base.yaw() * kDegPerRad;
+  line["local_yaw_deg"] = r.T_local_base.yaw() * core::kRadToDeg;
   line["matched"] = r.matched;
   line["velocity_prediction"] = r.velocity_prediction;
   line["score"] = r.match.score;
@@ -60,13 +54,18 @@ nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T
 
 }  // namespace
 
+int LocalizeFail(const std::string& message) {
+  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
+  return 1;
+}
+
 int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   const auto wall_start = std::chrono::steady_clock::now();
   const double cpu_start = ProcessCpuSeconds();
   ProgressLine progress("localize");
   progress.Update("reading", 0.0);
   core::Result<io::CarmenLog> log = io::ReadCarmenLog(flags.log_path);
-  if (!log.ok()) return Fail(log.message());
+  if (!log.ok()) return LocalizeFail(log.message());
   RunWarnings warnings("localize");
   const io::CarmenReadSummary& read = log->summary;
   if (read.skipped_line_count > 0) {
@@ -82,13 +81,14 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
     if (s.laser_id == 1 && s.robot_pose && s.laser_pose) scans.push_back(&s);
   }
   if (scans.empty()) {
-    return Fail(flags.log_path +
-                ": no front-laser scan with odometry (FLASER / ROBOTLASER1 lines) in the log");
+    return LocalizeFail(
+        flags.log_path +
+        ": no front-laser scan with odometry (FLASER / ROBOTLASER1 lines) in the log");
   }
   std::vector<core::Relation> relations;
   if (!flags.relations_path.empty()) {
     core::Result<std::vector<core::Relation>> read = io::ReadRelations(flags.relations_path);
-    if (!read.ok()) return Fail(read.message());
+    if (!read.ok()) return LocalizeFail(read.message());
     relations = std::move(*read);
   }
 
@@ -107,7 +107,8 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
                                     s.max_range_m, T_base_laser, points_options);
     core::Result<lidar::ScanReport> report = slam.AddScan(s.stamp_s, *s.robot_pose, points);
     if (!report.ok())
-      return Fail(flags.log_path + " line " + std::to_string(s.line) + ": " + report.message());
+      return LocalizeFail(flags.log_path + " line " + std::to_string(s.line) + ": " +
+                          report.message());
     degenerate += report->information.degenerate;
     matched += report->matched;
     loops += report->loops_found;
@@ -116,24 +117,24 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
     if (i % 100 == 0) progress.Update("slam", static_cast<double>(i) / scans.size());
   }
   core::Result<lidar::PoseGraphSummary> final_solve = slam.Finish();
-  if (!final_solve.ok()) return Fail(final_solve.message());
+  if (!final_solve.ok()) return LocalizeFail(final_solve.message());
   progress.Update("slam", 1.0);
   const double slam_wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - slam_start).count();
   const core::Trajectory trajectory = slam.Trajectory();
 
   core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
-  if (!staged.ok()) return Fail(staged.message());
+  if (!staged.ok()) return LocalizeFail(staged.message());
   const std::filesystem::path out = staged->path();
   core::Status written = core::WriteTumTrajectory(out / "trajectory.tum", trajectory);
-  if (!written.ok()) return Fail(written.message());
+  if (!written.ok()) return LocalizeFail(written.message());
   written = core::WriteFileAtomically(out / "health.jsonl", [&](std::ostream& stream) {
     for (std::size_t i = 0; i < reports.size(); ++i) {
       stream << HealthLine(reports[i], trajectory[i].pose).dump() << "\n";
     }
     return core::Status::Ok();
   });
-  if (!written.ok()) return Fail(written.message());
+  if (!written.ok()) return LocalizeFail(written.message());
 
   const double log_duration_s = scans.back()->stamp_s - scans.front()->stamp_s;
   nlohmann::ordered_json summary;
@@ -160,7 +161,7 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
     core::Result<core::RelationErrorSummary> errors =
         core::ComputeRelationErrors(trajectory, relations);
     if (!errors.ok())
-      return Fail("evaluating against " + flags.relations_path + ": " + errors.message());
+      return LocalizeFail("evaluating against " + flags.relations_path + ": " + errors.message());
     nlohmann::ordered_json accuracy;
     std::printf("relation errors (%s):\n", flags.relations_path.c_str());
     for (const core::MetricField& f : core::MetricFields(*errors)) {
@@ -195,8 +196,8 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["peak_rss_mb"] = ProcessPeakRssMb();
   summary["warnings"] = warnings.Json();
   written = core::WriteFileAtomically(out / "summary.json", summary.dump(2) + "\n");
-  if (!written.ok()) return Fail(written.message());
-  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
+  if (!written.ok()) return LocalizeFail(written.message());
+  if (core::Status s = staged->Commit(); !s.ok()) return LocalizeFail(s.message());
   std::printf(
       "%.1f s wall (%.0fx real time), %.1f s CPU (%.0fx), peak RSS %.0f MiB; wrote "
       "%s/{trajectory.tum, health.jsonl, summary.json}\n",

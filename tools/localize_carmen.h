@@ -14,6 +14,10 @@ struct LocalizeCarmenFlags {
   std::string out_dir;
 };
 
+// Prints "groundline localize: MESSAGE" on stderr; returns 1, the exit code
+// of a data failure.
+int LocalizeFail(const std::string& message);
+
 // Returns the exit code: 0 ok, 1 data failure.
 int RunLocalizeCarmen(const LocalizeCarmenFlags& flags);
 

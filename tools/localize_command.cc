@@ -60,7 +60,7 @@ struct LocalizeFlags {
   double lateral_variance_m2_per_m = -1.0;
 };
 
-constexpr char kHelp[] =
+constexpr char kLocalizeHelp[] =
     R"(Replays a groundline dataset (docs/dataset.md) through the causal localizer
 (the same code `groundline serve` runs) and estimates T_map_base.
 
@@ -123,11 +123,6 @@ Examples:
   groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
-int Fail(const std::string& message) {
-  std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
-  return 1;
-}
-
 int Usage(const std::string& message) {
   std::fprintf(stderr, "groundline localize: %s\n", message.c_str());
   return 2;
@@ -172,7 +167,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   read_options.check_image_files = false;
   read_options.load_scans = false;
   core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
-  if (!dataset.ok()) return Fail(dataset.message());
+  if (!dataset.ok()) return LocalizeFail(dataset.message());
   const fs::path dir(flags.dataset_dir);
 
   service::DatasetLocalizerOptions setup_options;
@@ -186,7 +181,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     return Usage("--near: " + s.message());
   core::Result<service::DatasetSetup> setup =
       service::SetupFromDataset(dir, *dataset, setup_options);
-  if (!setup.ok()) return Fail(setup.message());
+  if (!setup.ok()) return LocalizeFail(setup.message());
   if (setup->setup.camera) {
     const perception::BevGrid& g = setup->setup.camera->remap().grid();
     std::printf("BEV: x %.2f..%.2f m, y %.2f..%.2f m (%d x %d cells)\n",
@@ -203,12 +198,13 @@ int RunLocalize(const LocalizeFlags& flags) {
   const loc::Atlas atlas_copy = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> created =
       loc::Localizer::Create(options, std::move(setup->setup));
-  if (!created.ok()) return Fail(flags.dataset_dir + ": " + created.message());
+  if (!created.ok()) return LocalizeFail(flags.dataset_dir + ": " + created.message());
   loc::Localizer& localizer = **created;
 
   std::string start_from;
   if (flags.relocalize) {
-    if (core::Status s = localizer.RequestRelocalization(); !s.ok()) return Fail(s.message());
+    if (core::Status s = localizer.RequestRelocalization(); !s.ok())
+      return LocalizeFail(s.message());
     start_from = "relocalization on the atlas";
   } else {
     core::SE2 pose;
@@ -228,7 +224,7 @@ int RunLocalize(const LocalizeFlags& flags) {
       std::fprintf(stderr, "groundline localize: warning: starting at the map origin\n");
     }
     if (core::Status s = localizer.SetInitialPose(stamp_s, pose, covariance); !s.ok()) {
-      return Fail("--initial-pose: " + s.message());
+      return LocalizeFail("--initial-pose: " + s.message());
     }
   }
 
@@ -239,7 +235,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   RunWarnings warnings("localize");
   {
     core::Result<std::vector<StreamSpan>> spans = StreamSpans(dir, *dataset, stream_options);
-    if (!spans.ok()) return Fail(spans.message());
+    if (!spans.ok()) return LocalizeFail(spans.message());
     CheckStreamSpans(*spans, &warnings);
   }
   if (options.mode == loc::LocalizerMode::kLines &&
@@ -252,7 +248,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   }
   core::Result<core::DatasetStreams> streams =
       core::DatasetStreams::Open(dir, *dataset, stream_options);
-  if (!streams.ok()) return Fail(streams.message());
+  if (!streams.ok()) return LocalizeFail(streams.message());
   std::optional<LocalizeDiagnostics> diagnostics;
   if (flags.diagnose && !dataset->ground_truth.empty()) {
     diagnostics.emplace(dataset->ground_truth, atlas_copy, options.smoother.association);
@@ -310,24 +306,25 @@ int RunLocalize(const LocalizeFlags& flags) {
   core::Result<service::ReplayStats> replayed =
       service::Replay(*streams, localizer, replay_options, callbacks);
   progress.Update("replay", 1.0);
-  if (!replayed.ok()) return Fail(replayed.message());
+  if (!replayed.ok()) return LocalizeFail(replayed.message());
   if (flags.relocalize && !localizer.started()) {
     const loc::RelocalizerStatus* s = localizer.relocalizer_status();
     if (s != nullptr && s->hint_rejected && options.relocalizer.near_m) {
-      return Fail(HintNotSupported(flags.dataset_dir, *options.relocalizer.near_m, *s));
+      return LocalizeFail(HintNotSupported(flags.dataset_dir, *options.relocalizer.near_m, *s));
     }
-    return Fail(flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
-                std::to_string(localizer.counters().frames_used) +
-                " frames: " + std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
-                std::to_string(s ? s->seeds : 0) +
-                " junction sightings; a repeating floor needs --near X_M Y_M [RADIUS_M] (where "
-                "the drive starts), or give --initial-pose");
+    return LocalizeFail(
+        flags.dataset_dir + ": --relocalize: no unambiguous pose on the atlas after " +
+        std::to_string(localizer.counters().frames_used) +
+        " frames: " + std::to_string(s ? s->hypotheses : 0) + " hypotheses left from " +
+        std::to_string(s ? s->seeds : 0) +
+        " junction sightings; a repeating floor needs --near X_M Y_M [RADIUS_M] (where "
+        "the drive starts), or give --initial-pose");
   }
 
   // Everything goes into a staging folder renamed into --out at the end: a
   // run that fails leaves no half-written folder.
   core::Result<core::StagedDirectory> staged = core::StagedDirectory::Create(flags.out_dir);
-  if (!staged.ok()) return Fail(staged.message());
+  if (!staged.ok()) return LocalizeFail(staged.message());
   const fs::path out = staged->path();
   const fs::path final_out(flags.out_dir);
   for (const core::Status& s :
@@ -335,7 +332,7 @@ int RunLocalize(const LocalizeFlags& flags) {
         core::WriteTumTrajectory(out / "trajectory_odometry_rate.tum", odometry_rate),
         core::WriteTrajectoryCovariances(out / "trajectory_covariance.txt", keyframes),
         core::WriteFileAtomically(out / "health.jsonl", health_lines.str())}) {
-    if (!s.ok()) return Fail(s.message());
+    if (!s.ok()) return LocalizeFail(s.message());
   }
   const loc::LocalizerCounters& c = localizer.counters();
   nlohmann::ordered_json summary;
@@ -399,7 +396,8 @@ int RunLocalize(const LocalizeFlags& flags) {
                        " frames: not written. Drive over more markings, or check the camera "
                        "images and the mount (groundline extract)");
     } else {
-      if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok()) return Fail(s.message());
+      if (core::Status s = loc::WriteAtlas(atlas_out, built); !s.ok())
+        return LocalizeFail(s.message());
       std::printf("atlas: %zu lines, %zu junctions -> %s\n", built.lines.size(),
                   built.junctions.size(), atlas_shown.string().c_str());
     }
@@ -408,9 +406,9 @@ int RunLocalize(const LocalizeFlags& flags) {
                                         options.mode != loc::LocalizerMode::kLidar, clock, out,
                                         &warnings, &summary);
       !s.ok()) {
-    return Fail(s.message());
+    return LocalizeFail(s.message());
   }
-  if (core::Status s = staged->Commit(); !s.ok()) return Fail(s.message());
+  if (core::Status s = staged->Commit(); !s.ok()) return LocalizeFail(s.message());
   if (warnings.size() > 0) {
     std::fprintf(stderr, "groundline localize: %zu warning%s (listed in %s)\n", warnings.size(),
                  warnings.size() == 1 ? "" : "s", (final_out / "summary.json").string().c_str());
@@ -423,7 +421,7 @@ int RunLocalize(const LocalizeFlags& flags) {
 CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<LocalizeFlags>();
   CLI::App* cmd = parent.add_subcommand("localize", "Estimate the vehicle pose from a dataset");
-  cmd->footer(kHelp);
+  cmd->footer(kLocalizeHelp);
   cmd->add_option("-d,--dataset", flags->dataset_dir, "Dataset directory (docs/dataset.md)")
       ->check(CLI::ExistingDirectory);
   auto carmen = std::make_shared<LocalizeCarmenFlags>();

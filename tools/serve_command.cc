@@ -16,7 +16,7 @@ std::atomic<bool> g_stop{false};
 
 extern "C" void OnStopSignal(int) { g_stop.store(true); }
 
-constexpr char kHelp[] =
+constexpr char kServeHelp[] =
     R"(Runs the localizer as a service: one process, one YAML config (every key
 and its default: docs/service.md). Inputs: a dataset replayed at its own
 timestamps (inputs.replay.speed: 1 real time, N times faster, 0 as fast as
@@ -56,7 +56,7 @@ CLI::App* AddServeCommand(CLI::App& parent, CommandRunner* run) {
   auto speed = std::make_shared<double>(-1.0);
   auto port = std::make_shared<int>(-1);
   CLI::App* cmd = parent.add_subcommand("serve", "Run the localizer as a service (config file)");
-  cmd->footer(kHelp);
+  cmd->footer(kServeHelp);
   cmd->add_option("-c,--config", *config_path, "Service configuration (YAML)")
       ->required()
       ->check(CLI::ExistingFile);

@@ -42,7 +42,7 @@ struct SimFlags {
   }
 };
 
-constexpr char kHelp[] =
+constexpr char kSimHelp[] =
     R"(Simulates a warehouse run with ground truth and writes it as a dataset
 (docs/dataset.md) that 'groundline localize' replays.
 
@@ -254,7 +254,7 @@ int RunSim(const SimFlags& flags) {
 CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<SimFlags>();
   CLI::App* cmd = parent.add_subcommand("sim", "Simulate a warehouse run (zones A-D) as a dataset");
-  cmd->footer(kHelp);
+  cmd->footer(kSimHelp);
   cmd->add_option("--scenario", flags->scenario,
                   "Scenario YAML (samples/scenarios/*.yaml): layout, route, sensors, nuisances, "
                   "mount perturbations; the flags given override it")

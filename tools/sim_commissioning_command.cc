@@ -17,7 +17,7 @@ struct SimCommissioningFlags {
   bool small = false;
 };
 
-constexpr char kHelp[] =
+constexpr char kSimCommissioningHelp[] =
     R"(Simulates floor commissioning: the vehicle creeps (0.05 m/s) across a mat of
 tag36h11 AprilTags lying on the floor (default 6 x 5 tags of 0.16 m, 0.36 m apart,
 surveyed yaws drawn by the seed) and its floor camera (1280x1024, 6 mm lens, mild
@@ -73,7 +73,7 @@ CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run) {
   auto flags = std::make_shared<SimCommissioningFlags>();
   CLI::App* cmd = parent.add_subcommand(
       "sim-commissioning", "Simulate floor commissioning: a tag mat seen by the floor camera");
-  cmd->footer(kHelp);
+  cmd->footer(kSimCommissioningHelp);
   cmd->add_option("-o,--out", flags->out, "Output directory")->required();
   cmd->add_option("--seed", flags->seed, "Seed of the tag yaws, vehicle poses and noise")
       ->capture_default_str();

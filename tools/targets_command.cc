@@ -24,7 +24,7 @@ struct TargetsFlags {
   std::string targets_file;
 };
 
-constexpr char kHelp[] =
+constexpr char kTargetsHelp[] =
     R"(Writes printable calibration targets defined in calib_targets/targets.yaml:
 for each sheet an SVG at exact scale (vector, millimetre units: print this) and
 a PNG at --dpi (for viewers and printers without SVG). Boards (chessboards,
@@ -113,7 +113,7 @@ int RunTargets(const TargetsFlags& flags) {
 
 CLI::App* AddTargetsCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* cmd = parent.add_subcommand("targets", "Printable calibration targets (SVG + PNG)");
-  cmd->footer(kHelp);
+  cmd->footer(kTargetsHelp);
   auto flags = std::make_shared<TargetsFlags>();
   cmd->add_option("--target", flags->names, "Target name(s) from the targets file (repeatable)");
   cmd->add_flag("--list", flags->list, "List the targets defined and exit");

@@ -1,4 +1,5 @@
 #include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/core/angles.h"
 
 #include <cassert>
 #include <cmath>
@@ -11,8 +12,7 @@
 namespace groundline::calibration {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kRadToDeg = 180.0 / kPi;
+using core::kRadToDeg;
 // Tolerances of MountFromBaseCamera (see the header).
 constexpr double kOrthonormalityTol = 1e-9;
 constexpr double kGimbalLockCos = 1e-9;
@@ -27,7 +27,9 @@ std::string FieldError(const char* field, const std::string& expected, double va
 }
 
 // Maps -pi to pi so that angles come back in (-pi, pi].
-double HalfOpenAngle(double angle_rad) { return angle_rad == -kPi ? kPi : angle_rad; }
+double HalfOpenAngle(double angle_rad) {
+  return angle_rad == -std::numbers::pi ? std::numbers::pi : angle_rad;
+}
 
 }  // namespace
 
@@ -45,13 +47,13 @@ core::Status CameraMount::Validate() const {
   if (height_m <= 0.0) {
     return core::Status::Error(FieldError("height_m", "a height above the floor > 0 m", height_m));
   }
-  if (std::abs(pitch_rad) >= kPi / 2) {
+  if (std::abs(pitch_rad) >= std::numbers::pi / 2) {
     return core::Status::Error(FieldError("pitch_rad", "|pitch| < pi/2", pitch_rad, true));
   }
-  if (std::abs(roll_rad) > kPi) {
+  if (std::abs(roll_rad) > std::numbers::pi) {
     return core::Status::Error(FieldError("roll_rad", "an angle in [-pi, pi]", roll_rad, true));
   }
-  if (std::abs(yaw_rad) > kPi) {
+  if (std::abs(yaw_rad) > std::numbers::pi) {
     return core::Status::Error(FieldError("yaw_rad", "an angle in [-pi, pi]", yaw_rad, true));
   }
   return core::Status::Ok();

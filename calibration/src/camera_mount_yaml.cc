@@ -20,15 +20,14 @@
 namespace groundline::calibration {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kMaxMountHeightM = 5.0;
 constexpr double kMaxMountOffsetM = 10.0;
 
 double DegToRad(double deg) {
   // Keeps +-180 deg at exactly +-pi so that it passes CameraMount::Validate().
-  return std::clamp(deg * kPi / 180.0, -kPi, kPi);
+  return std::clamp(deg * std::numbers::pi / 180.0, -std::numbers::pi, std::numbers::pi);
 }
-double RadToDeg(double rad) { return rad * 180.0 / kPi; }
+double RadToDeg(double rad) { return rad * 180.0 / std::numbers::pi; }
 
 std::string Where(const std::string& source, const YAML::Node& node) {
   const YAML::Mark mark = node.Mark();

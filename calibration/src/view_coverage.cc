@@ -8,12 +8,13 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "groundline/core/angles.h"
 #include "imager_zones.h"
 
 namespace groundline::calibration {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+using core::kRadToDeg;
 constexpr const char* kRegionNames[9] = {"top-left",    "top",    "top-right",
                                          "left",        "centre", "right",
                                          "bottom-left", "bottom", "bottom-right"};

@@ -1,11 +1,10 @@
 #include "groundline/core/metric_fields.h"
+#include "groundline/core/angles.h"
 
 #include <numbers>
 
 namespace groundline::core {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 void AddCount(std::vector<MetricField>* fields, const char* key, const char* label,
               std::size_t value) {

@@ -8,12 +8,11 @@
 #include <optional>
 #include <string>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/trajectory_io.h"
 
 namespace groundline::core {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // The pose nearest stamp_s if within max_dt_s.
 std::optional<SE2> NearestPose(const Trajectory& trajectory, double stamp_s, double max_dt_s) {

@@ -4,12 +4,11 @@
 #include <numbers>
 #include <string>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/trajectory_metrics.h"
 
 namespace groundline::core {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // Index j > i of the partner of pair i, or pairs.size() if there is none.
 // `path_m` is the cumulative reference path length at each pair.

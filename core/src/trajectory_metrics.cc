@@ -1,4 +1,5 @@
 #include "groundline/core/trajectory_metrics.h"
+#include "groundline/core/angles.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -8,8 +9,6 @@
 
 namespace groundline::core {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 double Rms(const std::vector<double>& values) {
   if (values.empty()) return 0.0;

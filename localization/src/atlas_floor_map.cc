@@ -2,6 +2,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "groundline/core/segment_distance.h"
 #include "groundline/localization/atlas.h"
 #include "groundline/localization/atlas_walls.h"
 
@@ -13,9 +14,7 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 }
 
 double DistanceToSegment(const Eigen::Vector2d& p, const MarkingSegment& s) {
-  const Eigen::Vector2d d = s.b_m - s.a_m;
-  const double t = std::clamp((p - s.a_m).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (s.a_m + t * d - p).norm();
+  return core::DistanceToSegment(p, s.a_m, s.b_m);
 }
 
 void AddJunction(const Eigen::Vector2d& p, double merge_m, std::vector<Eigen::Vector2d>* out) {

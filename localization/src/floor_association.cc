@@ -1,4 +1,5 @@
 #include "groundline/localization/floor_association.h"
+#include "groundline/core/covariance.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -6,12 +7,6 @@
 
 namespace groundline::localization {
 namespace {
-
-double Mahalanobis2(const Eigen::Vector2d& innovation, const Eigen::Matrix2d& covariance) {
-  const Eigen::LDLT<Eigen::Matrix2d> ldlt(covariance);
-  if (ldlt.info() != Eigen::Success) return std::numeric_limits<double>::infinity();
-  return innovation.dot(ldlt.solve(innovation));
-}
 
 // Nearest-neighbour selection with ambiguity rejection over d2 per landmark.
 // same(i, j): landmarks i and j are one physical landmark (duplicates in the
@@ -80,7 +75,7 @@ double LineMahalanobis2(const LineObservation& observation, const AtlasLine& lan
   const Eigen::Matrix2d B = J_d * J_l;
   const Eigen::Matrix2d S = observation.covariance + A * pose_covariance * A.transpose() +
                             B * landmark.covariance * B.transpose();
-  return Mahalanobis2(innovation, S);
+  return core::SquaredMahalanobis<2>(innovation, S);
 }
 
 double JunctionMahalanobis2(const JunctionObservation& observation, const AtlasJunction& landmark,
@@ -91,7 +86,7 @@ double JunctionMahalanobis2(const JunctionObservation& observation, const AtlasJ
   J_T << -1.0, 0.0, p.y(), 0.0, -1.0, -p.x();
   const Eigen::Matrix2d S = observation.covariance + J_T * pose_covariance * J_T.transpose() +
                             R_T * landmark.covariance * R_T.transpose();
-  return Mahalanobis2(p - observation.point_base_m, S);
+  return core::SquaredMahalanobis<2>(p - observation.point_base_m, S);
 }
 
 bool ExtentsOverlap(const LineObservation& observation, const AtlasLine& landmark,

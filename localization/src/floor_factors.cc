@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "groundline/core/se2_manifold.h"
 #include "groundline/localization/relative_pose_factor.h"
 
 namespace groundline::localization {
@@ -10,8 +11,6 @@ namespace {
 using RowMajor23 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
 using RowMajor22 = Eigen::Matrix<double, 2, 2, Eigen::RowMajor>;
 using RowMajor33 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-
-core::SE2 PoseFromAmbient(const double* x) { return core::SE2(x[0], x[1], x[2]); }
 
 }  // namespace
 
@@ -48,7 +47,7 @@ Eigen::Vector2d GroundLineFactor::Residual(const core::SE2& T_map_base,
 
 bool GroundLineFactor::Evaluate(double const* const* parameters, double* residuals,
                                 double** jacobians) const {
-  const core::SE2 T_map_base = PoseFromAmbient(parameters[0]);
+  const core::SE2 T_map_base = core::PoseFromAmbient(parameters[0]);
   const perception::HesseLine line_map{parameters[1][0], parameters[1][1]};
   const bool want_T = jacobians != nullptr && jacobians[0] != nullptr;
   const bool want_line = jacobians != nullptr && jacobians[1] != nullptr;
@@ -85,7 +84,7 @@ Eigen::Vector2d JunctionFactor::Residual(const core::SE2& T_map_base,
 
 bool JunctionFactor::Evaluate(double const* const* parameters, double* residuals,
                               double** jacobians) const {
-  const core::SE2 T_map_base = PoseFromAmbient(parameters[0]);
+  const core::SE2 T_map_base = core::PoseFromAmbient(parameters[0]);
   const Eigen::Vector2d point(parameters[1][0], parameters[1][1]);
   const bool want_T = jacobians != nullptr && jacobians[0] != nullptr;
   const bool want_point = jacobians != nullptr && jacobians[1] != nullptr;
@@ -115,7 +114,7 @@ bool PosePriorFactor::Evaluate(double const* const* parameters, double* residual
   const bool want = jacobians != nullptr && jacobians[0] != nullptr;
   core::Matrix3 J;
   Eigen::Map<Eigen::Vector3d>{residuals} =
-      Residual(PoseFromAmbient(parameters[0]), want ? &J : nullptr);
+      Residual(core::PoseFromAmbient(parameters[0]), want ? &J : nullptr);
   if (want) Eigen::Map<RowMajor33>{jacobians[0]} = AmbientFromTangentJacobian(J, parameters[0][2]);
   return true;
 }

@@ -1,4 +1,5 @@
 #include "groundline/localization/landmark_tracker.h"
+#include "groundline/core/covariance.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -16,10 +17,6 @@ void Fuse(const Eigen::Vector2d& innovation, const Eigen::Matrix2d& R, Eigen::Ve
   *x += K * innovation;
   *P = (Eigen::Matrix2d::Identity() - K) * *P;
   *P = 0.5 * (*P + P->transpose());
-}
-
-double Mahalanobis2(const Eigen::Vector2d& nu, const Eigen::Matrix2d& S) {
-  return nu.dot(S.ldlt().solve(nu));
 }
 
 }  // namespace
@@ -74,9 +71,10 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
       const AtlasLine& track = lines_[t].estimate;
       // nu is in the track's description; so must the seen line's covariance be.
       const Eigen::Vector2d nu = perception::LineDifference(seen.line_map, track.line_map);
-      const double d2 = Mahalanobis2(nu, perception::CovarianceInDescriptionOf(
-                                             seen.line_map, track.line_map, seen.covariance) +
-                                             track.covariance);
+      const double d2 = core::SquaredMahalanobis<2>(
+          nu,
+          perception::CovarianceInDescriptionOf(seen.line_map, track.line_map, seen.covariance) +
+              track.covariance);
       if (d2 <= best_d2 && lines_[t].last_keyframe < keyframe_index) {
         best_d2 = d2;
         best = static_cast<int>(t);
@@ -106,8 +104,8 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
     double best_d2 = options_.gate_chi2;
     for (size_t t = 0; t < junctions_.size(); ++t) {
       const AtlasJunction& track = junctions_[t].estimate;
-      const double d2 =
-          Mahalanobis2(seen.point_m - track.point_m, seen.covariance + track.covariance);
+      const double d2 = core::SquaredMahalanobis<2>(seen.point_m - track.point_m,
+                                                    seen.covariance + track.covariance);
       if (d2 <= best_d2 && junctions_[t].last_keyframe < keyframe_index) {
         best_d2 = d2;
         best = static_cast<int>(t);

@@ -1,4 +1,5 @@
 #include "groundline/localization/relative_pose_factor.h"
+#include "groundline/core/se2_manifold.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -10,8 +11,6 @@ namespace groundline::localization {
 namespace {
 
 using RowMajorMatrix3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-
-core::SE2 PoseFromAmbient(const double* x) { return core::SE2(x[0], x[1], x[2]); }
 
 }  // namespace
 
@@ -89,8 +88,8 @@ core::Vector3 RelativePoseFactor::Residual(const core::SE2& T_w_a, const core::S
 
 bool RelativePoseFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {
-  const core::SE2 T_w_a = PoseFromAmbient(parameters[0]);
-  const core::SE2 T_w_b = PoseFromAmbient(parameters[1]);
+  const core::SE2 T_w_a = core::PoseFromAmbient(parameters[0]);
+  const core::SE2 T_w_b = core::PoseFromAmbient(parameters[1]);
   const bool want_a = jacobians != nullptr && jacobians[0] != nullptr;
   const bool want_b = jacobians != nullptr && jacobians[1] != nullptr;
   core::Matrix3 J_r_a;

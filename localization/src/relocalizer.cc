@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "groundline/core/covariance.h"
+#include "groundline/core/segment_distance.h"
 #include "groundline/localization/floor_association.h"
 #include "groundline/perception/hesse_line.h"
 
@@ -18,22 +20,6 @@ constexpr double kNone = -std::numeric_limits<double>::infinity();
 // sees < 3 m ahead), so a cell lists what lies within kReachM of it.
 constexpr double kCellM = 2.0;
 constexpr double kReachM = 6.0;
-
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d d = b - a;
-  const double t =
-      d.squaredNorm() > 0.0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-  return (p - (a + t * d)).norm();
-}
-
-double Mahalanobis2(const Eigen::Vector2d& r, const Eigen::Matrix2d& S) {
-  const Eigen::LDLT<Eigen::Matrix2d> ldlt(S);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
-    return std::numeric_limits<double>::infinity();
-  }
-  return r.dot(ldlt.solve(r));
-}
 
 // The observed extent [t_lo, t_hi] of points a, b along segment (s0, s1),
 // measured from s0; false when the segment is degenerate.
@@ -153,7 +139,7 @@ void Relocalizer::BuildGrid() {
       const std::size_t cell = static_cast<std::size_t>(row) * grid_cols_ + col;
       for (std::size_t l = 0; l < atlas_.lines.size(); ++l) {
         const AtlasLine& line = atlas_.lines[l];
-        if (DistanceToSegment(centre, line.endpoint_a_m, line.endpoint_b_m) < reach) {
+        if (core::DistanceToSegment(centre, line.endpoint_a_m, line.endpoint_b_m) < reach) {
           cell_lines_[cell].push_back(l);
         }
       }
@@ -335,7 +321,7 @@ void Relocalizer::SeedAlongLines(double stamp_s, const FloorObservations& observ
   for (const AtlasLine& line : atlas_.lines) {
     if (!KindsCompatible(longest->kind, line.kind)) continue;
     const Eigen::Vector2d a = line.endpoint_a_m, b = line.endpoint_b_m;
-    if (DistanceToSegment(*options_.near_m, a, b) > reach_m) continue;
+    if (core::DistanceToSegment(*options_.near_m, a, b) > reach_m) continue;
     const double length_m = (b - a).norm();
     if (length_m < 1e-9) continue;
     const Eigen::Vector2d u = (b - a) / length_m;
@@ -415,7 +401,7 @@ double Relocalizer::LineLogLikelihood(const Hypothesis& h, const LineObservation
     Eigen::Matrix2d R =
         o.covariance + J_r * J_line * line.covariance * J_line.transpose() * J_r.transpose();
     R(0, 0) += options_.line_rho_floor_m * options_.line_rho_floor_m;
-    const double d2 = Mahalanobis2(r, R + H * h.pose.covariance * H.transpose());
+    const double d2 = core::SquaredMahalanobis<2>(r, R + H * h.pose.covariance * H.transpose());
     if (d2 < best) {
       best = d2;
       best_r = r;
@@ -443,7 +429,7 @@ double Relocalizer::JunctionLogLikelihood(const Hypothesis& h, const JunctionObs
     const Eigen::Vector2d r = p_map - junction.point_m;
     if (r.squaredNorm() > 1.0) continue;  // far beyond any gate
     const Eigen::Matrix2d R = R_seen + junction.covariance;
-    const double d2 = Mahalanobis2(r, R + H * h.pose.covariance * H.transpose());
+    const double d2 = core::SquaredMahalanobis<2>(r, R + H * h.pose.covariance * H.transpose());
     if (d2 < best) {
       best = d2;
       best_r = r;

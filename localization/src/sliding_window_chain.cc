@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 
+#include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/relative_pose_factor.h"
 #include "groundline/localization/sliding_window_smoother.h"
@@ -24,9 +25,6 @@ constexpr double kRelinearizeFraction = 1e-3;
 // A step whose largest component is below this many step tolerances and
 // that raises the cost ends the solve on the poses before it.
 constexpr double kNoiseFloorSteps = 100.0;
-
-core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
-std::array<double, 3> ArrayOf(const core::SE2& T) { return {T.x(), T.y(), T.yaw()}; }
 
 // Kept terms are evaluated within the relinearization tolerance of the
 // poses, so costs are compared with a margin.
@@ -84,7 +82,7 @@ void SlidingWindowSmoother::LinearizePrior() {
   const MarginalPrior& prior = prior_->prior();
   const core::SE2 x0(prior.x0[0][0], prior.x0[0][1], prior.x0[0][2]);
   core::Matrix3 J_delta;
-  const core::Vector3 delta = PoseOf(window_[0].pose).Minus(x0, &J_delta);
+  const core::Vector3 delta = core::PoseFromAmbient(window_[0].pose).Minus(x0, &J_delta);
   const core::Vector3 r = prior.sqrt_prior.r + prior.sqrt_prior.J * delta;
   const core::Matrix3 J = prior.sqrt_prior.J * J_delta;
   ChainTerms terms;
@@ -100,7 +98,7 @@ void SlidingWindowSmoother::LinearizeKeyframe(int index) {
   ChainTerms terms;
   terms.valid = true;
   terms.at = keyframe.pose;
-  const core::SE2 T = PoseOf(keyframe.pose);
+  const core::SE2 T = core::PoseFromAmbient(keyframe.pose);
   Eigen::Matrix<double, 2, 3> J;
   for (const auto& factor : keyframe.lines) {
     const std::array<double, 2>& block = line_blocks_[factor.landmark];
@@ -116,7 +114,7 @@ void SlidingWindowSmoother::LinearizeKeyframe(int index) {
   }
   if (index > 0) {
     terms.at_previous = window_[index - 1].pose;
-    const core::SE2 T_previous = PoseOf(terms.at_previous);
+    const core::SE2 T_previous = core::PoseFromAmbient(terms.at_previous);
     for (const auto& between : keyframe.between) {
       core::Matrix3 J_a;
       core::Matrix3 J_b;
@@ -219,7 +217,7 @@ core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
       largest *= 0.5;
       for (int i = 0; i < n; ++i) {
         step[i] *= 0.5;
-        window_[i].pose = ArrayOf(PoseOf(previous[i]).Plus(step[i]));
+        window_[i].pose = core::AmbientOf(core::PoseFromAmbient(previous[i]).Plus(step[i]));
       }
       continue;
     }
@@ -234,7 +232,8 @@ core::Status SlidingWindowSmoother::SolveChain(KeyframeHealth* health) {
       previous[i] = window_[i].pose;
       const double size = step[i].cwiseAbs().maxCoeff();
       largest = std::max(largest, size);
-      if (size > 1e-15) window_[i].pose = ArrayOf(PoseOf(window_[i].pose).Plus(step[i]));
+      if (size > 1e-15)
+        window_[i].pose = core::AmbientOf(core::PoseFromAmbient(window_[i].pose).Plus(step[i]));
     }
     previous_cost = cost;
     if (largest < options_.step_tolerance) {

@@ -6,6 +6,8 @@
 #include <cassert>
 #include <chrono>
 
+#include "groundline/core/run_timing.h"
+#include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/relative_pose_factor.h"
 
@@ -14,11 +16,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
+using core::SecondsSince;
 
 core::Matrix3 OdometryCovarianceFloor(const SmootherOptions& options) {
   const double m2 = options.odometry_sigma_floor_m * options.odometry_sigma_floor_m;
@@ -283,7 +281,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   if (!status.ok()) return status;
   const auto information = NewestInformation();
   if (!information.ok()) return information.status();
-  latest_ = {stamp_s, PoseOf(window_.back().pose),
+  latest_ = {stamp_s, core::PoseFromAmbient(window_.back().pose),
              information->completeOrthogonalDecomposition().pseudoInverse()};
   health.window_size = static_cast<int>(window_.size());
   health.update_time_s = SecondsSince(start);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "groundline/core/run_timing.h"
 #include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/pose_chain_solver.h"
@@ -20,11 +21,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
+using core::SecondsSince;
 
 const core::SE2Manifold kSe2Manifold;
 
@@ -32,7 +29,7 @@ const core::SE2Manifold kSe2Manifold;
 
 std::vector<core::SE2> SlidingWindowSmoother::WindowPoses() const {
   std::vector<core::SE2> poses;
-  for (const Keyframe& keyframe : window_) poses.push_back(PoseOf(keyframe.pose));
+  for (const Keyframe& keyframe : window_) poses.push_back(core::PoseFromAmbient(keyframe.pose));
   return poses;
 }
 

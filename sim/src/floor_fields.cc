@@ -131,7 +131,7 @@ float Fbm(double x, double y, int octaves, std::uint32_t seed) {
 namespace {
 constexpr std::uint32_t kTexture = 11, kScuffMask = 14, kOil = 15, kWear = 16, kLight = 17,
                         kShadow = 18, kGlare = 19;
-float SmoothStep(float lo, float hi, float x) {
+float SmoothStepFloat(float lo, float hi, float x) {
   const float t = std::clamp((x - lo) / (hi - lo), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
 }
@@ -159,7 +159,8 @@ CoarseFields FloorFields::Coarse(const Vector2& p) const {
   CoarseFields c;
   if (options.texture) c.texture = Fbm(p.x() / 0.8, p.y() / 0.8, 3, seed + kTexture);
   if (options.scuffs) {
-    c.scuff_mask = SmoothStep(0.55f, 0.7f, ValueNoise(p.x() / 4.0, p.y() / 4.0, seed + kScuffMask));
+    c.scuff_mask =
+        SmoothStepFloat(0.55f, 0.7f, ValueNoise(p.x() / 4.0, p.y() / 4.0, seed + kScuffMask));
   }
   if (options.oil) c.oil = Fbm(p.x() / 0.6, p.y() / 0.6, 3, seed + kOil);
   if (options.illumination_gradient)
@@ -182,7 +183,7 @@ float FloorFields::Concrete(const Vector2& p, const CoarseFields& c) const {
         1.0f - static_cast<float>(options.scuff_darkness) * c.scuff_mask * scuff_field.Darkening(p);
   }
   if (options.oil) {
-    r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStep(0.77f, 0.79f, c.oil);
+    r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStepFloat(0.77f, 0.79f, c.oil);
   }
   return r;
 }
@@ -201,7 +202,8 @@ float FloorFields::Light(const CoarseFields& c) const {
   }
   if (options.shadows) {
     // Hard edge: a few mm of penumbra at the field's ~0.3 /m gradient.
-    const float in = SmoothStep(shadow_threshold - 0.0005f, shadow_threshold + 0.0005f, c.shadow);
+    const float in =
+        SmoothStepFloat(shadow_threshold - 0.0005f, shadow_threshold + 0.0005f, c.shadow);
     l *= 1.0f - (1.0f - static_cast<float>(options.shadow_factor)) * in;
   }
   return l;

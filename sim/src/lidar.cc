@@ -13,7 +13,7 @@ namespace groundline::sim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr const char* kOwner = "LidarOptions";
+constexpr const char* kLidarOwner = "LidarOptions";
 
 std::uint64_t SplitMix64(std::uint64_t x) {
   x += 0x9E3779B97F4A7C15ULL;
@@ -35,17 +35,17 @@ struct FrozenObstacle {
 
 core::Status LidarOptions::Validate() const {
   return internal::FirstError({
-      internal::CheckRange(kOwner, "height_m", height_m, 0.0, 10.0),
-      internal::CheckRange(kOwner, "field_of_view_rad", field_of_view_rad, 1e-3,
+      internal::CheckRange(kLidarOwner, "height_m", height_m, 0.0, 10.0),
+      internal::CheckRange(kLidarOwner, "field_of_view_rad", field_of_view_rad, 1e-3,
                            2.0 * std::numbers::pi),
-      internal::CheckRange(kOwner, "angular_resolution_rad", angular_resolution_rad, 1e-5,
+      internal::CheckRange(kLidarOwner, "angular_resolution_rad", angular_resolution_rad, 1e-5,
                            field_of_view_rad),
-      internal::CheckRange(kOwner, "range_min_m", range_min_m, 0.0, 10.0),
-      internal::CheckRange(kOwner, "range_max_m", range_max_m, range_min_m + 0.01, 1000.0),
-      internal::CheckRange(kOwner, "range_noise_sigma_m", range_noise_sigma_m, 0.0, 1.0),
-      internal::CheckRange(kOwner, "dropout_probability", dropout_probability, 0.0, 1.0),
-      internal::CheckRange(kOwner, "rate_hz", rate_hz, 0.1, 1000.0),
-      internal::CheckRange(kOwner, "grid_cell_size_m", grid_cell_size_m, 0.05, 50.0),
+      internal::CheckRange(kLidarOwner, "range_min_m", range_min_m, 0.0, 10.0),
+      internal::CheckRange(kLidarOwner, "range_max_m", range_max_m, range_min_m + 0.01, 1000.0),
+      internal::CheckRange(kLidarOwner, "range_noise_sigma_m", range_noise_sigma_m, 0.0, 1.0),
+      internal::CheckRange(kLidarOwner, "dropout_probability", dropout_probability, 0.0, 1.0),
+      internal::CheckRange(kLidarOwner, "rate_hz", rate_hz, 0.1, 1000.0),
+      internal::CheckRange(kLidarOwner, "grid_cell_size_m", grid_cell_size_m, 0.05, 50.0),
   });
 }
 

@@ -8,7 +8,7 @@
 namespace groundline::sim {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNoHit = std::numeric_limits<double>::infinity();
 
 double Cross(const Vector2& a, const Vector2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
@@ -18,11 +18,11 @@ double IntersectRaySegment(const Vector2& origin_m, const Vector2& direction, co
                            const Vector2& b_m, double* cos_incidence) {
   const Vector2 e = b_m - a_m;
   const double denom = Cross(direction, e);
-  if (denom == 0.0) return kInf;  // parallel: grazing rays do not return
+  if (denom == 0.0) return kNoHit;  // parallel: grazing rays do not return
   const Vector2 w = a_m - origin_m;
   const double t = Cross(w, e) / denom;
   const double u = Cross(w, direction) / denom;
-  if (t < 0.0 || u < 0.0 || u > 1.0) return kInf;
+  if (t < 0.0 || u < 0.0 || u > 1.0) return kNoHit;
   if (cos_incidence != nullptr) *cos_incidence = std::abs(denom) / e.norm();
   return t;
 }
@@ -32,23 +32,16 @@ double IntersectRayCircle(const Vector2& origin_m, const Vector2& direction,
   const Vector2 oc = origin_m - center_m;
   const double b = oc.dot(direction);
   const double c = oc.squaredNorm() - radius_m * radius_m;
-  if (c <= 0.0) return kInf;
+  if (c <= 0.0) return kNoHit;
   const double disc = b * b - c;
-  if (disc < 0.0) return kInf;
+  if (disc < 0.0) return kNoHit;
   const double t = -b - std::sqrt(disc);
-  if (t < 0.0) return kInf;
+  if (t < 0.0) return kNoHit;
   if (cos_incidence != nullptr) {
     const Vector2 normal = (oc + t * direction) / radius_m;
     *cos_incidence = std::abs(normal.dot(direction));
   }
   return t;
-}
-
-double DistanceToSegment(const Vector2& point_m, const Vector2& a_m, const Vector2& b_m) {
-  const Vector2 e = b_m - a_m;
-  const double len2 = e.squaredNorm();
-  const double u = len2 > 0.0 ? std::clamp((point_m - a_m).dot(e) / len2, 0.0, 1.0) : 0.0;
-  return (point_m - (a_m + u * e)).norm();
 }
 
 core::Status ObstacleIndex::Options::Validate() const {
@@ -62,8 +55,8 @@ core::Status ObstacleIndex::Options::Validate() const {
 ObstacleIndex::ObstacleIndex(const World& world, const Options& options) : options_(options) {
   assert(options.Validate().ok());
   const bool all = std::isnan(options.plane_height_m);
-  Vector2 lo(kInf, kInf);
-  Vector2 hi(-kInf, -kInf);
+  Vector2 lo(kNoHit, kNoHit);
+  Vector2 hi(-kNoHit, -kNoHit);
   for (std::size_t i = 0; i < world.obstacles.size(); ++i) {
     const Obstacle& obstacle = world.obstacles[i];
     if (!all && !obstacle.IntersectsPlane(options.plane_height_m)) continue;
@@ -179,14 +172,14 @@ RayHit ObstacleIndex::CastRay(const Vector2& origin_m, const Vector2& direction,
   const int step_x = direction.x() > 0.0 ? 1 : -1;
   const int step_y = direction.y() > 0.0 ? 1 : -1;
   auto next_boundary_t = [&](int c, int step, int axis) {
-    if (direction[axis] == 0.0) return kInf;
+    if (direction[axis] == 0.0) return kNoHit;
     const double boundary = origin_m_[axis] + cell * (step > 0 ? c + 1 : c);
     return (boundary - origin_m[axis]) / direction[axis];
   };
   double t_max_x = next_boundary_t(cx, step_x, 0);
   double t_max_y = next_boundary_t(cy, step_y, 1);
-  const double t_delta_x = direction.x() != 0.0 ? cell / std::abs(direction.x()) : kInf;
-  const double t_delta_y = direction.y() != 0.0 ? cell / std::abs(direction.y()) : kInf;
+  const double t_delta_x = direction.x() != 0.0 ? cell / std::abs(direction.x()) : kNoHit;
+  const double t_delta_y = direction.y() != 0.0 ? cell / std::abs(direction.y()) : kNoHit;
 
   while (true) {
     TestCell(CellIndex(cx, cy), origin_m, direction, &best);

@@ -16,7 +16,7 @@ namespace {
 using internal::CheckRange;
 using internal::PathSample;
 
-constexpr const char* kOwner = "RouteOptions";
+constexpr const char* kRouteOwner = "RouteOptions";
 constexpr double kClearanceCheckStepM = 0.05;
 
 // Speed profile: the speed limits, reduced so that speeding up and slowing
@@ -53,23 +53,24 @@ std::vector<double> SpeedProfile(const std::vector<PathSample>& path, double max
 
 core::Status RouteOptions::Validate() const {
   return internal::FirstError({
-      CheckRange(kOwner, "length_m", length_m, 1.0, 1e6),
-      CheckRange(kOwner, "length_tolerance_fraction", length_tolerance_fraction, 1e-4, 1.0),
-      CheckRange(kOwner, "max_walk_attempts", max_walk_attempts, 1, 100000),
-      CheckRange(kOwner, "min_speed_mps", min_speed_mps, 0.05, 10.0),
-      CheckRange(kOwner, "max_speed_mps", max_speed_mps, min_speed_mps, 10.0),
-      CheckRange(kOwner, "max_lateral_accel_mps2", max_lateral_accel_mps2, 0.01, 10.0),
-      CheckRange(kOwner, "max_accel_mps2", max_accel_mps2, 0.01, 10.0),
-      CheckRange(kOwner, "min_turn_radius_m", min_turn_radius_m, 0.1, 100.0),
-      CheckRange(kOwner, "turn_radius_m", turn_radius_m, min_turn_radius_m, 100.0),
-      CheckRange(kOwner, "transition_length_m", transition_length_m, 0.0, 10.0 * turn_radius_m),
-      CheckRange(kOwner, "max_turn_angle_rad", max_turn_angle_rad, 0.1, 2.7),
-      CheckRange(kOwner, "vehicle_half_width_m", vehicle_half_width_m, 0.0, 5.0),
-      CheckRange(kOwner, "min_clearance_m", min_clearance_m, 0.0, 5.0),
-      CheckRange(kOwner, "sample_rate_hz", sample_rate_hz, 0.1, 10000.0),
-      CheckRange(kOwner, "tracking_deviation_m", tracking_deviation_m, 0.0, 0.1),
-      CheckRange(kOwner, "tracking_wavelength_min_m", tracking_wavelength_min_m, 1.0, 1000.0),
-      CheckRange(kOwner, "tracking_wavelength_max_m", tracking_wavelength_max_m,
+      CheckRange(kRouteOwner, "length_m", length_m, 1.0, 1e6),
+      CheckRange(kRouteOwner, "length_tolerance_fraction", length_tolerance_fraction, 1e-4, 1.0),
+      CheckRange(kRouteOwner, "max_walk_attempts", max_walk_attempts, 1, 100000),
+      CheckRange(kRouteOwner, "min_speed_mps", min_speed_mps, 0.05, 10.0),
+      CheckRange(kRouteOwner, "max_speed_mps", max_speed_mps, min_speed_mps, 10.0),
+      CheckRange(kRouteOwner, "max_lateral_accel_mps2", max_lateral_accel_mps2, 0.01, 10.0),
+      CheckRange(kRouteOwner, "max_accel_mps2", max_accel_mps2, 0.01, 10.0),
+      CheckRange(kRouteOwner, "min_turn_radius_m", min_turn_radius_m, 0.1, 100.0),
+      CheckRange(kRouteOwner, "turn_radius_m", turn_radius_m, min_turn_radius_m, 100.0),
+      CheckRange(kRouteOwner, "transition_length_m", transition_length_m, 0.0,
+                 10.0 * turn_radius_m),
+      CheckRange(kRouteOwner, "max_turn_angle_rad", max_turn_angle_rad, 0.1, 2.7),
+      CheckRange(kRouteOwner, "vehicle_half_width_m", vehicle_half_width_m, 0.0, 5.0),
+      CheckRange(kRouteOwner, "min_clearance_m", min_clearance_m, 0.0, 5.0),
+      CheckRange(kRouteOwner, "sample_rate_hz", sample_rate_hz, 0.1, 10000.0),
+      CheckRange(kRouteOwner, "tracking_deviation_m", tracking_deviation_m, 0.0, 0.1),
+      CheckRange(kRouteOwner, "tracking_wavelength_min_m", tracking_wavelength_min_m, 1.0, 1000.0),
+      CheckRange(kRouteOwner, "tracking_wavelength_max_m", tracking_wavelength_max_m,
                  tracking_wavelength_min_m, 10000.0),
   });
 }

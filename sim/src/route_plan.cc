@@ -15,7 +15,7 @@
 namespace groundline::sim::internal {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kUnreached = std::numeric_limits<double>::infinity();
 
 struct Directed {
   int from = 0;
@@ -65,7 +65,7 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
 
   const double target_m = options.length_m;
   std::vector<int> best_nodes;
-  double best_error_m = kInf;
+  double best_error_m = kUnreached;
   double best_length_m = 0.0;
   std::uniform_int_distribution<std::size_t> pick_first(0, edges.size() - 1);
   for (int attempt = 0; attempt < options.max_walk_attempts; ++attempt) {
@@ -74,7 +74,7 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
 
     // cost[d]: smallest added length from the end of d back into `first`;
     // next[d] is the edge to take (-1: turn straight into `first`).
-    std::vector<double> cost(edges.size(), kInf);
+    std::vector<double> cost(edges.size(), kUnreached);
     std::vector<int> next(edges.size(), -2);
     using Item = std::pair<double, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
@@ -105,11 +105,11 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
     ++visits[static_cast<std::size_t>(edges[static_cast<std::size_t>(first)].undirected)];
     double length_m = edges[static_cast<std::size_t>(first)].length_m;
     std::size_t best_prefix = 0;
-    double prefix_error_m = kInf;
+    double prefix_error_m = kUnreached;
     double prefix_length_m = 0.0;
     while (true) {
       const std::size_t cur = static_cast<std::size_t>(walk.back());
-      if (cost[cur] < kInf && std::abs(length_m + cost[cur] - target_m) < prefix_error_m) {
+      if (cost[cur] < kUnreached && std::abs(length_m + cost[cur] - target_m) < prefix_error_m) {
         prefix_error_m = std::abs(length_m + cost[cur] - target_m);
         prefix_length_m = length_m + cost[cur];
         best_prefix = walk.size();
@@ -118,7 +118,7 @@ core::Result<std::vector<int>> PlanLoop(const RoadGraph& roads, const RouteOptio
       std::vector<double> weights;
       std::vector<const Transition*> options_here;
       for (const Transition& t : succ[cur]) {
-        if (cost[static_cast<std::size_t>(t.next)] == kInf) continue;
+        if (cost[static_cast<std::size_t>(t.next)] == kUnreached) continue;
         const Directed& e = edges[static_cast<std::size_t>(t.next)];
         const double used = visits[static_cast<std::size_t>(e.undirected)];
         weights.push_back(e.preference / ((1.0 + used) * (1.0 + used)));

@@ -12,7 +12,7 @@ using internal::CheckRange;
 using internal::FirstError;
 using internal::kTapeWidthM;
 
-constexpr const char* kOwner = "ZoneAOptions";
+constexpr const char* kZoneAOwner = "ZoneAOptions";
 
 std::vector<double> LaneCenters(int count, double extent_m, double margin_m) {
   std::vector<double> centers;
@@ -42,22 +42,22 @@ std::vector<double> RowStarts(double lo, double hi, double size_m, double gap_m,
 
 core::Status ZoneAOptions::Validate() const {
   core::Status status = FirstError({
-      CheckRange(kOwner, "width_m", width_m, 20.0, 1000.0),
-      CheckRange(kOwner, "depth_m", depth_m, 20.0, 1000.0),
-      CheckRange(kOwner, "num_lanes_x", num_lanes_x, 2, 50),
-      CheckRange(kOwner, "num_lanes_y", num_lanes_y, 2, 50),
-      CheckRange(kOwner, "lane_width_m", lane_width_m, 2.5, 10.0),
-      CheckRange(kOwner, "wall_to_lane_center_m", wall_to_lane_center_m, 0.5 * lane_width_m + 1.0,
-                 50.0),
-      CheckRange(kOwner, "staging_box_width_m", staging_box_width_m, 0.5, 10.0),
-      CheckRange(kOwner, "staging_box_depth_m", staging_box_depth_m, 0.5, 10.0),
-      CheckRange(kOwner, "staging_box_gap_m", staging_box_gap_m, 0.0, 10.0),
-      CheckRange(kOwner, "access_gap_m", access_gap_m, 0.0, 20.0),
-      CheckRange(kOwner, "box_to_lane_m", box_to_lane_m, 1.0, 20.0),
-      CheckRange(kOwner, "pallet_occupancy", pallet_occupancy, 0.0, 1.0),
-      CheckRange(kOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
-      CheckRange(kOwner, "num_forklifts", num_forklifts, 0, 100),
-      CheckRange(kOwner, "num_pedestrians", num_pedestrians, 0, 100),
+      CheckRange(kZoneAOwner, "width_m", width_m, 20.0, 1000.0),
+      CheckRange(kZoneAOwner, "depth_m", depth_m, 20.0, 1000.0),
+      CheckRange(kZoneAOwner, "num_lanes_x", num_lanes_x, 2, 50),
+      CheckRange(kZoneAOwner, "num_lanes_y", num_lanes_y, 2, 50),
+      CheckRange(kZoneAOwner, "lane_width_m", lane_width_m, 2.5, 10.0),
+      CheckRange(kZoneAOwner, "wall_to_lane_center_m", wall_to_lane_center_m,
+                 0.5 * lane_width_m + 1.0, 50.0),
+      CheckRange(kZoneAOwner, "staging_box_width_m", staging_box_width_m, 0.5, 10.0),
+      CheckRange(kZoneAOwner, "staging_box_depth_m", staging_box_depth_m, 0.5, 10.0),
+      CheckRange(kZoneAOwner, "staging_box_gap_m", staging_box_gap_m, 0.0, 10.0),
+      CheckRange(kZoneAOwner, "access_gap_m", access_gap_m, 0.0, 20.0),
+      CheckRange(kZoneAOwner, "box_to_lane_m", box_to_lane_m, 1.0, 20.0),
+      CheckRange(kZoneAOwner, "pallet_occupancy", pallet_occupancy, 0.0, 1.0),
+      CheckRange(kZoneAOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
+      CheckRange(kZoneAOwner, "num_forklifts", num_forklifts, 0, 100),
+      CheckRange(kZoneAOwner, "num_pedestrians", num_pedestrians, 0, 100),
   });
   if (!status.ok()) return status;
   const double block_x = (width_m - 2.0 * wall_to_lane_center_m) / (num_lanes_x - 1) -

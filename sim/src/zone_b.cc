@@ -14,7 +14,7 @@ using internal::CheckRange;
 using internal::FirstError;
 using internal::kTapeWidthM;
 
-constexpr const char* kOwner = "ZoneBOptions";
+constexpr const char* kZoneBOwner = "ZoneBOptions";
 
 // One rack row along y: uprights at its front (aisle side) and back faces, the
 // beam stack above first_beam_height_m, ground-level pallets. front_x_m is the
@@ -69,29 +69,30 @@ void AddRackRow(const ZoneBOptions& o, double front_x_m, double toward_aisle,
 
 core::Status ZoneBOptions::Validate() const {
   core::Status status = FirstError({
-      CheckRange(kOwner, "num_aisles", num_aisles, 1, 200),
-      CheckRange(kOwner, "aisle_length_m", aisle_length_m, 5.0, 500.0),
-      CheckRange(kOwner, "aisle_clear_width_m", aisle_clear_width_m, 1.5, 10.0),
-      CheckRange(kOwner, "upright_width_m", upright_width_m, 0.02, 0.5),
-      CheckRange(kOwner, "upright_pitch_m", upright_pitch_m, upright_width_m + 0.5, 10.0),
-      CheckRange(kOwner, "upright_depth_m", upright_depth_m, 0.02, 0.5),
-      CheckRange(kOwner, "rack_depth_m", rack_depth_m, 2.0 * upright_depth_m + 0.1, 3.0),
-      CheckRange(kOwner, "flue_gap_m", flue_gap_m, 0.0, 2.0),
-      CheckRange(kOwner, "wall_gap_m", wall_gap_m, 0.0, 2.0),
-      CheckRange(kOwner, "cross_aisle_width_m", cross_aisle_width_m, 2.5, 20.0),
-      CheckRange(kOwner, "rack_height_m", rack_height_m, 2.0, 40.0),
-      CheckRange(kOwner, "first_beam_height_m", first_beam_height_m, 0.05, rack_height_m),
-      CheckRange(kOwner, "pallets_per_bay", pallets_per_bay, 0, 10),
-      CheckRange(kOwner, "pallet_width_m", pallet_width_m, 0.2, 3.0),
-      CheckRange(kOwner, "pallet_depth_m", pallet_depth_m, 0.2, rack_depth_m),
-      CheckRange(kOwner, "pallet_height_m", pallet_height_m, 0.05, first_beam_height_m),
-      CheckRange(kOwner, "pallet_setback_m", pallet_setback_m, 0.0, rack_depth_m - pallet_depth_m),
-      CheckRange(kOwner, "pallet_fill", pallet_fill, 0.0, 1.0),
-      CheckRange(kOwner, "tape_offset_m", tape_offset_m, 0.0, 0.25 * aisle_clear_width_m),
-      CheckRange(kOwner, "stop_bar_width_m", stop_bar_width_m, 0.02, 1.0),
-      CheckRange(kOwner, "stop_bar_inset_m", stop_bar_inset_m, 0.0, 0.5 * aisle_length_m),
-      CheckRange(kOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
-      CheckRange(kOwner, "num_pedestrians", num_pedestrians, 0, 100),
+      CheckRange(kZoneBOwner, "num_aisles", num_aisles, 1, 200),
+      CheckRange(kZoneBOwner, "aisle_length_m", aisle_length_m, 5.0, 500.0),
+      CheckRange(kZoneBOwner, "aisle_clear_width_m", aisle_clear_width_m, 1.5, 10.0),
+      CheckRange(kZoneBOwner, "upright_width_m", upright_width_m, 0.02, 0.5),
+      CheckRange(kZoneBOwner, "upright_pitch_m", upright_pitch_m, upright_width_m + 0.5, 10.0),
+      CheckRange(kZoneBOwner, "upright_depth_m", upright_depth_m, 0.02, 0.5),
+      CheckRange(kZoneBOwner, "rack_depth_m", rack_depth_m, 2.0 * upright_depth_m + 0.1, 3.0),
+      CheckRange(kZoneBOwner, "flue_gap_m", flue_gap_m, 0.0, 2.0),
+      CheckRange(kZoneBOwner, "wall_gap_m", wall_gap_m, 0.0, 2.0),
+      CheckRange(kZoneBOwner, "cross_aisle_width_m", cross_aisle_width_m, 2.5, 20.0),
+      CheckRange(kZoneBOwner, "rack_height_m", rack_height_m, 2.0, 40.0),
+      CheckRange(kZoneBOwner, "first_beam_height_m", first_beam_height_m, 0.05, rack_height_m),
+      CheckRange(kZoneBOwner, "pallets_per_bay", pallets_per_bay, 0, 10),
+      CheckRange(kZoneBOwner, "pallet_width_m", pallet_width_m, 0.2, 3.0),
+      CheckRange(kZoneBOwner, "pallet_depth_m", pallet_depth_m, 0.2, rack_depth_m),
+      CheckRange(kZoneBOwner, "pallet_height_m", pallet_height_m, 0.05, first_beam_height_m),
+      CheckRange(kZoneBOwner, "pallet_setback_m", pallet_setback_m, 0.0,
+                 rack_depth_m - pallet_depth_m),
+      CheckRange(kZoneBOwner, "pallet_fill", pallet_fill, 0.0, 1.0),
+      CheckRange(kZoneBOwner, "tape_offset_m", tape_offset_m, 0.0, 0.25 * aisle_clear_width_m),
+      CheckRange(kZoneBOwner, "stop_bar_width_m", stop_bar_width_m, 0.02, 1.0),
+      CheckRange(kZoneBOwner, "stop_bar_inset_m", stop_bar_inset_m, 0.0, 0.5 * aisle_length_m),
+      CheckRange(kZoneBOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
+      CheckRange(kZoneBOwner, "num_pedestrians", num_pedestrians, 0, 100),
   });
   if (!status.ok()) return status;
   if (pallets_per_bay * pallet_width_m > upright_pitch_m - upright_width_m) {

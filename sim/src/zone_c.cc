@@ -12,7 +12,7 @@ using internal::CheckRange;
 using internal::FirstError;
 using internal::kTapeWidthM;
 
-constexpr const char* kOwner = "ZoneCOptions";
+constexpr const char* kZoneCOwner = "ZoneCOptions";
 constexpr double kTrailerLengthM = 13.6;
 constexpr double kTrailerWidthM = 2.5;
 constexpr double kRowGapM = 1.5;  // lane edge to staging lane
@@ -51,26 +51,27 @@ void AddInterruptedLine(internal::ZoneBuilder* b, double y, double x0, double x1
 
 core::Status ZoneCOptions::Validate() const {
   core::Status status = FirstError({
-      CheckRange(kOwner, "num_doors", num_doors, 1, 200),
-      CheckRange(kOwner, "doors_per_group", doors_per_group, 1, num_doors),
-      CheckRange(kOwner, "door_width_m", door_width_m, 2.0, 6.0),
-      CheckRange(kOwner, "door_pitch_m", door_pitch_m, door_width_m + 0.5, 20.0),
-      CheckRange(kOwner, "lane_width_m", lane_width_m, 2.5, 10.0),
-      CheckRange(kOwner, "group_gap_m", group_gap_m, lane_width_m, 50.0),
-      CheckRange(kOwner, "end_margin_m", end_margin_m, lane_width_m + 1.0, 50.0),
-      CheckRange(kOwner, "staging_lane_width_m", staging_lane_width_m, 1.2, door_pitch_m - 0.3),
-      CheckRange(kOwner, "staging_lane_length_m", staging_lane_length_m, 1.5, 100.0),
-      CheckRange(kOwner, "main_lane_center_y_m", main_lane_center_y_m, 0.5 * lane_width_m + 1.0,
-                 100.0),
-      CheckRange(kOwner, "apron_lane_from_wall_m", apron_lane_from_wall_m, 0.5 * lane_width_m + 1.5,
-                 50.0),
-      CheckRange(kOwner, "door_open_probability", door_open_probability, 0.0, 1.0),
-      CheckRange(kOwner, "trailer_probability", trailer_probability, 0.0, 1.0),
-      CheckRange(kOwner, "pallet_occupancy", pallet_occupancy, 0.0, 1.0),
-      CheckRange(kOwner, "tape_wear_fraction", tape_wear_fraction, 0.0, 1.0),
-      CheckRange(kOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
-      CheckRange(kOwner, "num_forklifts", num_forklifts, 0, 100),
-      CheckRange(kOwner, "num_pedestrians", num_pedestrians, 0, 100),
+      CheckRange(kZoneCOwner, "num_doors", num_doors, 1, 200),
+      CheckRange(kZoneCOwner, "doors_per_group", doors_per_group, 1, num_doors),
+      CheckRange(kZoneCOwner, "door_width_m", door_width_m, 2.0, 6.0),
+      CheckRange(kZoneCOwner, "door_pitch_m", door_pitch_m, door_width_m + 0.5, 20.0),
+      CheckRange(kZoneCOwner, "lane_width_m", lane_width_m, 2.5, 10.0),
+      CheckRange(kZoneCOwner, "group_gap_m", group_gap_m, lane_width_m, 50.0),
+      CheckRange(kZoneCOwner, "end_margin_m", end_margin_m, lane_width_m + 1.0, 50.0),
+      CheckRange(kZoneCOwner, "staging_lane_width_m", staging_lane_width_m, 1.2,
+                 door_pitch_m - 0.3),
+      CheckRange(kZoneCOwner, "staging_lane_length_m", staging_lane_length_m, 1.5, 100.0),
+      CheckRange(kZoneCOwner, "main_lane_center_y_m", main_lane_center_y_m,
+                 0.5 * lane_width_m + 1.0, 100.0),
+      CheckRange(kZoneCOwner, "apron_lane_from_wall_m", apron_lane_from_wall_m,
+                 0.5 * lane_width_m + 1.5, 50.0),
+      CheckRange(kZoneCOwner, "door_open_probability", door_open_probability, 0.0, 1.0),
+      CheckRange(kZoneCOwner, "trailer_probability", trailer_probability, 0.0, 1.0),
+      CheckRange(kZoneCOwner, "pallet_occupancy", pallet_occupancy, 0.0, 1.0),
+      CheckRange(kZoneCOwner, "tape_wear_fraction", tape_wear_fraction, 0.0, 1.0),
+      CheckRange(kZoneCOwner, "joint_spacing_m", joint_spacing_m, 0.0, 100.0),
+      CheckRange(kZoneCOwner, "num_forklifts", num_forklifts, 0, 100),
+      CheckRange(kZoneCOwner, "num_pedestrians", num_pedestrians, 0, 100),
   });
   if (!status.ok()) return status;
   const double needed_m = main_lane_center_y_m + lane_width_m + 2.0 * kRowGapM +

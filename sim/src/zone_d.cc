@@ -11,7 +11,7 @@ namespace {
 using internal::CheckRange;
 using internal::FirstError;
 
-constexpr const char* kOwner = "ZoneDOptions";
+constexpr const char* kZoneDOwner = "ZoneDOptions";
 
 // Yellow boundary line along x at height y from x0 to x1, interrupted by the
 // openings [c - half, c + half] of the cross corridors.
@@ -35,18 +35,18 @@ void AddBoundaryAlongX(internal::ZoneBuilder* b, const ZoneDOptions& o, double y
 
 core::Status ZoneDOptions::Validate() const {
   return FirstError({
-      CheckRange(kOwner, "corridor_width_m", corridor_width_m, 2.5, 20.0),
-      CheckRange(kOwner, "num_cross_corridors", num_cross_corridors, 2, 50),
-      CheckRange(kOwner, "corridor_length_m", corridor_length_m,
+      CheckRange(kZoneDOwner, "corridor_width_m", corridor_width_m, 2.5, 20.0),
+      CheckRange(kZoneDOwner, "num_cross_corridors", num_cross_corridors, 2, 50),
+      CheckRange(kZoneDOwner, "corridor_length_m", corridor_length_m,
                  num_cross_corridors * (corridor_width_m + 5.0), 5000.0),
-      CheckRange(kOwner, "corridor_separation_m", corridor_separation_m, corridor_width_m + 5.0,
-                 1000.0),
-      CheckRange(kOwner, "joint_spacing_m", joint_spacing_m, 0.5, 100.0),
-      CheckRange(kOwner, "boundary_line_offset_m", boundary_line_offset_m, 0.05,
+      CheckRange(kZoneDOwner, "corridor_separation_m", corridor_separation_m,
+                 corridor_width_m + 5.0, 1000.0),
+      CheckRange(kZoneDOwner, "joint_spacing_m", joint_spacing_m, 0.5, 100.0),
+      CheckRange(kZoneDOwner, "boundary_line_offset_m", boundary_line_offset_m, 0.05,
                  0.3 * corridor_width_m),
-      CheckRange(kOwner, "boundary_line_width_m", boundary_line_width_m, 0.02, 0.3),
-      CheckRange(kOwner, "num_forklifts", num_forklifts, 0, 100),
-      CheckRange(kOwner, "num_pedestrians", num_pedestrians, 0, 100),
+      CheckRange(kZoneDOwner, "boundary_line_width_m", boundary_line_width_m, 0.02, 0.3),
+      CheckRange(kZoneDOwner, "num_forklifts", num_forklifts, 0, 100),
+      CheckRange(kZoneDOwner, "num_pedestrians", num_pedestrians, 0, 100),
   });
 }
 

@@ -13,8 +13,6 @@
 namespace groundline::localization::lidar {
 namespace {
 
-core::SE2 PoseOf(const std::array<double, 3>& x) { return core::SE2(x[0], x[1], x[2]); }
-
 std::unique_ptr<std::array<double, 3>> Block(const core::SE2& T) {
   return std::make_unique<std::array<double, 3>>(std::array<double, 3>{T.x(), T.y(), T.yaw()});
 }
@@ -53,10 +51,12 @@ void PoseGraph::AddConstraint(const PoseGraphConstraint& constraint) {
   constraints_.push_back(constraint);
 }
 
-core::SE2 PoseGraph::node(int i) const { return PoseOf(*nodes_.at(static_cast<std::size_t>(i))); }
+core::SE2 PoseGraph::node(int i) const {
+  return core::PoseFromAmbient(*nodes_.at(static_cast<std::size_t>(i)));
+}
 
 core::SE2 PoseGraph::submap(int i) const {
-  return PoseOf(*submaps_.at(static_cast<std::size_t>(i)));
+  return core::PoseFromAmbient(*submaps_.at(static_cast<std::size_t>(i)));
 }
 
 int PoseGraph::num_loops(bool accepted_only) const {

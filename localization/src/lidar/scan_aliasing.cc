@@ -9,7 +9,7 @@
 namespace groundline::localization::lidar {
 namespace {
 
-enum Cell : std::uint8_t { kUnknown = 0, kFree = 1, kOccupied = 2 };
+enum Cell : std::uint8_t { kCellUnknown = 0, kCellFree = 1, kCellOccupied = 2 };
 
 // The scan's local occupancy grid (base frame).
 class ScanGrid {
@@ -29,7 +29,7 @@ class ScanGrid {
     y0_ = std::lround(lo.y() * inv_) - 1;
     nx_ = std::lround(hi.x() * inv_) - x0_ + 2;
     ny_ = std::lround(hi.y() * inv_) - y0_ + 2;
-    cells_.assign(static_cast<std::size_t>(nx_ * ny_), kUnknown);
+    cells_.assign(static_cast<std::size_t>(nx_ * ny_), kCellUnknown);
     for (const ScanPoint& p : scan.points) {
       Ray(scan.sensor_origin_m, p.point_m, options.free_stop_m, 0.5 * options.resolution_m);
     }
@@ -40,7 +40,7 @@ class ScanGrid {
       const long cx = std::lround(p.point_m.x() * inv_);
       const long cy = std::lround(p.point_m.y() * inv_);
       for (long dx = -1; dx <= 1; ++dx) {
-        for (long dy = -1; dy <= 1; ++dy) Mark(cx + dx, cy + dy, kOccupied);
+        for (long dy = -1; dy <= 1; ++dy) Mark(cx + dx, cy + dy, kCellOccupied);
       }
     }
   }
@@ -48,7 +48,7 @@ class ScanGrid {
   Cell At(const core::Vector2& p_m) const {
     const long cx = std::lround(p_m.x() * inv_) - x0_;
     const long cy = std::lround(p_m.y() * inv_) - y0_;
-    if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return kUnknown;
+    if (cx < 0 || cy < 0 || cx >= nx_ || cy >= ny_) return kCellUnknown;
     return static_cast<Cell>(cells_[static_cast<std::size_t>(cy * nx_ + cx)]);
   }
 
@@ -69,7 +69,7 @@ class ScanGrid {
     const core::Vector2 unit = delta.normalized();
     for (double t = 0.0; t < length_m; t += step_m) {
       const core::Vector2 q = origin + t * unit;
-      Mark(std::lround(q.x() * inv_), std::lround(q.y() * inv_), kFree);
+      Mark(std::lround(q.x() * inv_), std::lround(q.y() * inv_), kCellFree);
     }
   }
 
@@ -139,8 +139,8 @@ ScanAliasing DetectScanAliasing(const ScanPoints& scan, const MatchInformation& 
       for (const core::Vector2& q :
            {core::Vector2(p.point_m + shift), core::Vector2(p.point_m - shift)}) {
         const Cell cell = grid.At(q);
-        if (cell == kOccupied) consistent += weight;
-        if (cell == kFree) contradicted += weight;
+        if (cell == kCellOccupied) consistent += weight;
+        if (cell == kCellFree) contradicted += weight;
       }
     }
     const double evidence = consistent + contradicted;

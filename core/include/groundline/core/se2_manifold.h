@@ -23,7 +23,16 @@
 
 #include <ceres/manifold.h>
 
+#include <array>
+
+#include "groundline/core/se2.h"
+
 namespace groundline::core {
+
+// The pose stored in ambient coordinates (x_m, y_m, yaw_rad), and back.
+inline SE2 PoseFromAmbient(const double* x) { return SE2(x[0], x[1], x[2]); }
+inline SE2 PoseFromAmbient(const std::array<double, 3>& x) { return PoseFromAmbient(x.data()); }
+inline std::array<double, 3> AmbientOf(const SE2& T) { return {T.x(), T.y(), T.yaw()}; }
 
 class SE2Manifold final : public ceres::Manifold {
  public:

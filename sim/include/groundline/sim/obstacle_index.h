@@ -16,6 +16,7 @@
 #include <limits>
 #include <vector>
 
+#include "groundline/core/segment_distance.h"
 #include "groundline/core/status.h"
 #include "groundline/sim/world.h"
 
@@ -41,7 +42,7 @@ double IntersectRayCircle(const Vector2& origin_m, const Vector2& direction,
                           const Vector2& center_m, double radius_m,
                           double* cos_incidence = nullptr);
 // Distance from a point to a segment.
-double DistanceToSegment(const Vector2& point_m, const Vector2& a_m, const Vector2& b_m);
+using core::DistanceToSegment;
 
 class ObstacleIndex {
  public:
