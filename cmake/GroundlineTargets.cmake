@@ -36,6 +36,12 @@ function(groundline_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
+  if(GROUNDLINE_SANITIZE)
+    # The sanitizers' target is the libraries (built -O1); the test code itself
+    # compiles in half the time at -O0 (a unity batch of core tests: 32 s
+    # against 60 s of CPU), which keeps the suite inside the CI budget.
+    target_compile_options(${name} PRIVATE -O0)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
                        PROPERTIES ENVIRONMENT "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
 endfunction()
