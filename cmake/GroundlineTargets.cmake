@@ -29,14 +29,16 @@ function(groundline_add_library module)
   groundline_set_warnings(${target})
 endfunction()
 
-# groundline_add_test(<name> SOURCES ... [DEPS ...])
+# groundline_add_test(<name> [HEAVY_TEST_CODE] SOURCES ... [DEPS ...])
 # One GoogleTest executable; each TEST becomes its own ctest entry.
+# HEAVY_TEST_CODE: the tests compute much in their own code (header-only
+# fixtures), which keeps the library's optimization under the sanitizers.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "HEAVY_TEST_CODE" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
-  if(GROUNDLINE_SANITIZE)
+  if(GROUNDLINE_SANITIZE AND NOT ARG_HEAVY_TEST_CODE)
     # The sanitizers' target is the libraries (built -O1); the test code itself
     # compiles in half the time at -O0 (a unity batch of core tests: 32 s
     # against 60 s of CPU), which keeps the suite inside the CI budget.
