@@ -246,6 +246,10 @@ core::Result<TagLayout> ParseTagLayoutYamlUnguarded(const std::string& yaml_text
       if (!image.IsScalar() || image.Scalar().empty() || !images.insert(image.Scalar()).second) {
         return ctx.Sub("image").Error(image, "an image file name not used by another pose");
       }
+      if (image.Scalar().find_first_of("\"\\\n\r") != std::string::npos) {
+        return ctx.Sub("image").Error(
+            image, "an image file name without quotes, backslashes or line breaks");
+      }
       core::Result<core::SE2> pose = Pose(poses[i], ctx);
       if (!pose.ok()) return pose.status();
       layout.vehicle_poses.push_back({image.Scalar(), *pose});

@@ -118,6 +118,9 @@ TEST(TagLayout, MalformedFilesNameFileLineAndField) {
       {Edit("{id: 3,", "{id: 587,"), "field 'tags[0].id': expected a tag36h11 id in 0..586"},
       {Edit("yaw_rad: 0.5}", "yaw: 0.5}"), "unknown key 'yaw' in 'tags[0].pose'"},
       {Edit("image: b.png", "image: a.png"), "layout.yaml:12: field 'vehicle_poses[1].image'"},
+      // The writer quotes image names: one with a quote could not be written back.
+      {Edit("image: b.png", "image: 'b\"1.png'"),
+       "layout.yaml:12: field 'vehicle_poses[1].image': expected an image file name without"},
       {Edit("vehicle_poses:", "vehicle_pose:"), "unknown key 'vehicle_pose'"},
       {Edit("frame: floor", "frame: base_link"),
        "field 'vehicle_poses': expected no vehicle_poses"},
