@@ -68,9 +68,13 @@ void Service::Impl::CameraStage() {
     const KeyframeSelector::Options& due = localizer->options().keyframes;
     // Judged only for a frame near the estimator's time: one far behind it
     // is on a clock that stepped back (the estimator has not got there yet).
+    // A replay as fast as possible extracts every frame: how far the
+    // estimator has got when the frame comes up depends on the machine's
+    // load, and that run's results must not (the localizer still skips the
+    // frames that no keyframe uses).
     const double behind_s = since_stamp_s.load() - job->stamp_s;
     const double ahead_s = std::max(0.0, -behind_s);
-    if (behind_s <= localizer->options().max_frame_lag_s &&
+    if (config.replay_speed > 0.0 && behind_s <= localizer->options().max_frame_lag_s &&
         since_keyframe_m.load() + speed_mps.load() * ahead_s <
             not_due_fraction * due.min_translation_m &&
         since_keyframe_rad.load() + yaw_rate_radps.load() * ahead_s <
@@ -201,11 +205,21 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
   const auto frame_expected = [&](double stamp_s) {
     const double period = frame_period_s.load();
     if (period <= 0.0) return false;
-    const Clock::duration since_frame =
-        Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
-    const bool stalled =
-        since_frame > std::chrono::duration_cast<Clock::duration>(
-                          std::chrono::duration<double>(std::max(0.2, 3.0 * period)));
+    // Stalled: no frame for three periods (at least 0.2 s), in wall time for
+    // a paced or live source; as fast as possible, in the replay's data time
+    // (the replay hands out every event in stamp order, so a frame not handed
+    // out by then is not in the log), which keeps such a run independent of
+    // the machine's load.
+    const double stall_s = std::max(0.2, 3.0 * period);
+    bool stalled = false;
+    if (config.replay_speed == 0.0) {
+      stalled = replay_now_s.load() - frame_watermark_s.load() > stall_s;
+    } else {
+      const Clock::duration since_frame =
+          Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
+      stalled = since_frame > std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(stall_s));
+    }
     // The next frame is due at the reading's time, and not so long ago that
     // the localizer would drop it as late.
     const double due_s = frame_watermark_s.load() + 0.9 * period;
