@@ -314,6 +314,7 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   }
   j["camera_stage"] = {{"processed", m.camera_processed.load()},
                        {"skipped_not_due", m.camera_not_due.load()},
+                       {"without_odometry", m.observations_without_odometry.load()},
                        {"dropped_queue_full", m.camera_dropped.load()},
                        {"unreadable", m.camera_unreadable.load()},
                        {"source_errors", m.camera_source_errors.load()},

@@ -125,6 +125,13 @@ struct Service::Impl {
   std::multiset<double> pending_frames;
   std::atomic<long> camera_dropped{0}, camera_unreadable{0}, camera_processed{0};
   std::atomic<long> camera_not_due{0};
+  // Observations that never met a wheel reading of their time: the oldest
+  // beyond kMaxObservationsWaiting while the wheel readings are silent, and
+  // those still waiting when the inputs end.
+  std::atomic<long> observations_without_odometry{0};
+  // About the span of the 4096-event input queue with a 30 fps camera: a
+  // replay as fast as possible never has more waiting.
+  static constexpr std::size_t kMaxObservationsWaiting = 1024;
   // The estimator's odometry since its last keyframe, for the camera stage:
   // a frame taken while the vehicle is far from the next keyframe is not
   // extracted (it would be skipped), which keeps a 30 fps camera cheap.

@@ -230,6 +230,10 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       const double stamp_s = o->observations.observations.stamp_s;
       taken.push_back(std::move(*o));
       ReleasePending(stamp_s);
+      if (taken.size() > kMaxObservationsWaiting) {
+        taken.pop_front();  // the wheel readings have gone silent: bounded memory
+        ++observations_without_odometry;
+      }
     }
     std::optional<EstimatorEvent> event = events.Pop(std::chrono::milliseconds(2));
     if (event) {
@@ -302,6 +306,7 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       held.pop_front();
     }
   }
+  observations_without_odometry += static_cast<long>(taken.size());
   std::lock_guard<std::mutex> lock(status_mutex);
   cpu_estimator_s = ThreadCpuSeconds() - cpu_start_s;
 }

@@ -90,6 +90,7 @@ async function tick() {
       row('odometry in', rate('wheel_readings')) + row('frames in', rate('frames')) + row('scans in', rate('scans')) +
       row('frames dropped (queue full)', h.camera_stage.dropped_queue_full, h.camera_stage.dropped_queue_full ? 'bad' : '') +
       row('frames unreadable', c.frames_unreadable + h.camera_stage.unreadable) +
+      row('frames without odometry', h.camera_stage.without_odometry, h.camera_stage.without_odometry ? 'bad' : '') +
       row('readings dropped', c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order + c.wheel_dropped_duplicate + c.wheel_dropped_frozen) +
       row('readings late (merged)', c.wheel_late_merged) +
       row('clock jumps', c.clock_jumps, c.clock_jumps ? 'bad' : '') +

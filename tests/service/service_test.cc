@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <fstream>
@@ -298,6 +299,49 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
       EXPECT_LT(error.norm(), 0.10);
     }
   }
+}
+
+TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP()
+      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+#endif
+  const auto dir = ::groundline::testing::ScratchDir("service_no_odometry");
+  std::optional<sim::SimRun> simulated =
+      testing::SimulatedZoneBDrive(15.0, 5, dir / "drive", 2.0);
+  ASSERT_TRUE(simulated.has_value());
+  // The wheel encoders go silent after 4 s; the camera and the LiDAR go on.
+  constexpr double kSilentAfterS = 4.0;
+  core::Dataset& d = simulated->dataset;
+  std::erase_if(d.wheel_encoders,
+                [](const core::WheelEncoderReading& r) { return r.stamp_s > kSilentAfterS; });
+  ASSERT_GT(d.images.size(), 20u);
+  ASSERT_TRUE(core::WriteDataset(dir / "drive", d).ok());
+  const double last_reading_s = d.wheel_encoders.back().stamp_s;
+  const auto frames_after = [&](double t) {
+    return std::count_if(d.images.begin(), d.images.end(),
+                         [&](const core::ImageRecord& i) { return i.stamp_s > t; });
+  };
+  ServiceConfig config;
+  config.replay_dataset = (dir / "drive").string();
+  config.replay_speed = 0.0;
+  config.output_dir = (dir / "out").string();
+  config.http_enabled = false;
+  config.resume = false;
+  core::Result<std::unique_ptr<Service>> service = Service::Create(config);
+  ASSERT_TRUE(service.ok()) << service.message();
+  std::atomic<bool> never{false};
+  core::Result<nlohmann::ordered_json> summary = (*service)->Run(never);
+  ASSERT_TRUE(summary.ok()) << summary.message();
+  // Every frame after the last reading (beyond the localizer's frame lag) is
+  // counted as never met by odometry; the frames before it were used, and
+  // the pose stops where the motion stopped.
+  const long without = (*summary)["camera_stage"]["without_odometry"].get<long>();
+  constexpr double kLagS = 1.0;  // more than the localizer's max_frame_lag_s
+  EXPECT_GE(without, frames_after(last_reading_s + kLagS)) << summary->dump();
+  EXPECT_LE(without, frames_after(last_reading_s - 1e-9));
+  EXPECT_GE((*summary)["counters"]["frames_used"].get<long>(), 4);
+  EXPECT_LE((*summary)["stamp_s"].get<double>(), last_reading_s + 1e-6);
 }
 
 TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {
