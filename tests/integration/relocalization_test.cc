@@ -146,9 +146,10 @@ class RelocalizationWrongHint
 TEST_P(RelocalizationWrongHint, IsReportedAndNothingCommits) {
   const auto [zone, seed, dx_m, dy_m] = GetParam();
 #ifdef __SANITIZE_ADDRESS__
-  if (zone != sim::Zone::kB) {
+  if (zone != sim::Zone::kB || seed != 1u) {
     GTEST_SKIP() << "CI time: zone A keeps hundreds of hypotheses the hint excludes, minutes "
-                    "under AddressSanitizer; zone B runs here, both in release";
+                    "under AddressSanitizer, and zone B takes 60-90 s per seed; zone B seed 1 "
+                    "runs here, all six in release";
   }
 #endif
   const Outcome o = Relocalize(zone, seed, 60.0, 2.0, Eigen::Vector2d(dx_m, dy_m));
