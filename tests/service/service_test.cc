@@ -265,17 +265,8 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
       {{InjectedFault::Sensor::kOdometry, "frozen", 8.0, 9.0}, "wheel_dropped_frozen"},
   };
   for (const Case& c : cases) {
-    ServiceConfig config;
-    config.replay_dataset = (dir / "drive").string();
-    config.replay_speed = 0.0;
-    config.output_dir = (dir / ("out_" + c.fault.kind)).string();
-    config.http_enabled = false;
-    config.resume = false;
-    config.faults = {c.fault};
-    core::Result<std::unique_ptr<Service>> service = Service::Create(config);
-    ASSERT_TRUE(service.ok()) << service.message();
-    std::atomic<bool> never{false};
-    core::Result<nlohmann::ordered_json> summary = (*service)->Run(never);
+    core::Result<nlohmann::ordered_json> summary =
+        testing::ReplayAsFastAsPossible(dir / "drive", dir / ("out_" + c.fault.kind), {c.fault});
     ASSERT_TRUE(summary.ok()) << summary.message();
     EXPECT_GE((*summary)["counters"][c.counter].get<long>(), 1) << c.fault.kind;
     // Without a camera nothing observes the motion along an aisle that the
@@ -322,16 +313,8 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
     return std::count_if(d.images.begin(), d.images.end(),
                          [&](const core::ImageRecord& i) { return i.stamp_s > t; });
   };
-  ServiceConfig config;
-  config.replay_dataset = (dir / "drive").string();
-  config.replay_speed = 0.0;
-  config.output_dir = (dir / "out").string();
-  config.http_enabled = false;
-  config.resume = false;
-  core::Result<std::unique_ptr<Service>> service = Service::Create(config);
-  ASSERT_TRUE(service.ok()) << service.message();
-  std::atomic<bool> never{false};
-  core::Result<nlohmann::ordered_json> summary = (*service)->Run(never);
+  core::Result<nlohmann::ordered_json> summary =
+      testing::ReplayAsFastAsPossible(dir / "drive", dir / "out");
   ASSERT_TRUE(summary.ok()) << summary.message();
   // Every frame after the last reading (beyond the localizer's frame lag) is
   // counted as never met by odometry; the frames before it were used, and
@@ -358,17 +341,8 @@ TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionN
   ASSERT_TRUE(simulated.has_value());
   constexpr double kJumpS = -500.0;  // the clock steps back 500 s at 10 s
   const auto run = [&](const std::vector<InjectedFault>& faults, const std::string& name) {
-    ServiceConfig config;
-    config.replay_dataset = (dir / "drive").string();
-    config.replay_speed = 0.0;
-    config.output_dir = (dir / name).string();
-    config.http_enabled = false;
-    config.resume = false;
-    config.faults = faults;
-    core::Result<std::unique_ptr<Service>> service = Service::Create(config);
-    EXPECT_TRUE(service.ok()) << service.message();
-    std::atomic<bool> never{false};
-    core::Result<nlohmann::ordered_json> summary = (*service)->Run(never);
+    core::Result<nlohmann::ordered_json> summary =
+        testing::ReplayAsFastAsPossible(dir / "drive", dir / name, faults);
     EXPECT_TRUE(summary.ok()) << summary.message();
     return std::move(summary).value();
   };
