@@ -9,7 +9,9 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <thread>
+#include <vector>
 
 #include <Eigen/Cholesky>
 
@@ -33,6 +35,24 @@ std::filesystem::path WriteConfig(const std::filesystem::path& dir, const std::s
   const auto path = dir / "serve.yaml";
   std::ofstream(path) << text;
   return path;
+}
+
+// The service replaying dataset_dir as fast as possible into out_dir, fresh
+// (no resume), without its HTTP endpoint, with the given injected faults.
+core::Result<nlohmann::ordered_json> ReplayAsFastAsPossible(
+    const std::filesystem::path& dataset_dir, const std::filesystem::path& out_dir,
+    std::vector<InjectedFault> faults = {}) {
+  ServiceConfig config;
+  config.replay_dataset = dataset_dir.string();
+  config.replay_speed = 0.0;
+  config.output_dir = out_dir.string();
+  config.http_enabled = false;
+  config.resume = false;
+  config.faults = std::move(faults);
+  core::Result<std::unique_ptr<Service>> created = Service::Create(config);
+  if (!created.ok()) return created.status();
+  std::atomic<bool> never{false};
+  return (*created)->Run(never);
 }
 
 TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
@@ -266,7 +286,7 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
   };
   for (const Case& c : cases) {
     core::Result<nlohmann::ordered_json> summary =
-        testing::ReplayAsFastAsPossible(dir / "drive", dir / ("out_" + c.fault.kind), {c.fault});
+        ReplayAsFastAsPossible(dir / "drive", dir / ("out_" + c.fault.kind), {c.fault});
     ASSERT_TRUE(summary.ok()) << summary.message();
     EXPECT_GE((*summary)["counters"][c.counter].get<long>(), 1) << c.fault.kind;
     // Without a camera nothing observes the motion along an aisle that the
@@ -314,7 +334,7 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
                          [&](const core::ImageRecord& i) { return i.stamp_s > t; });
   };
   core::Result<nlohmann::ordered_json> summary =
-      testing::ReplayAsFastAsPossible(dir / "drive", dir / "out");
+      ReplayAsFastAsPossible(dir / "drive", dir / "out");
   ASSERT_TRUE(summary.ok()) << summary.message();
   // Every frame after the last reading (beyond the localizer's frame lag) is
   // counted as never met by odometry; the frames before it were used, and
@@ -342,7 +362,7 @@ TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionN
   constexpr double kJumpS = -500.0;  // the clock steps back 500 s at 10 s
   const auto run = [&](const std::vector<InjectedFault>& faults, const std::string& name) {
     core::Result<nlohmann::ordered_json> summary =
-        testing::ReplayAsFastAsPossible(dir / "drive", dir / name, faults);
+        ReplayAsFastAsPossible(dir / "drive", dir / name, faults);
     EXPECT_TRUE(summary.ok()) << summary.message();
     return std::move(summary).value();
   };

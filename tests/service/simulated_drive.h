@@ -6,16 +6,12 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <filesystem>
-#include <memory>
 #include <optional>
 #include <vector>
 
 #include "groundline/core/dataset.h"
 #include "groundline/core/status.h"
-#include "groundline/service/service.h"
-#include "groundline/service/service_config.h"
 #include "groundline/sim/sim_run.h"
 
 namespace groundline::testing {
@@ -47,24 +43,6 @@ inline std::optional<sim::SimRun> SimulatedZoneBDrive(double length_m, std::uint
     return std::nullopt;
   }
   return std::move(run).value();
-}
-
-// The service replaying dataset_dir as fast as possible into out_dir, fresh
-// (no resume), without its HTTP endpoint, with the given injected faults.
-inline core::Result<nlohmann::ordered_json> ReplayAsFastAsPossible(
-    const std::filesystem::path& dataset_dir, const std::filesystem::path& out_dir,
-    std::vector<service::InjectedFault> faults = {}) {
-  service::ServiceConfig config;
-  config.replay_dataset = dataset_dir.string();
-  config.replay_speed = 0.0;
-  config.output_dir = out_dir.string();
-  config.http_enabled = false;
-  config.resume = false;
-  config.faults = std::move(faults);
-  core::Result<std::unique_ptr<service::Service>> created = service::Service::Create(config);
-  if (!created.ok()) return created.status();
-  std::atomic<bool> never{false};
-  return (*created)->Run(never);
 }
 
 }  // namespace groundline::testing
