@@ -355,15 +355,6 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["update_cpu_ms_median"] = Percentile(update_cpu_ms, 0.5);
   summary["update_cpu_ms_p99"] = Percentile(update_cpu_ms, 0.99);
   summary["counters"] = loc::CountersJson(c);
-  if (c.lidar_keyframes > 0 || options.mode == loc::LocalizerMode::kLidar) {
-    summary["lidar"] = {{"n_scans", c.scans},
-                        {"n_scans_matched", c.scans_matched},
-                        {"n_keyframes", c.lidar_keyframes},
-                        {"n_keyframes_degenerate", c.lidar_degenerate},
-                        {"n_keyframes_fisher_degenerate", c.lidar_fisher_degenerate},
-                        {"n_keyframes_aliased", c.lidar_aliased},
-                        {"n_keyframes_with_relative", c.lidar_with_relative}};
-  }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
     summary["relocalized"] = RelocalizedJson(*r, localizer.relocalizer_status());
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());

@@ -52,7 +52,7 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
       ReadJson(odometry / "summary.json")["accuracy"]["ate_rmse_m"].get<double>();
   // Measured: 0.06 m against 0.13 m.
   EXPECT_LT(ate_lidar, 0.7 * ate_odometry);
-  EXPECT_GT(with_lidar["lidar"]["n_scans_matched"].get<int>(), 100);
+  EXPECT_GT(with_lidar["counters"]["scans_matched"].get<int>(), 100);
 
   std::ifstream health(lidar / "health.jsonl");
   std::string line;
@@ -67,7 +67,7 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
     flagged += h["lidar_degenerate"].get<bool>() ? 1 : 0;
   }
   EXPECT_GT(lines, 50);
-  EXPECT_EQ(with_lidar["lidar"]["n_keyframes_degenerate"].get<int>(), flagged);
+  EXPECT_EQ(with_lidar["counters"]["lidar_degenerate"].get<int>(), flagged);
 
   // The zone table adds the detector's shares per region of the zone, from
   // health.jsonl and the ground truth (evaluation only).
