@@ -65,14 +65,32 @@ done
 trap - EXIT
 wait "$pid" || { echo "soak: groundline serve failed; see $out/serve.log" >&2; exit 1; }
 python3 - "$out/rss.tsv" "$hours" <<'EOF'
-import csv, sys
+import csv, statistics, sys
 rows = [(float(r["data_h"]), float(r["rss_mb"])) for r in csv.DictReader(open(sys.argv[1]), delimiter="\t")]
 hours = float(sys.argv[2])
 if not rows:
     sys.exit("soak: no samples (the run ended within the first sample period)")
+# A single sample lands anywhere in the swing of transient buffers (a
+# recovery search's grids, a renewed scan odometry), so each hour of data is
+# summarised by its min, median and max; the growth is that of the median and
+# of the max (the high-water) from the second hour to the last.
+print("soak: RSS per hour of data [MB]: hour, samples, min, median, max")
+by_hour = {}
+for h, mb in rows:
+    by_hour.setdefault(int(h), []).append(mb)
+for k in sorted(by_hour):
+    v = by_hour[k]
+    print(f"soak:   {k}-{k + 1} h  {len(v):4d}  {min(v):6.1f}  {statistics.median(v):6.1f}  {max(v):6.1f}")
 def at(h):
     return min(rows, key=lambda r: abs(r[0] - h))
 a, b = at(1.0), at(hours)
 print(f"soak: RSS {a[1]:.1f} MB at {a[0]:.2f} h, {b[1]:.1f} MB at {b[0]:.2f} h of data: "
       f"growth {100 * (b[1] - a[1]) / a[1]:+.1f} %  (max {max(r[1] for r in rows):.1f} MB)")
+last_hour = max(by_hour)
+if 1 in by_hour and last_hour > 1:
+    first, last = by_hour[1], by_hour[last_hour]
+    g_med = 100 * (statistics.median(last) - statistics.median(first)) / statistics.median(first)
+    g_max = 100 * (max(last) - max(first)) / max(first)
+    print(f"soak: from hour 1-2 to hour {last_hour}-{last_hour + 1}: median {g_med:+.1f} %, "
+          f"max {g_max:+.1f} %")
 EOF
