@@ -216,7 +216,7 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
 
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
-      "calibrate", "Commissioning: camera intrinsics, the camera's mount on the floor");
+      "calibrate", "Commissioning: camera intrinsics, floor mount, comparing two calibrations");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

@@ -52,6 +52,10 @@ CLI::App* AddSimCommissioningCommand(CLI::App& parent, CommandRunner* run);
 // (tools/calibrate_floor_command.cc); hangs on the `calibrate` parent.
 void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run);
 
+// `groundline calibrate diff A B`: the projection difference of two
+// calibrations of one camera (tools/calibrate_diff_command.cc).
+void AddCalibrateDiffSubcommand(CLI::App* calibrate, CommandRunner* run);
+
 // `groundline replay-dds DATASET`: a dataset's sensor streams as ROS 2 topics
 // over DDS (tools/replay_dds_command.cc).
 CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run);

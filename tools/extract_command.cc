@@ -21,6 +21,7 @@
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
+#include "groundline/core/statistics.h"
 #include "groundline/core/trajectory_association.h"
 #include "png_file.h"
 #include "progress.h"
@@ -336,7 +337,7 @@ int RunExtract(const ExtractFlags& flags) {
   summary["frames"] = ms.size();
   summary["skipped"] = skipped;
   summary["ms_per_frame_median"] =
-      ms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(perception::Median(ms));
+      ms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(core::Median(ms));
   if (evaluate) {
     summary["tape_occludes_joints"] = flags.tape_occludes_joints;
     summary["min_visible_run_m"] = flags.min_visible_run_m;
@@ -367,7 +368,7 @@ int RunExtract(const ExtractFlags& flags) {
     return 1;
   }
   std::printf("extracted %zu frames (%zu skipped), median %.2f ms/frame -> %s\n", ms.size(),
-              skipped.size(), ms.empty() ? 0.0 : perception::Median(ms), flags.out.c_str());
+              skipped.size(), ms.empty() ? 0.0 : core::Median(ms), flags.out.c_str());
   if (evaluate) {
     const perception::LineErrorSummary& o = evaluation.overall();
     std::printf(

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "groundline/core/statistics.h"
+
 namespace groundline::tools {
 namespace {
 
@@ -94,7 +96,7 @@ nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s)
   out["rho_err_median_m"] = Number(s.MedianAbsRhoErrorM());
   out["alpha_err_median_deg"] = Number(s.MedianAbsAlphaErrorRad() * 180.0 / M_PI);
   out["nees_inside_95_band_share"] = Number(s.NeesInsideBandShare());
-  out["nees_median"] = Number(perception::Median(s.nees));
+  out["nees_median"] = Number(core::Median(s.nees));
   return out;
 }
 

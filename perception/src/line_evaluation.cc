@@ -6,15 +6,9 @@
 #include <cmath>
 #include <limits>
 
-namespace groundline::perception {
+#include "groundline/core/statistics.h"
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  if (values.size() % 2 == 1) return *mid;
-  return 0.5 * (*mid + *std::max_element(values.begin(), mid));
-}
+namespace groundline::perception {
 
 namespace {
 double Ratio(int a, int b) {
@@ -24,8 +18,8 @@ double Ratio(int a, int b) {
 
 double LineErrorSummary::Tpr() const { return Ratio(detected_truths, evaluated_truths); }
 double LineErrorSummary::FpShare() const { return Ratio(false_detections, detections); }
-double LineErrorSummary::MedianAbsRhoErrorM() const { return Median(abs_rho_error_m); }
-double LineErrorSummary::MedianAbsAlphaErrorRad() const { return Median(abs_alpha_error_rad); }
+double LineErrorSummary::MedianAbsRhoErrorM() const { return core::Median(abs_rho_error_m); }
+double LineErrorSummary::MedianAbsAlphaErrorRad() const { return core::Median(abs_alpha_error_rad); }
 double LineErrorSummary::NeesInsideBandShare() const {
   const auto inside = std::count_if(nees.begin(), nees.end(), [](double e) {
     return e >= kChiSquare2Lower95 && e <= kChiSquare2Upper95;

@@ -64,8 +64,6 @@ class LineEvaluation {
   std::map<std::string, LineErrorSummary> by_extracted_kind_;
 };
 
-// Median of the values (NaN when empty).
-double Median(std::vector<double> values);
 
 }  // namespace groundline::perception
 
