@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <numbers>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -13,7 +12,9 @@
 #include "commands.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/projection_diff.h"
+#include "groundline/core/angles.h"
 #include "groundline/core/atomic_file.h"
+#include "json_number.h"
 #include "png_file.h"
 
 namespace groundline::tools {
@@ -57,10 +58,6 @@ struct DiffFlags {
   double max_px = 1.0;
 };
 
-nlohmann::ordered_json FiniteOrNull(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-}
-
 std::string FormatRange(double m) {
   char text[32];
   std::snprintf(text, sizeof text, "%g m", m);
@@ -95,7 +92,7 @@ int RunDiff(const DiffFlags& flags) {
     std::printf("  frames: not fitted (--intrinsics-only)\n");
   } else {
     std::printf("  frames: rotation %.4f deg about (%.3f %.3f %.3f)",
-                rotation.angle() * 180.0 / std::numbers::pi, rotation.axis().x(),
+                rotation.angle() * core::kRadToDeg, rotation.axis().x(),
                 rotation.axis().y(), rotation.axis().z());
     if (!at_infinity) {
       std::printf(", translation (%.1f %.1f %.1f) mm", 1e3 * diff->t10.x(), 1e3 * diff->t10.y(),
@@ -128,7 +125,7 @@ int RunDiff(const DiffFlags& flags) {
   j["intrinsics_only"] = flags.options.intrinsics_only;
   j["focus_radius_px"] = diff->focus_radius_px;
   j["fit_points"] = diff->fit_points;
-  j["rotation_deg"] = rotation.angle() * 180.0 / std::numbers::pi;
+  j["rotation_deg"] = rotation.angle() * core::kRadToDeg;
   j["rotation_axis"] = {rotation.axis().x(), rotation.axis().y(), rotation.axis().z()};
   j["translation_m"] = {diff->t10.x(), diff->t10.y(), diff->t10.z()};
   j["focus_median_px"] = FiniteOrNull(diff->focus_median_px);

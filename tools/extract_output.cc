@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "groundline/core/statistics.h"
+#include "json_number.h"
 
 namespace groundline::tools {
 namespace {
@@ -13,10 +14,6 @@ namespace {
 nlohmann::ordered_json Vec(const Eigen::Vector2d& v) { return {v.x(), v.y()}; }
 nlohmann::ordered_json Cov(const Eigen::Matrix2d& c) {
   return {c(0, 0), c(0, 1), c(1, 0), c(1, 1)};
-}
-// JSON has no NaN: null instead.
-nlohmann::ordered_json Number(double x) {
-  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
 }
 
 }  // namespace
@@ -67,7 +64,7 @@ nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
   out["edge"] = truth.edge;
   out["evaluated"] = truth.evaluated;
   out["error"] = Vec(r);
-  out["nees"] = Number(r.dot(line.covariance.inverse() * r));
+  out["nees"] = FiniteOrNull(r.dot(line.covariance.inverse() * r));
   return out;
 }
 
@@ -91,12 +88,12 @@ nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s)
   out["detected_truths"] = s.detected_truths;
   out["detections"] = s.detections;
   out["false_detections"] = s.false_detections;
-  out["tpr"] = Number(s.Tpr());
-  out["fp_share"] = Number(s.FpShare());
-  out["rho_err_median_m"] = Number(s.MedianAbsRhoErrorM());
-  out["alpha_err_median_deg"] = Number(s.MedianAbsAlphaErrorRad() * 180.0 / M_PI);
-  out["nees_inside_95_band_share"] = Number(s.NeesInsideBandShare());
-  out["nees_median"] = Number(core::Median(s.nees));
+  out["tpr"] = FiniteOrNull(s.Tpr());
+  out["fp_share"] = FiniteOrNull(s.FpShare());
+  out["rho_err_median_m"] = FiniteOrNull(s.MedianAbsRhoErrorM());
+  out["alpha_err_median_deg"] = FiniteOrNull(s.MedianAbsAlphaErrorRad() * 180.0 / M_PI);
+  out["nees_inside_95_band_share"] = FiniteOrNull(s.NeesInsideBandShare());
+  out["nees_median"] = FiniteOrNull(core::Median(s.nees));
   return out;
 }
 

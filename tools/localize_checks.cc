@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "groundline/core/text_parse.h"
+#include "json_number.h"
 
 namespace groundline::tools {
 
@@ -85,12 +86,9 @@ nlohmann::ordered_json RelocalizedJson(const loc::PoseEstimate& r,
       {"sigma_xy_m", std::sqrt(0.5 * (r.covariance(0, 0) + r.covariance(1, 1)))},
       {"junction_sightings", s ? s->seeds : 0}};
   if (s == nullptr) return out;
-  const auto finite_or_null = [](double v) {
-    return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
-  };
   out["evidence"] = {{"log_likelihood", s->best_log_likelihood},
-                     {"runner_up_log_likelihood", finite_or_null(s->runner_up_log_likelihood)},
-                     {"excluded_by_hint_lead", finite_or_null(s->excluded_lead)},
+                     {"runner_up_log_likelihood", FiniteOrNull(s->runner_up_log_likelihood)},
+                     {"excluded_by_hint_lead", FiniteOrNull(s->excluded_lead)},
                      {"matched", s->best_matched},
                      {"observations", s->best_matched + s->best_unmatched},
                      {"hypotheses", s->hypotheses},
