@@ -34,7 +34,14 @@ Writes into --out:
                       at 1, 2 and 4 m ahead, per-image and per-tag corner RMS,
                       PASS/FAIL with what failed and what to do
   floor_report.html   the same with the images rectified onto the floor and the
-                      surveyed tag outlines drawn over them
+                      surveyed tag outlines drawn over them, and the BEV
+                      uncertainty map drawn from above
+  bev_uncertainty.json  the floor position covariance the calibration leaves
+                      in each 20 cm cell 0-4 m ahead, +-2 m to the side (the
+                      mount's part; with --intrinsics-report also the
+                      intrinsics'); perception takes it as the floor of its
+                      line covariances (the dataset manifest's
+                      camera.bev_uncertainty_file, extract --bev-uncertainty)
 PASS needs the BEV error at 2 m <= --max-bev-error (default 5 mm), every
 image's corner RMS <= --max-rms (default 0.5 px), every tag's corner RMS
 <= 1 px and tag corners in all four image quadrants; --config FILE sets these
@@ -140,6 +147,13 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
             calibration::FloorReportHtml(*result, layout, camera, options, intrinsics_ptr))}) {
     if (!s.ok()) return fail(s.message());
   }
+  if (!result->bev_map.covariance_m2.empty()) {
+    if (core::Status s = core::WriteFileAtomically(staging / "bev_uncertainty.json",
+                                                   calibration::BevUncertaintyJson(result->bev_map));
+        !s.ok()) {
+      return fail(s.message());
+    }
+  }
   if (core::Status s = staged->Commit(); !s.ok()) return fail(s.message());
   const calibration::FloorExtrinsicsResult& r = result->solution;
   const auto sd3 = [&r](int i, double scale) {
@@ -158,6 +172,13 @@ int SolveAndReportFloor(const CalibrateFloorFlags& flags, const calibration::Tag
       r.mount.lateral_m * 1e3, sd3(5, 1e3), result->bev[0].rms_mm, result->bev[1].rms_mm,
       result->bev[2].rms_mm, result->verdict.c_str());
   for (const std::string& a : result->advice) std::printf("  to do: %s\n", a.c_str());
+  if (!result->bev_map.covariance_m2.empty()) {
+    std::printf("  BEV uncertainty map (%s): %d cells of %.0f cm seen, worst %.2f mm -> "
+                "bev_uncertainty.json\n",
+                result->bev_map.includes_intrinsics ? "mount and intrinsics" : "mount only",
+                result->bev_map.KnownCells(), result->bev_map.cell_m * 100.0,
+                result->bev_map.WorstRmsMm());
+  }
   if (intrinsics) {
     for (const calibration::BevErrorBudget& b : result->bev_budget) {
       if (!b.known) {

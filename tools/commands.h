@@ -56,6 +56,10 @@ void AddCalibrateFloorSubcommand(CLI::App* calibrate, CommandRunner* run);
 // calibrations of one camera (tools/calibrate_diff_command.cc).
 void AddCalibrateDiffSubcommand(CLI::App* calibrate, CommandRunner* run);
 
+// `groundline calibrate bev-uncertainty`: the BEV uncertainty map of a
+// measured mount (tools/calibrate_bev_uncertainty_command.cc).
+void AddCalibrateBevUncertaintySubcommand(CLI::App* calibrate, CommandRunner* run);
+
 // `groundline replay-dds DATASET`: a dataset's sensor streams as ROS 2 topics
 // over DDS (tools/replay_dds_command.cc).
 CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run);

@@ -34,6 +34,7 @@ struct ExtractFlags {
   std::string dataset;
   std::string camera;
   std::string extrinsics;
+  std::string bev_uncertainty;
   std::string out;
   int png_every = 10;
   int max_frames = 0;
@@ -60,7 +61,10 @@ oblique) and paired into junctions.
 Input: DIR (every .png/.jpg in it, sorted), a glob ('run/*.png', quoted), or
 --dataset DIR (camera, extrinsics, images, ground truth and floor map from a
 groundline dataset). Without --extrinsics the reference mount is used (0.58 m
-high, pitched 42.4 deg down, 0.42 m ahead of the axle).
+high, pitched 42.4 deg down, 0.42 m ahead of the axle). --bev-uncertainty
+FILE (the bev_uncertainty.json of `calibrate floor`; default with --dataset:
+the manifest's camera.bev_uncertainty_file, if any) raises each line's
+covariance to at least what the calibration's own uncertainty leaves there.
 
 Writes into --out:
   lines.jsonl    one object per image: image, ms (BEV + extraction time), lines
@@ -102,6 +106,7 @@ struct Input {
   std::vector<double> stamps_s;  // with a dataset
   core::Trajectory ground_truth;
   std::optional<core::FloorMap> floor_map;
+  std::shared_ptr<const calibration::BevUncertaintyMap> bev_uncertainty;  // null: none
 };
 
 std::vector<std::filesystem::path> ListImages(const std::string& spec) {
@@ -136,6 +141,7 @@ std::vector<std::filesystem::path> ListImages(const std::string& spec) {
 core::Result<Input> LoadInput(const ExtractFlags& flags) {
   namespace fs = std::filesystem;
   std::string camera_path = flags.camera, extrinsics_path = flags.extrinsics;
+  std::string bev_uncertainty_path = flags.bev_uncertainty;
   Input input;
   if (!flags.dataset.empty()) {
     core::DatasetReadOptions read;
@@ -151,6 +157,9 @@ core::Result<Input> LoadInput(const ExtractFlags& flags) {
       camera_path = (dir / dataset->manifest.camera->intrinsics_file).string();
     if (extrinsics_path.empty()) {
       extrinsics_path = (dir / dataset->manifest.camera->extrinsics_file).string();
+    }
+    if (bev_uncertainty_path.empty() && !dataset->manifest.camera->bev_uncertainty_file.empty()) {
+      bev_uncertainty_path = (dir / dataset->manifest.camera->bev_uncertainty_file).string();
     }
     const fs::path index_dir = (dir / dataset->manifest.files.image_index).parent_path();
     for (const core::ImageRecord& r : dataset->images) {
@@ -173,6 +182,18 @@ core::Result<Input> LoadInput(const ExtractFlags& flags) {
         calibration::ReadCameraMountYaml(extrinsics_path);
     if (!mount.ok()) return core::Status::Error(mount.message());
     input.mount = *mount;
+  }
+  if (!bev_uncertainty_path.empty()) {
+    core::Result<calibration::BevUncertaintyMap> map =
+        calibration::ReadBevUncertaintyMap(bev_uncertainty_path);
+    if (!map.ok()) return map.status();
+    if (core::Status s =
+            calibration::CheckBevUncertaintyCamera(*map, *input.camera, bev_uncertainty_path);
+        !s.ok()) {
+      return s;
+    }
+    input.bev_uncertainty =
+        std::make_shared<const calibration::BevUncertaintyMap>(std::move(map).value());
   }
   return input;
 }
@@ -202,6 +223,7 @@ int RunExtract(const ExtractFlags& flags) {
   options.rho_floor_m = 1e-3 * flags.rho_floor_mm;
   options.alpha_floor_rad = flags.alpha_floor_deg * M_PI / 180.0;
   options.single_bar_edges = flags.single_bar_edges;
+  options.calibration_floor = input->bev_uncertainty;
   if (core::Status s = options.Validate(); !s.ok()) {
     std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
     return 2;
@@ -396,6 +418,10 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--extrinsics", flags->extrinsics,
                   "groundline extrinsics YAML (T_base_cam; default: the dataset's, else the "
                   "reference mount)");
+  cmd->add_option("--bev-uncertainty", flags->bev_uncertainty,
+                  "The calibration's floor uncertainty (bev_uncertainty.json of calibrate "
+                  "floor): the floor of the line covariances (default with --dataset: the "
+                  "manifest's, if any)");
   cmd->add_option("-o,--out", flags->out, "Output directory (created)")->required();
   cmd->add_option("--png-every", flags->png_every,
                   "Write BEV + overlay PNGs every Nth frame (0: none)")

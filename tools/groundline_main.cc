@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   CLI::App* calibrate = groundline::tools::AddCalibrateCommand(app, &run);
   groundline::tools::AddCalibrateFloorSubcommand(calibrate, &run);
   groundline::tools::AddCalibrateDiffSubcommand(calibrate, &run);
+  groundline::tools::AddCalibrateBevUncertaintySubcommand(calibrate, &run);
   groundline::tools::AddExtractCommand(app, &run);
   groundline::tools::AddReplayDdsCommand(app, &run);
 

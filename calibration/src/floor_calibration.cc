@@ -50,6 +50,7 @@ core::Status FloorCalibrationOptions::Validate() const {
   if (core::Status s = detector.Validate(); !s.ok()) return s;
   if (core::Status s = solver.Validate(); !s.ok()) return s;
   if (core::Status s = thresholds.Validate(); !s.ok()) return s;
+  if (core::Status s = bev_grid.Validate(); !s.ok()) return s;
   return rectification.Validate();
 }
 
@@ -124,6 +125,14 @@ core::Result<FloorCalibration> CalibrateFloor(const CameraModel& camera, const T
       out.bev[i].distance_m = distances[i];
       out.bev[i].rms_mm = out.bev[i].sigma3_mm = std::numeric_limits<double>::infinity();
     }
+  }
+  out.bev_map_grid = options.bev_grid;
+  if (core::Result<BevUncertaintyMap> map =
+          ComputeBevUncertaintyMap(camera, out.solution, nullptr, options.bev_grid);
+      map.ok()) {
+    out.bev_map = std::move(map).value();
+  } else {
+    out.warnings.push_back(map.message());
   }
   JudgeFloorCalibration(camera, options.thresholds, &out);
   if (options.rectify) {

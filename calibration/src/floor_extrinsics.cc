@@ -368,12 +368,16 @@ core::Result<FloorExtrinsicsResult> SolveFloorExtrinsics(const CameraModel& came
 
 core::Result<BevError> BevErrorAhead(const CameraMount& mount, const Matrix6d& covariance,
                                      double distance_m) {
-  const Eigen::Vector2d p(distance_m, 0.0);
+  return BevErrorAt(mount, covariance, Eigen::Vector2d(distance_m, 0.0));
+}
+
+core::Result<BevError> BevErrorAt(const CameraMount& mount, const Matrix6d& covariance,
+                                  const Eigen::Vector2d& p) {
   Eigen::Matrix<double, 3, 6> J_cam_mount;
   const Eigen::Vector3d p_cam = FloorPointInCamera(mount, core::SE2::Identity(), p, &J_cam_mount);
   if (p_cam.z() <= 1e-6) {
-    return core::Status::Error("BEV error: the floor point " + std::to_string(distance_m) +
-                               " m ahead is not in front of the camera");
+    return core::Status::Error("BEV error: the floor point (" + std::to_string(p.x()) + ", " +
+                               std::to_string(p.y()) + ") m is not in front of the camera");
   }
   // Normalized projection n = (x / z, y / z).
   Eigen::Matrix<double, 2, 3> J_n_cam;
@@ -383,7 +387,7 @@ core::Result<BevError> BevErrorAhead(const CameraMount& mount, const Matrix6d& c
   const Eigen::Matrix2d J_n_floor = J_n_cam * R_cam_base.leftCols<2>();
   const Eigen::Matrix<double, 2, 6> J_floor_mount = -J_n_floor.inverse() * (J_n_cam * J_cam_mount);
   BevError e;
-  e.distance_m = distance_m;
+  e.distance_m = p.x();
   e.cov_floor_m2 = J_floor_mount * covariance * J_floor_mount.transpose();
   e.rms_mm = 1000.0 * std::sqrt(e.cov_floor_m2.trace());
   const double lmax =

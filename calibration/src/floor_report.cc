@@ -235,6 +235,27 @@ std::string FloorReportJson(const FloorCalibration& c, const FloorCalibrationOpt
                                  {"x_max_m", c.rectified.max_corner_m.x()},
                                  {"y_max_m", c.rectified.max_corner_m.y()}};
   }
+  if (!c.bev_map.covariance_m2.empty()) {
+    // Per cell, sqrt(trace) of the floor covariance in mm (bev_uncertainty.json
+    // holds the covariances themselves).
+    json rms = json::array();
+    for (const Eigen::Matrix2d& m : c.bev_map.covariance_m2) {
+      if (m.allFinite()) {
+        rms.push_back(std::round(1e4 * std::sqrt(m.trace())) / 10.0);
+      } else {
+        rms.push_back(nullptr);
+      }
+    }
+    report["bev_uncertainty"] = {{"file", "bev_uncertainty.json"},
+                                 {"includes_intrinsics", c.bev_map.includes_intrinsics},
+                                 {"x0_m", c.bev_map.x0_m},
+                                 {"y0_m", c.bev_map.y0_m},
+                                 {"cell_m", c.bev_map.cell_m},
+                                 {"cells_x", c.bev_map.cells_x},
+                                 {"cells_y", c.bev_map.cells_y},
+                                 {"worst_rms_mm", c.bev_map.WorstRmsMm()},
+                                 {"rms_mm", rms}};
+  }
   if (intrinsics != nullptr) {
     report["intrinsics"] = {
         {"source", intrinsics->source},     {"verdict", intrinsics->pass ? "PASS" : "FAIL"},

@@ -1,6 +1,8 @@
 // floor_report.html (floor_calibration.h): one self-contained page.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "floor_report_rows.h"
@@ -167,6 +169,68 @@ void BackProjectedSection(const FloorCalibration& c, const TagLayout& layout,
   h << "</svg>\n";
 }
 
+
+// The BEV uncertainty map as an SVG grid seen from above the vehicle: ahead
+// up, left to the left; each cell coloured by its RMS (viridis, 0 to the
+// worst cell) with the figure in mm, grey where the camera does not see it.
+void BevUncertaintySection(const FloorCalibration& c, std::ostringstream& h) {
+  const BevUncertaintyMap& m = c.bev_map;
+  if (m.covariance_m2.empty()) return;
+  const double worst = std::max(m.WorstRmsMm(), 1e-9);
+  cv::Mat ramp(1, 256, CV_8UC1), colours;
+  for (int i = 0; i < 256; ++i) ramp.at<unsigned char>(0, i) = static_cast<unsigned char>(i);
+  cv::applyColorMap(ramp, colours, cv::COLORMAP_VIRIDIS);
+  const auto colour = [&](double rms_mm) {
+    const int k = std::clamp(static_cast<int>(std::lround(255.0 * rms_mm / worst)), 0, 255);
+    const cv::Vec3b bgr = colours.at<cv::Vec3b>(0, k);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", bgr[2], bgr[1], bgr[0]);
+    return std::string(hex);
+  };
+  constexpr int kCell = 30, kLeft = 52, kTop = 10;
+  const int w = kLeft + m.cells_y * kCell + 10, hgt = kTop + m.cells_x * kCell + 40;
+  h << "<h3>BEV uncertainty map</h3><p>The floor position error (1&sigma; RMS, mm) that the "
+       "calibration leaves in each " << Fixed(m.cell_m * 100.0, 0) << " cm cell of the "
+       "bird's-eye view: the mount's covariance"
+    << (m.includes_intrinsics ? " and the intrinsics' projection uncertainty" : "")
+    << ", seen from above the vehicle (ahead up, left to the left). Worst cell "
+    << Fixed(m.WorstRmsMm(), 2) << " mm; grey: not seen by the camera. Perception uses "
+       "bev_uncertainty.json as the floor of its line covariances.";
+  if (!m.includes_intrinsics) {
+    h << " Without --intrinsics-report the intrinsics' part is not in.";
+  }
+  h << "</p>\n<svg xmlns='http://www.w3.org/2000/svg' width='" << w << "' height='" << hgt
+    << "' font-family='sans-serif' font-size='9'>\n";
+  for (int ix = 0; ix < m.cells_x; ++ix) {
+    const int y_px = kTop + (m.cells_x - 1 - ix) * kCell;
+    for (int iy = 0; iy < m.cells_y; ++iy) {
+      const int x_px = kLeft + (m.cells_y - 1 - iy) * kCell;
+      const Eigen::Matrix2d& cov = m.covariance_m2[static_cast<std::size_t>(iy) * m.cells_x + ix];
+      const bool known = cov.allFinite();
+      const double rms = known ? 1000.0 * std::sqrt(std::max(0.0, cov.trace())) : 0.0;
+      h << "<rect x='" << x_px << "' y='" << y_px << "' width='" << kCell << "' height='" << kCell
+        << "' fill='" << (known ? colour(rms) : std::string("#bbbbbb")) << "' stroke='#fff'/>";
+      if (known) {
+        h << "<text x='" << x_px + kCell / 2 << "' y='" << y_px + kCell / 2 + 3
+          << "' text-anchor='middle' fill='" << (rms > 0.6 * worst ? "#000" : "#fff") << "'>"
+          << Fixed(rms, rms < 10.0 ? 1 : 0) << "</text>";
+      }
+    }
+    h << "\n";
+    if (ix % 5 == 0) {
+      h << "<text x='" << kLeft - 4 << "' y='" << y_px + kCell << "' text-anchor='end'>"
+        << Fixed(m.x0_m + ix * m.cell_m, 1) << " m</text>\n";
+    }
+  }
+  const int bottom = kTop + m.cells_x * kCell;
+  for (int iy = 0; iy <= m.cells_y; iy += 5) {
+    h << "<text x='" << kLeft + (m.cells_y - iy) * kCell << "' y='" << bottom + 14
+      << "' text-anchor='middle'>" << Fixed(m.y0_m + iy * m.cell_m, 1) << "</text>";
+  }
+  h << "<text x='" << kLeft + m.cells_y * kCell / 2 << "' y='" << bottom + 30
+    << "' text-anchor='middle'>y (m, left positive); rows: x ahead of base_link</text></svg>\n";
+}
+
 }  // namespace
 
 std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
@@ -258,6 +322,7 @@ std::string FloorReportHtml(const FloorCalibration& c, const TagLayout& layout,
     }
     h << "</table>\n";
   }
+  BevUncertaintySection(c, h);
   if (!c.rectified.grey.empty()) RectifiedSection(c, layout, h);
   BackProjectedSection(c, layout, camera, h);
 

@@ -152,7 +152,9 @@ Status WriteDataset(const std::filesystem::path& dir, const Dataset& d) {
   if (Status s = m.Validate(); !s.ok()) return s.WithContext(dir.string());
   if (Status s = CheckPartsMatchFiles(d); !s.ok()) return s.WithContext(dir.string());
   if (m.camera) {
-    for (const std::string& file : {m.camera->intrinsics_file, m.camera->extrinsics_file}) {
+    for (const std::string& file : {m.camera->intrinsics_file, m.camera->extrinsics_file,
+                                    m.camera->bev_uncertainty_file}) {
+      if (file.empty()) continue;  // an optional file not given
       if (!std::filesystem::is_regular_file(dir / file)) {
         return Status::Error(dir.string() + ": calibration file '" + file +
                              "' referenced by sensors.camera is missing; write it first");

@@ -24,12 +24,16 @@ CameraSensor ParseCamera(YamlFields& y, const YAML::Node& node) {
   if (!y.ExpectMap(node, path)) return c;
   y.CheckKeys(
       node, path,
-      {"image_width_px", "image_height_px", "rate_hz", "intrinsics_file", "extrinsics_file"});
+      {"image_width_px", "image_height_px", "rate_hz", "intrinsics_file", "extrinsics_file",
+       "bev_uncertainty_file"});
   c.image_width_px = AsInt(y.Integer(node, path, "image_width_px"));
   c.image_height_px = AsInt(y.Integer(node, path, "image_height_px"));
   c.rate_hz = y.Number(node, path, "rate_hz");
   c.intrinsics_file = y.Text(node, path, "intrinsics_file");
   c.extrinsics_file = y.Text(node, path, "extrinsics_file");
+  if (node["bev_uncertainty_file"]) {
+    c.bev_uncertainty_file = y.Text(node, path, "bev_uncertainty_file");
+  }
   return c;
 }
 
@@ -164,6 +168,10 @@ void CheckReferencedFiles(YamlFields& y, const YAML::Node& root, const DatasetMa
   if (m.camera) {
     references.emplace_back("sensors.camera.intrinsics_file", m.camera->intrinsics_file);
     references.emplace_back("sensors.camera.extrinsics_file", m.camera->extrinsics_file);
+    if (!m.camera->bev_uncertainty_file.empty()) {
+      references.emplace_back("sensors.camera.bev_uncertainty_file",
+                              m.camera->bev_uncertainty_file);
+    }
   }
   const DatasetFiles& f = m.files;
   for (const auto& [key, file] :

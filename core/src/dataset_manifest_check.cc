@@ -52,6 +52,9 @@ Problem CheckCamera(const CameraSensor& c) {
   }
   if (Problem e = Rate(p + "rate_hz", c.rate_hz, kMaxCameraRateHz)) return e;
   if (Problem e = RelativePath(p + "intrinsics_file", c.intrinsics_file)) return e;
+  if (!c.bev_uncertainty_file.empty()) {
+    if (Problem e = RelativePath(p + "bev_uncertainty_file", c.bev_uncertainty_file)) return e;
+  }
   return RelativePath(p + "extrinsics_file", c.extrinsics_file);
 }
 

@@ -49,6 +49,9 @@ void EmitSensors(YAML::Emitter& out, const DatasetManifest& m) {
     Number(out, "rate_hz", c.rate_hz);
     Quoted(out, "intrinsics_file", c.intrinsics_file);
     Quoted(out, "extrinsics_file", c.extrinsics_file);
+    if (!c.bev_uncertainty_file.empty()) {
+      Quoted(out, "bev_uncertainty_file", c.bev_uncertainty_file);
+    }
     out << YAML::EndMap;
   }
   if (m.wheel_encoders) {

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "groundline/core/covariance.h"
 #include "groundline/perception/line_covariance.h"
 #include "line_sides.h"
 
@@ -178,6 +179,22 @@ bool FitFloorPoints(const std::vector<Eigen::Vector2d>& points_m, const BevGrid&
   line->start_m = foot + d.dot(points_m.front()) * d;
   line->end_m = foot + d.dot(points_m.back()) * d;
   return true;
+}
+
+// LineExtractorOptions::calibration_floor on one line.
+void ApplyCalibrationFloor(const calibration::BevUncertaintyMap& map, ExtractedLine* line) {
+  for (const double t : {0.0, 0.1, 0.25}) {
+    const Eigen::Vector2d p1 = line->start_m + t * (line->end_m - line->start_m);
+    const Eigen::Vector2d p2 = line->end_m + t * (line->start_m - line->end_m);
+    const std::optional<Eigen::Matrix2d> s1 = map.CovarianceAt(p1);
+    const std::optional<Eigen::Matrix2d> s2 = map.CovarianceAt(p2);
+    if (!s1 || !s2) continue;
+    const core::Result<LineEstimate> floor = LineFromEndpoints(p1, *s1, p2, *s2);
+    if (!floor.ok()) return;
+    line->covariance = core::CovarianceAtLeast<2>(
+        line->covariance, CovarianceInDescriptionOf(floor->line, line->line, floor->covariance));
+    return;
+  }
 }
 
 // One merged segment -> a fitted line, or nothing when it fails a test.
@@ -406,6 +423,7 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
   const double tolerance_rad = options_.orientation_tolerance_deg * std::numbers::pi / 180.0;
   std::vector<LineSegmentEstimate> estimates;
   for (ExtractedLine& line : result.lines) {
+    if (options_.calibration_floor) ApplyCalibrationFloor(*options_.calibration_floor, &line);
     line.kind.orientation = ClassifyOrientation(line.line, tolerance_rad);
     estimates.push_back({line.line, line.covariance, line.start_m, line.end_m});
   }

@@ -1,5 +1,6 @@
 #include "groundline/service/dataset_localizer.h"
 
+#include "groundline/calibration/bev_uncertainty.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/localization/atlas.h"
@@ -48,8 +49,20 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
     core::Result<calibration::CameraMount> mount =
         calibration::ReadCameraMountYaml(dir / manifest.camera->extrinsics_file);
     if (!mount.ok()) return mount.status();
+    loc::FloorFrontEndOptions front_end_options = options.front_end;
+    if (const std::string& file = manifest.camera->bev_uncertainty_file; !file.empty()) {
+      core::Result<calibration::BevUncertaintyMap> map =
+          calibration::ReadBevUncertaintyMap(dir / file);
+      if (!map.ok()) return map.status();
+      if (core::Status s = calibration::CheckBevUncertaintyCamera(*map, *camera, (dir / file).string());
+          !s.ok()) {
+        return s;
+      }
+      front_end_options.extractor.calibration_floor =
+          std::make_shared<const calibration::BevUncertaintyMap>(std::move(map).value());
+    }
     core::Result<loc::FloorFrontEnd> front_end =
-        loc::FloorFrontEnd::Create(*camera, *mount, options.front_end);
+        loc::FloorFrontEnd::Create(*camera, *mount, front_end_options);
     if (!front_end.ok()) return front_end.status().WithContext(name);
     out.setup.camera = std::make_shared<const loc::FloorFrontEnd>(std::move(front_end).value());
   }

@@ -5,6 +5,7 @@
 // intrinsics' uncertainty carried to the floor 1, 2 and 4 m ahead.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -91,6 +92,27 @@ TEST(CommissioningBudget, IntrinsicsUncertaintyReachesTheFloorOfTheSimulatedVehi
     EXPECT_GE(b.total_rms_mm, b.intrinsics_rms_mm);
   }
   EXPECT_GE(known, 2);  // 1 and 2 m ahead are seen by the commissioning camera
+  // The map over the BEV: every cell the camera sees with its intrinsics'
+  // part, never less than the mount's part alone.
+  const BevUncertaintyMap mount_only =
+      ComputeBevUncertaintyMap(cal->camera, floor.solution, nullptr).value();
+  ASSERT_TRUE(floor.bev_map.includes_intrinsics);
+  EXPECT_GT(floor.bev_map.KnownCells(), 20);
+  EXPECT_LE(floor.bev_map.KnownCells(), mount_only.KnownCells());
+  for (std::size_t i = 0; i < mount_only.covariance_m2.size(); ++i) {
+    const Eigen::Matrix2d& both = floor.bev_map.covariance_m2[i];
+    if (!both.allFinite()) continue;
+    const Eigen::Matrix2d extra = both - mount_only.covariance_m2[i];
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(extra).eigenvalues().minCoeff(),
+              -1e-15);
+  }
+  std::printf("BEV uncertainty map: %d cells seen, worst %.2f mm (mount only %.2f mm)\n",
+              floor.bev_map.KnownCells(), floor.bev_map.WorstRmsMm(), mount_only.WorstRmsMm());
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.9, 0.0), Eigen::Vector2d(1.5, 0.5),
+                                   Eigen::Vector2d(1.5, -0.5), Eigen::Vector2d(1.9, 0.0)}) {
+    const std::optional<Eigen::Matrix2d> c = floor.bev_map.CovarianceAt(p);
+    if (c) std::printf("  cell at (%.1f, %.1f) m: %.2f mm\n", p.x(), p.y(), 1e3 * std::sqrt(c->trace()));
+  }
   // Farther ahead, the same pixel error covers more floor.
   if (floor.bev_budget[0].known && floor.bev_budget[1].known) {
     EXPECT_GT(floor.bev_budget[1].intrinsics_rms_mm, floor.bev_budget[0].intrinsics_rms_mm);

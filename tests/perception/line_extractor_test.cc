@@ -8,6 +8,9 @@
 
 #include "rendered_bev.h"
 
+#include <Eigen/Eigenvalues>
+#include <cstdio>
+#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -162,6 +165,82 @@ TEST(LineExtractor, CovarianceIsConsistentOverMonteCarlo) {
   EXPECT_GE(inside, 34);                  // >= 85 % (95 % expected)
   EXPECT_GT(nees[nees.size() / 2], 0.5);  // chi-square(2) median: 1.39
   EXPECT_LT(nees[nees.size() / 2], 3.0);
+}
+
+}  // namespace
+}  // namespace groundline::perception
+
+namespace groundline::perception {
+namespace {
+
+// A map of the calibration's floor uncertainty, sigma_m per axis in every cell.
+std::shared_ptr<const calibration::BevUncertaintyMap> UniformMap(double sigma_m) {
+  auto map = std::make_shared<calibration::BevUncertaintyMap>();
+  map->x0_m = 0.0;
+  map->y0_m = -2.0;
+  map->cell_m = 0.2;
+  map->cells_x = 20;
+  map->cells_y = 20;
+  map->covariance_m2.assign(400, sigma_m * sigma_m * Eigen::Matrix2d::Identity());
+  return map;
+}
+
+double MinEigen(const Eigen::Matrix2d& m) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(m).eigenvalues().minCoeff();
+}
+
+// The calibration floor: a line is known no better than the line through its
+// endpoints with the calibration's covariance there, and no worse than it
+// was where the calibration is better than the ridge fit.
+TEST(LineExtractor, CalibrationFloorBoundsTheLineCovarianceFromBelow) {
+  const BevGrid grid(BevGridOptions{});
+  const HesseLine truth = NormalizeLine(0.3137, kPi / 2 - 0.02);
+  const Eigen::Vector2d foot = truth.rho_m * truth.Normal();
+  const Tape tape{foot - 2.6 * truth.Direction(), foot + 0.5 * truth.Direction(), 0.075, 170.0};
+  const Tape bar{{1.6, -0.6}, {1.6, 0.6}, 0.05, 170.0};
+  const cv::Mat bev = RenderBev(grid, Paint({tape, bar}));
+  const LineExtraction plain = MakeExtractor(grid).Extract(bev);
+  ASSERT_EQ(plain.lines.size(), 2u);
+  ASSERT_EQ(plain.junctions.size(), 1u);
+
+  LineExtractorOptions options;
+  options.calibration_floor = UniformMap(0.005);
+  const LineExtraction floored = MakeExtractor(grid, options).Extract(bev);
+  ASSERT_EQ(floored.lines.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const ExtractedLine& a = plain.lines[i];
+    const ExtractedLine& b = floored.lines[i];
+    EXPECT_EQ(a.line.rho_m, b.line.rho_m);  // the estimate itself does not change
+    const LineEstimate calib =
+        LineFromEndpoints(b.start_m, 2.5e-5 * Eigen::Matrix2d::Identity(), b.end_m,
+                          2.5e-5 * Eigen::Matrix2d::Identity())
+            .value();
+    const Eigen::Matrix2d floor = CovarianceInDescriptionOf(calib.line, b.line, calib.covariance);
+    EXPECT_GE(MinEigen(b.covariance - floor), -1e-12) << i;
+    EXPECT_GE(MinEigen(b.covariance - a.covariance), -1e-12) << i;
+    // 5 mm at each end is far above what the ridge fit says (sub-millimetre).
+    EXPECT_GT(std::sqrt(b.covariance(0, 0)), 0.003) << i;
+    std::printf("line %zu: sigma rho %.2f -> %.2f mm\n", i, 1e3 * std::sqrt(a.covariance(0, 0)),
+                1e3 * std::sqrt(b.covariance(0, 0)));
+  }
+  ASSERT_EQ(floored.junctions.size(), 1u);
+  EXPECT_GT(floored.junctions[0].covariance.trace(), 10.0 * plain.junctions[0].covariance.trace());
+
+  // A calibration far better than the fit changes nothing.
+  options.calibration_floor = UniformMap(1e-7);
+  const LineExtraction fine = MakeExtractor(grid, options).Extract(bev);
+  ASSERT_EQ(fine.lines.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_LT((fine.lines[i].covariance - plain.lines[i].covariance).norm(),
+              1e-9 * plain.lines[i].covariance.norm());
+  }
+  // A map that does not know where the line is leaves it as it was.
+  auto unknown = std::make_shared<calibration::BevUncertaintyMap>(*UniformMap(0.005));
+  unknown->covariance_m2.assign(400, Eigen::Matrix2d::Constant(std::nan("")));
+  options.calibration_floor = unknown;
+  const LineExtraction none = MakeExtractor(grid, options).Extract(bev);
+  ASSERT_EQ(none.lines.size(), 2u);
+  EXPECT_EQ(none.lines[0].covariance, plain.lines[0].covariance);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // and the command's errors for bad inputs.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -54,6 +55,28 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
   EXPECT_LT(report["rms_px"].get<double>(), 0.5);
   EXPECT_GT(report["mount"]["height_mm"]["sigma3"].get<double>(), 0.0);
   EXPECT_NE(ReadText(dir / "cal" / "floor_report.html").find("<svg"), std::string::npos);
+  // The BEV uncertainty map: in the report (mm per cell) and as the file
+  // perception reads (covariances), for the same grid.
+  const nlohmann::json& bev = report["bev_uncertainty"];
+  EXPECT_EQ(bev["cells_x"], 20);
+  EXPECT_EQ(bev["cells_y"], 20);
+  EXPECT_FALSE(bev["includes_intrinsics"].get<bool>());
+  EXPECT_GT(bev["worst_rms_mm"].get<double>(), 0.0);
+  const nlohmann::json map = nlohmann::json::parse(ReadText(dir / "cal" / "bev_uncertainty.json"));
+  EXPECT_EQ(map["format"], "groundline.bev_uncertainty");
+  ASSERT_EQ(map["covariance_m2"].size(), 400u);
+  int seen = 0;
+  for (std::size_t i = 0; i < 400; ++i) {
+    EXPECT_EQ(map["covariance_m2"][i].is_null(), bev["rms_mm"][i].is_null()) << i;
+    if (map["covariance_m2"][i].is_null()) continue;
+    ++seen;
+    const double trace = map["covariance_m2"][i][0].get<double>() + map["covariance_m2"][i][2].get<double>();
+    EXPECT_NEAR(bev["rms_mm"][i].get<double>(), 1e3 * std::sqrt(trace), 0.051) << i;
+  }
+  EXPECT_GT(seen, 10);
+  EXPECT_NE(out.find("BEV uncertainty map (mount only)"), std::string::npos) << out;
+  EXPECT_NE(ReadText(dir / "cal" / "floor_report.html").find("BEV uncertainty map"),
+            std::string::npos);
 
   // An image without tags is named and skipped.
   const cv::Mat blank(384, 480, CV_8UC1, cv::Scalar(90));

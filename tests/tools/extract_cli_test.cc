@@ -110,6 +110,64 @@ TEST(ExtractCli, FolderWithACorruptImage) {
     EXPECT_EQ(e.path().filename().string().find(".none_out.tmp"), std::string::npos);
   }
 
+  // The calibration's floor: a mount known to 0.5 deg of pitch and 5 mm of
+  // height bounds each line's covariance from below (a tape 1-2 m ahead
+  // cannot be placed better than centimetres).
+  const std::string map_command = "calibrate bev-uncertainty --camera " +
+                                  Quoted(dir / "camera.cameramodel") + " --extrinsics " +
+                                  Quoted(dir / "extrinsics.yaml");
+  ASSERT_EQ(RunGroundline(map_command + " --sigma-pitch-deg 0.5 --sigma-height-mm 5 --out " +
+                              Quoted(dir / "bev_uncertainty.json"),
+                          dir, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("worst"), std::string::npos) << out;
+  const std::filesystem::path floored = dir / "out_floored";
+  ASSERT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " +
+                              Quoted(dir / "camera.cameramodel") + " --extrinsics " +
+                              Quoted(dir / "extrinsics.yaml") + " --bev-uncertainty " +
+                              Quoted(dir / "bev_uncertainty.json") + " --png-every 0 --out " +
+                              Quoted(floored),
+                          dir, &out),
+            0)
+      << out;
+  {
+    std::ifstream plain_lines(result / "lines.jsonl"), floored_lines(floored / "lines.jsonl");
+    std::string a, b;
+    int compared = 0;
+    while (std::getline(plain_lines, a) && std::getline(floored_lines, b)) {
+      const nlohmann::json fa = nlohmann::json::parse(a), fb = nlohmann::json::parse(b);
+      ASSERT_EQ(fa["lines"].size(), 1u);
+      ASSERT_EQ(fb["lines"].size(), 1u);
+      const double var_a = fa["lines"][0]["cov"][0].get<double>();
+      const double var_b = fb["lines"][0]["cov"][0].get<double>();
+      EXPECT_EQ(fa["lines"][0]["rho_m"], fb["lines"][0]["rho_m"]);
+      EXPECT_GT(std::sqrt(var_b), 0.003) << b;  // millimetres of rho from the mount alone
+      EXPECT_GT(var_b, 10.0 * var_a) << b;
+      ++compared;
+    }
+    EXPECT_EQ(compared, 3);
+  }
+  // Every sigma zero: a map that would claim an exact calibration is refused.
+  EXPECT_EQ(RunGroundline(map_command + " --out " + Quoted(dir / "zero.json"), dir, &out), 2) << out;
+  // A map of another camera is refused by name.
+  const calibration::CameraModel other = *calibration::CameraModel::Create(
+      "LENSMODEL_PINHOLE", {280.0, 280.0, 159.5, 127.5}, 320, 256);
+  ASSERT_TRUE(calibration::WriteMrcalCameraModel(dir / "other.cameramodel", other).ok());
+  ASSERT_EQ(RunGroundline("calibrate bev-uncertainty --camera " + Quoted(dir / "other.cameramodel") +
+                              " --extrinsics " + Quoted(dir / "extrinsics.yaml") +
+                              " --sigma-pitch-deg 0.5 --out " + Quoted(dir / "other.json"),
+                          dir, &out),
+            0)
+      << out;
+  EXPECT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " +
+                              Quoted(dir / "camera.cameramodel") + " --bev-uncertainty " +
+                              Quoted(dir / "other.json") + " --out " + Quoted(dir / "out_other"),
+                          dir, &out),
+            1)
+      << out;
+  EXPECT_NE(out.find("another camera model"), std::string::npos) << out;
+
   EXPECT_EQ(RunGroundline("extract --out " + Quoted(result), dir, &out), 2) << out;
   EXPECT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " + Quoted(dir / "nope.yaml") +
                               " --out " + Quoted(result),

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "groundline/calibration/bev_uncertainty.h"
 #include "groundline/calibration/camera_model.h"
 #include "groundline/calibration/floor_extrinsics.h"
 #include "groundline/calibration/floor_rectification.h"
@@ -64,6 +65,7 @@ struct FloorCalibrationOptions {
   FloorReportThresholds thresholds;
   bool rectify = true;  // build FloorCalibration::rectified for the report
   FloorRectificationOptions rectification;
+  BevUncertaintyGridOptions bev_grid;  // FloorCalibration::bev_map
 
   core::Status Validate() const;
 };
@@ -100,6 +102,11 @@ struct FloorCalibration {
   // bev with the intrinsics' part added (AddIntrinsicsToBev); empty without
   // an intrinsics report.
   std::vector<BevErrorBudget> bev_budget;
+  // The calibration's floor uncertainty over a grid of the BEV
+  // (bev_uncertainty.h): the mount's part, and the intrinsics' part once
+  // AddIntrinsicsToBev has run; empty (no cells) when the camera sees none.
+  BevUncertaintyMap bev_map;
+  BevUncertaintyGridOptions bev_map_grid;  // the grid it was computed on
   std::vector<TagResidual> tags;   // every tag seen, worst RMS first
   // Per image, the corner RMS over the tags that pass their check (the value
   // max_image_rms_px judges; solution.image_rms_px counts every corner).
@@ -171,7 +178,8 @@ core::Result<IntrinsicsReportSummary> ReadIntrinsicsReportSummary(
 core::Status CheckSameCamera(const IntrinsicsReportSummary& report, const CameraModel& camera,
                              const std::string& camera_source);
 
-// Fills calibration->bev_budget at the distances of calibration->bev: the
+// Fills calibration->bev_budget at the distances of calibration->bev (and
+// calibration->bev_map over its grid, with the intrinsics' part): the
 // BEV point's pixel and range through the solved mount, its Var(q) from the
 // report's map cell at that pixel (linear in range between the maps' ranges,
 // the nearest map outside them), carried to the floor. camera: the one the

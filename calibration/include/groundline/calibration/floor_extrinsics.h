@@ -142,6 +142,9 @@ struct BevError {
 };
 core::Result<BevError> BevErrorAhead(const CameraMount& mount, const Matrix6d& covariance,
                                      double distance_m);
+// The same at any floor point (x, y) of base_link (distance_m: its x).
+core::Result<BevError> BevErrorAt(const CameraMount& mount, const Matrix6d& covariance,
+                                  const Eigen::Vector2d& floor_point_m);
 
 }  // namespace groundline::calibration
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <limits>
 
 namespace groundline::core {
@@ -26,6 +27,30 @@ double SquaredMahalanobis(const Eigen::Matrix<double, N, 1>& r,
     return std::numeric_limits<double>::infinity();
   }
   return r.dot(ldlt.solve(r));
+}
+
+// The covariance c raised to at least `floor`: the smallest covariance in the
+// generalized-eigenvector sense that is >= both (c and floor in the Loewner
+// order). With c = L L^T and L^-1 floor L^-T = V D V^T, it is
+// L V max(D, 1) V^T L^T: along each direction where floor exceeds c the
+// variance becomes floor's, elsewhere c's stays. c itself when c >= floor;
+// floor when floor >= c. A floor that is not finite is ignored; a c that is
+// not positive definite is replaced by c + floor.
+template <int N>
+Eigen::Matrix<double, N, N> CovarianceAtLeast(const Eigen::Matrix<double, N, N>& c,
+                                              const Eigen::Matrix<double, N, N>& floor) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  if (!floor.allFinite()) return c;
+  const Eigen::LLT<Matrix> llt(c);
+  if (!c.allFinite() || llt.info() != Eigen::Success) return c + floor;
+  const Matrix L = llt.matrixL();
+  const Matrix Linv_F = L.template triangularView<Eigen::Lower>().solve(floor);
+  const Matrix M = L.template triangularView<Eigen::Lower>().solve(Linv_F.transpose());
+  const Eigen::SelfAdjointEigenSolver<Matrix> eig(0.5 * (M + M.transpose()));
+  const Eigen::Matrix<double, N, 1> d = eig.eigenvalues().cwiseMax(1.0);
+  const Matrix LV = L * eig.eigenvectors();
+  const Matrix out = LV * d.asDiagonal() * LV.transpose();
+  return 0.5 * (out + out.transpose());
 }
 
 }  // namespace groundline::core

@@ -61,6 +61,10 @@ struct CameraSensor {
   // module (mrcal/OpenCV intrinsics, groundline extrinsics T_base_cam).
   std::string intrinsics_file = "calibration/camera.yaml";
   std::string extrinsics_file = "calibration/extrinsics.yaml";
+  // Optional (empty: none): the calibration's floor uncertainty that
+  // `calibrate floor` wrote (bev_uncertainty.json), the floor of the line
+  // covariances (calibration/bev_uncertainty.h).
+  std::string bev_uncertainty_file{};
 };
 
 struct WheelEncoderSensor {

@@ -35,9 +35,11 @@
 #define GROUNDLINE_PERCEPTION_LINE_EXTRACTOR_H_
 
 #include <Eigen/Core>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "groundline/calibration/bev_uncertainty.h"
 #include "groundline/calibration/floor_projection.h"
 #include "groundline/core/status.h"
 #include "groundline/perception/bev_remap.h"
@@ -168,6 +170,14 @@ struct LineExtractorOptions {
   double rho_floor_m = 0.0004;
   double alpha_floor_rad = 0.00052;  // 0.03 deg
   bool floor_about_centroid = true;  // LineNoiseModel::floor_about_centroid
+  // The calibration's floor uncertainty (calibration/bev_uncertainty.h,
+  // written by `calibrate floor`); null: none. Each line's covariance is
+  // raised to at least that of the line through its endpoints with the map's
+  // covariances there (core::CovarianceAtLeast): a line is known no better
+  // than the mount and intrinsics that put it on the floor. An endpoint in a
+  // cell the map does not know is moved inward along the line (to 10 %, then
+  // 25 % of its length); a line with no known pair keeps its covariance.
+  std::shared_ptr<const calibration::BevUncertaintyMap> calibration_floor;
 
   core::Status Validate() const;
   // correlation_samples and scatter_correlation_samples with their defaults
