@@ -213,7 +213,7 @@ void BevUncertaintySection(const FloorCalibration& c, std::ostringstream& h) {
       if (known) {
         h << "<text x='" << x_px + kCell / 2 << "' y='" << y_px + kCell / 2 + 3
           << "' text-anchor='middle' fill='" << (rms > 0.6 * worst ? "#000" : "#fff") << "'>"
-          << Fixed(rms, rms < 10.0 ? 1 : 0) << "</text>";
+          << Fixed(rms, rms < 1.0 ? 2 : rms < 10.0 ? 1 : 0) << "</text>";
       }
     }
     h << "\n";
