@@ -1,4 +1,5 @@
 #include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/mount_remap.h"
 #include "groundline/core/angles.h"
 
 #include <cassert>
@@ -69,12 +70,8 @@ Eigen::Matrix3d LevelCameraRotation() {
 
 Eigen::Isometry3d BaseFromCamera(const CameraMount& mount) {
   assert(mount.Validate().ok());
-  const Eigen::Matrix3d rpy = (Eigen::AngleAxisd(mount.yaw_rad, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(mount.pitch_rad, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(mount.roll_rad, Eigen::Vector3d::UnitX()))
-                                  .toRotationMatrix();
   Eigen::Isometry3d T_base_cam = Eigen::Isometry3d::Identity();
-  T_base_cam.linear() = rpy * LevelCameraRotation();
+  T_base_cam.linear() = BaseFromCameraRotation(mount.pitch_rad, mount.roll_rad, mount.yaw_rad);
   T_base_cam.translation() = Eigen::Vector3d(mount.forward_m, mount.lateral_m, mount.height_m);
   return T_base_cam;
 }

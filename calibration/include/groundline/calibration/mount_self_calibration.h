@@ -1,0 +1,226 @@
+// Online self-calibration of the floor camera's mount (pitch, roll, height,
+// yaw) from the floor lines perception finds while the vehicle drives.
+//
+// Why it is observable. A wrong mount warps the whole bird's-eye view by one
+// floor-to-floor homography (mount_remap.h): a wrong pitch makes lines that
+// run ahead converge or diverge and compresses the view along x
+// non-linearly, a wrong roll tilts lines across the view unequally and shears
+// the view, a wrong height scales it about the camera's ground point, a wrong
+// yaw turns it. Three kinds of evidence undo the warp:
+//  - structure: markings that are parallel on the floor (the two edges of a
+//    lane, tape beside a joint) or perpendicular (a stop bar across a lane)
+//    must be so in the view (pitch, roll);
+//  - motion: the same marking seen from several places along a straight
+//    drive must stay put on the floor once the odometry's motion is undone
+//    (pitch and roll through the non-linear warp, height through the scale,
+//    yaw through the direction of travel);
+//  - known spacings (optional): lines a known distance apart on the floor
+//    (a lane's width from the layout) fix the scale, hence the height,
+//    independently of the odometry's wheel scale.
+//
+// Method. Frames are collected into windows of a straight, steady drive (the
+// odometry's yaw rate and acceleration below their gates: a turn slides the
+// wheels and an acceleration pitches the chassis, so neither is evidence
+// about the mount at rest). Each window is one small least-squares problem
+// (Ceres): the mount correction, one line landmark per marking tracked
+// through the window (in the window's first base frame), and the frames'
+// poses tied by the odometry; observation residuals are the distances of each
+// observed segment's remapped endpoints from its landmark, whitened by the
+// segment's covariance, with a Cauchy loss (clutter, a worn piece of tape);
+// structure residuals tie landmarks the view shows nearly parallel or nearly
+// perpendicular, with a Cauchy loss (not every such pair is one on the
+// floor). The window's information about the mount (the Schur complement of
+// its problem, with the weak regularizing prior taken out again) is fused
+// into the running estimate, a random walk: the estimate follows a slow
+// drift (tire wear) by its process noise. A window whose estimate disagrees
+// with the running one beyond chi-square (normalized innovation squared) for
+// `step_windows` windows in a row is a step (a payload, a knock): the
+// running estimate is restarted from the last of them (the first may
+// straddle the step), so it follows a step within a few windows instead of
+// averaging it away. A lone window over the gate is dropped (clutter, a
+// marking that is not straight).
+//
+// The alarm (a knocked camera): the estimate differs from the commissioned
+// mount by more than a component's threshold, beyond 3 sigma. The
+// thresholds separate a bent bracket (roll, yaw) from the load a vehicle
+// carries (pitch, height within a payload's range).
+//
+// Scale. With no known spacing in view the height is as good as the scale of
+// the motion given with the frames: a wheel radius 0.1 % off puts the height
+// 0.1 % (0.6 mm) off. Give the localizer's fused motion, or known spacings,
+// where the wheels are not trusted to that level.
+//
+// Thread-safety: not thread-safe; one object per camera, fed in time order.
+#ifndef GROUNDLINE_CALIBRATION_MOUNT_SELF_CALIBRATION_H_
+#define GROUNDLINE_CALIBRATION_MOUNT_SELF_CALIBRATION_H_
+
+#include <Eigen/Core>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/core/se2.h"
+#include "groundline/core/status.h"
+
+namespace groundline::calibration {
+
+// The estimated components, in this order in every vector and matrix.
+enum MountComponent { kMountPitch = 0, kMountRoll = 1, kMountHeight = 2, kMountYaw = 3 };
+using MountVector = Eigen::Matrix<double, 4, 1>;  // pitch_rad, roll_rad, height_m, yaw_rad
+using MountMatrix = Eigen::Matrix<double, 4, 4>;
+
+// One floor line segment as perception found it, in base_link, under the mount
+// its frame's BEV was made with; covariance of its Hesse (rho_m, alpha_rad)
+// about the origin of base_link (perception's ExtractedLine::covariance).
+struct FloorSegment {
+  Eigen::Vector2d start_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+};
+
+// One camera frame's lines and where the vehicle was.
+struct MountFrame {
+  double stamp_s = 0.0;
+  // The odometry's pose at the frame's stamp (any fixed odom frame).
+  core::SE2 T_odom_base;
+  // The mount the frame's BEV was made with (the segments are under it).
+  CameraMount mount_used;
+  std::vector<FloorSegment> segments;
+};
+
+struct MountSelfCalibrationOptions {
+  // Windows.
+  double window_s = 1.5;             // a window closes after this much time ..
+  int min_window_frames = 4;         // .. and is used with at least this many frames
+  double max_frame_gap_s = 0.6;      // a longer gap closes the window
+  double max_yaw_rate_rad_s = 0.05;  // straight-drive gate (about 3 deg/s)
+  double max_accel_mps2 = 0.3;       // steady-drive gate
+  double min_speed_mps = 0.2;        // standing still shows no motion evidence
+  // Segments.
+  double min_segment_length_m = 0.3;
+  double min_segment_sigma_m = 0.0005;  // floor on each endpoint's distance sigma
+  // Association across frames: the landmark predicted into the frame with the
+  // odometry and the current estimate, against the segment remapped to it.
+  double associate_max_angle_rad = 0.035;
+  double associate_max_distance_m = 0.04;
+  // A marking counts when tracked through at least this many frames of the
+  // window (a single sighting is as likely clutter).
+  int min_track_frames = 3;
+  // Structure: landmarks whose directions differ by less than this (from
+  // parallel, or from perpendicular) are tied with parallel_sigma_rad.
+  double structure_gate_rad = 0.05;
+  double parallel_sigma_rad = 0.0015;
+  bool use_perpendicular = true;
+  // Known spacings between parallel lines (m, e.g. a lane's width); a pair of
+  // parallel landmarks whose separation is within spacing_gate_m of one is
+  // tied to it with spacing_sigma_m. Empty: none.
+  std::vector<double> known_spacings_m;
+  double spacing_gate_m = 0.03;
+  double spacing_sigma_m = 0.002;
+  // Odometry noise of the frames' relative poses: per metre driven (along
+  // and across, m/sqrt(m)) and heading (rad/sqrt(m)).
+  double odometry_sigma_m_per_sqrt_m = 0.002;
+  double odometry_sigma_rad_per_sqrt_m = 0.0005;
+  // Cauchy loss scale of the whitened observation and structure residuals.
+  double loss_scale = 2.0;
+  // The window's regularizing prior about the running estimate (taken out of
+  // the window's information again before fusion): wide, only for the
+  // directions a window does not see.
+  MountVector window_prior_sigma = (MountVector() << 0.05, 0.05, 0.05, 0.05).finished();
+  // The commissioned mount's uncertainty: the running estimate's start, and
+  // its restart after a step.
+  MountVector initial_sigma = (MountVector() << 0.02, 0.02, 0.02, 0.02).finished();
+  // Random walk of the true mount (per sqrt(s) of driving time): lets the
+  // estimate follow tire wear and a slowly settling load.
+  MountVector random_walk_per_sqrt_s =
+      (MountVector() << 2e-5, 2e-5, 2e-5, 2e-5).finished();
+  // Step detection: normalized innovation squared of a window over the
+  // chi-square quantile step_probability for step_windows windows in a row.
+  double step_probability = 0.9999;
+  int step_windows = 2;
+  // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
+  // height_m, yaw_rad) and above alarm_sigmas sigma.
+  MountVector alarm_threshold =
+      (MountVector() << 0.026, 0.0044, 0.015, 0.0087).finished();  // 1.5, 0.25 deg, 15 mm, 0.5 deg
+  double alarm_sigmas = 3.0;
+  int max_solver_iterations = 30;
+
+  core::Status Validate() const;
+};
+
+// The running estimate.
+struct MountEstimate {
+  CameraMount mount;  // the estimated mount itself (forward/lateral as commissioned)
+  MountMatrix covariance = MountMatrix::Zero();  // of (pitch, roll, height, yaw)
+  bool alarm = false;
+  std::string alarm_message;  // what changed and by how much, when alarm
+  // Counters since the start.
+  int frames = 0;
+  int frames_gated = 0;  // not straight or steady, or too few segments
+  int windows_used = 0;
+  int windows_rejected = 0;  // too few frames or evidence, or the solve failed
+  int steps = 0;             // steps detected
+  double last_update_s = 0.0;  // stamp of the last window fused (0: none)
+};
+
+// The result of solving one window (exposed for the tests and diagnostics).
+struct MountWindowSolution {
+  bool ok = false;
+  std::string message;          // why not ok
+  MountVector correction = MountVector::Zero();  // to the reference mount, at the solve
+  // The window's own information about the correction and its information
+  // vector (Lambda c), the regularizing prior taken out again.
+  MountMatrix information = MountMatrix::Zero();
+  MountVector information_vector = MountVector::Zero();
+  int frames = 0;
+  int landmarks = 0;
+  int observations = 0;
+  int structure_pairs = 0;
+  int spacing_pairs = 0;
+  int iterations = 0;
+  double final_cost = 0.0;
+};
+
+// Solves one window: frames of one straight drive, their segments under
+// their mount_used; the correction is to `reference` (pitch, roll, height,
+// yaw added), regularized about `prior_correction`.
+MountWindowSolution SolveMountWindow(const std::vector<MountFrame>& frames,
+                                     const CameraMount& reference,
+                                     const MountVector& prior_correction,
+                                     const MountSelfCalibrationOptions& options);
+
+class MountSelfCalibrator {
+ public:
+  // The commissioned mount (valid, asserted) and valid options (asserted).
+  MountSelfCalibrator(const CameraMount& commissioned, const MountSelfCalibrationOptions& options);
+
+  // Feeds one frame, in stamp order (an older stamp is ignored). Returns true
+  // when a window was fused and the estimate changed.
+  bool AddFrame(const MountFrame& frame);
+
+  const MountEstimate& estimate() const { return estimate_; }
+  const CameraMount& commissioned() const { return commissioned_; }
+
+ private:
+  bool FrameQualifies(const MountFrame& frame) const;
+  bool CloseWindow();
+  void Fuse(const MountWindowSolution& window, double stamp_s);
+  void UpdateEstimate();
+
+  CameraMount commissioned_;
+  MountSelfCalibrationOptions options_;
+  // The running estimate as a correction to the commissioned mount.
+  MountVector mean_ = MountVector::Zero();
+  MountMatrix covariance_ = MountMatrix::Zero();
+  double last_fused_stamp_s_ = -1.0;
+  double last_windowed_stamp_s_ = -1e300;  // the last frame of the last window
+  std::vector<MountFrame> window_;
+  std::deque<MountFrame> recent_;  // the last frames, for the motion gates
+  std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
+  MountEstimate estimate_;
+};
+
+}  // namespace groundline::calibration
+
+#endif  // GROUNDLINE_CALIBRATION_MOUNT_SELF_CALIBRATION_H_

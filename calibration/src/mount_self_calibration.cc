@@ -1,0 +1,233 @@
+#include "groundline/calibration/mount_self_calibration.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cassert>
+#include <cmath>
+#include <sstream>
+
+#include "groundline/core/angles.h"
+#include "groundline/core/covariance.h"
+#include "groundline/core/statistics.h"
+
+namespace groundline::calibration {
+namespace {
+
+core::Status FieldError(const std::string& field, const std::string& expected) {
+  return core::Status::Error("self-calibration option '" + field + "': expected " + expected);
+}
+
+bool Positive(double v) { return std::isfinite(v) && v > 0.0; }
+
+const char* const kComponentNames[4] = {"pitch", "roll", "height", "yaw"};
+
+// A component's value for a person: degrees for angles, millimetres for height.
+double InUnits(int i, double v) { return i == kMountHeight ? v * 1000.0 : v * core::kRadToDeg; }
+const char* UnitOf(int i) { return i == kMountHeight ? "mm" : "deg"; }
+
+}  // namespace
+
+core::Status MountSelfCalibrationOptions::Validate() const {
+  if (!Positive(window_s)) return FieldError("window_s", "a time > 0 s");
+  if (min_window_frames < 2) return FieldError("min_window_frames", "at least 2");
+  if (!Positive(max_frame_gap_s)) return FieldError("max_frame_gap_s", "a time > 0 s");
+  if (!Positive(max_yaw_rate_rad_s)) return FieldError("max_yaw_rate_rad_s", "a rate > 0");
+  if (!Positive(max_accel_mps2)) return FieldError("max_accel_mps2", "an acceleration > 0");
+  if (!(std::isfinite(min_speed_mps) && min_speed_mps >= 0.0))
+    return FieldError("min_speed_mps", "a speed >= 0");
+  if (!Positive(min_segment_length_m)) return FieldError("min_segment_length_m", "a length > 0");
+  if (!Positive(min_segment_sigma_m)) return FieldError("min_segment_sigma_m", "a sigma > 0");
+  if (!Positive(associate_max_angle_rad))
+    return FieldError("associate_max_angle_rad", "an angle > 0");
+  if (!Positive(associate_max_distance_m))
+    return FieldError("associate_max_distance_m", "a distance > 0");
+  if (!(Positive(structure_gate_rad) && structure_gate_rad < 0.5))
+    return FieldError("structure_gate_rad", "an angle in (0, 0.5) rad");
+  if (!Positive(parallel_sigma_rad)) return FieldError("parallel_sigma_rad", "a sigma > 0");
+  for (double s : known_spacings_m)
+    if (!Positive(s)) return FieldError("known_spacings_m", "distances > 0");
+  if (!Positive(spacing_gate_m)) return FieldError("spacing_gate_m", "a distance > 0");
+  if (!Positive(spacing_sigma_m)) return FieldError("spacing_sigma_m", "a sigma > 0");
+  if (!Positive(odometry_sigma_m_per_sqrt_m))
+    return FieldError("odometry_sigma_m_per_sqrt_m", "a sigma > 0");
+  if (!Positive(odometry_sigma_rad_per_sqrt_m))
+    return FieldError("odometry_sigma_rad_per_sqrt_m", "a sigma > 0");
+  if (!Positive(loss_scale)) return FieldError("loss_scale", "a scale > 0");
+  for (int i = 0; i < 4; ++i) {
+    const std::string c = kComponentNames[i];
+    if (!Positive(window_prior_sigma(i))) return FieldError("window_prior_sigma." + c, "> 0");
+    if (!Positive(initial_sigma(i))) return FieldError("initial_sigma." + c, "> 0");
+    if (!(std::isfinite(random_walk_per_sqrt_s(i)) && random_walk_per_sqrt_s(i) >= 0.0))
+      return FieldError("random_walk_per_sqrt_s." + c, ">= 0");
+    if (!Positive(alarm_threshold(i))) return FieldError("alarm_threshold." + c, "> 0");
+  }
+  if (!(step_probability > 0.5 && step_probability < 1.0))
+    return FieldError("step_probability", "a probability in (0.5, 1)");
+  if (step_windows < 1) return FieldError("step_windows", "at least 1");
+  if (!(std::isfinite(alarm_sigmas) && alarm_sigmas >= 0.0))
+    return FieldError("alarm_sigmas", "a number >= 0");
+  if (max_solver_iterations < 1) return FieldError("max_solver_iterations", "at least 1");
+  return core::Status::Ok();
+}
+
+MountSelfCalibrator::MountSelfCalibrator(const CameraMount& commissioned,
+                                         const MountSelfCalibrationOptions& options)
+    : commissioned_(commissioned), options_(options) {
+  assert(commissioned.Validate().ok());
+  assert(options.Validate().ok());
+  covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+  UpdateEstimate();
+}
+
+bool MountSelfCalibrator::FrameQualifies(const MountFrame& frame) const {
+  if (recent_.empty()) return false;
+  const MountFrame& prev = recent_.back();
+  const double dt = frame.stamp_s - prev.stamp_s;
+  if (!(dt > 0.0) || dt > options_.max_frame_gap_s) return false;
+  const core::SE2 step = prev.T_odom_base.Between(frame.T_odom_base);
+  const double speed = step.translation().norm() / dt;
+  if (speed < options_.min_speed_mps) return false;
+  if (std::abs(step.yaw()) / dt > options_.max_yaw_rate_rad_s) return false;
+  if (recent_.size() >= 2) {
+    const MountFrame& prev2 = recent_[recent_.size() - 2];
+    const double dt0 = prev.stamp_s - prev2.stamp_s;
+    if (dt0 > 0.0) {
+      const double speed0 =
+          prev2.T_odom_base.Between(prev.T_odom_base).translation().norm() / dt0;
+      if (std::abs(speed - speed0) / (0.5 * (dt + dt0)) > options_.max_accel_mps2) return false;
+    }
+  }
+  int long_segments = 0;
+  for (const FloorSegment& s : frame.segments)
+    if ((s.end_m - s.start_m).norm() >= options_.min_segment_length_m) ++long_segments;
+  return long_segments > 0;
+}
+
+bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
+  if (!recent_.empty() && !(frame.stamp_s > recent_.back().stamp_s)) return false;
+  ++estimate_.frames;
+  bool changed = false;
+  const bool qualifies = FrameQualifies(frame);
+  if (!qualifies) ++estimate_.frames_gated;
+  const bool gap = !window_.empty() && frame.stamp_s - window_.back().stamp_s > options_.max_frame_gap_s;
+  if ((!qualifies || gap) && !window_.empty()) changed = CloseWindow();
+  if (qualifies) {
+    // A window starts with the frame before its first qualifying one: the
+    // motion into that frame was judged with it.
+    if (window_.empty() && recent_.back().stamp_s > last_windowed_stamp_s_)
+      window_.push_back(recent_.back());
+    window_.push_back(frame);
+    if (window_.back().stamp_s - window_.front().stamp_s >= options_.window_s)
+      changed = CloseWindow() || changed;
+  }
+  recent_.push_back(frame);
+  while (recent_.size() > 2) recent_.pop_front();
+  return changed;
+}
+
+bool MountSelfCalibrator::CloseWindow() {
+  std::vector<MountFrame> frames;
+  frames.swap(window_);
+  last_windowed_stamp_s_ = frames.back().stamp_s;
+  if (static_cast<int>(frames.size()) < options_.min_window_frames) {
+    ++estimate_.windows_rejected;
+    return false;
+  }
+  MountWindowSolution w = SolveMountWindow(frames, commissioned_, mean_, options_);
+  if (!w.ok) {
+    ++estimate_.windows_rejected;
+    return false;
+  }
+  const double stamp_s = frames.back().stamp_s;
+  // The random walk since the last fusion.
+  if (last_fused_stamp_s_ >= 0.0) {
+    const double dt = std::max(0.0, stamp_s - last_fused_stamp_s_);
+    covariance_ += (options_.random_walk_per_sqrt_s.array().square() * dt).matrix().asDiagonal();
+  }
+  // The innovation in the directions the window sees.
+  const Eigen::SelfAdjointEigenSolver<MountMatrix> eig(w.information);
+  const double max_value = eig.eigenvalues().maxCoeff();
+  Eigen::Matrix<double, 4, Eigen::Dynamic> U(4, 0);
+  Eigen::VectorXd values(0);
+  for (int i = 0; i < 4; ++i) {
+    if (eig.eigenvalues()(i) > 1e-9 * max_value && eig.eigenvalues()(i) > 0.0) {
+      U.conservativeResize(Eigen::NoChange, U.cols() + 1);
+      U.col(U.cols() - 1) = eig.eigenvectors().col(i);
+      values.conservativeResize(values.size() + 1);
+      values(values.size() - 1) = eig.eigenvalues()(i);
+    }
+  }
+  if (U.cols() == 0) {
+    ++estimate_.windows_rejected;
+    return false;
+  }
+  const Eigen::VectorXd z = (U.transpose() * w.information_vector).cwiseQuotient(values);
+  const Eigen::VectorXd y = z - U.transpose() * mean_;
+  const Eigen::MatrixXd S = U.transpose() * covariance_ * U +
+                            Eigen::MatrixXd(values.cwiseInverse().asDiagonal());
+  const double nis = core::SquaredMahalanobis<Eigen::Dynamic>(y, S);
+  const double gate = core::ChiSquareQuantile(static_cast<int>(U.cols()), options_.step_probability);
+  if (nis > gate) {
+    suspect_.push_back(w);
+    if (static_cast<int>(suspect_.size()) < options_.step_windows) return false;
+    // A step: restart from the commissioned uncertainty about the current
+    // mean and take the last window that showed it (the first may straddle
+    // the step, half of its frames under the old mount).
+    ++estimate_.steps;
+    covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+    Fuse(suspect_.back(), stamp_s);
+    estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
+    suspect_.clear();
+    UpdateEstimate();
+    return true;
+  }
+  // A lone outlier window before this one is dropped.
+  estimate_.windows_rejected += static_cast<int>(suspect_.size());
+  suspect_.clear();
+  Fuse(w, stamp_s);
+  UpdateEstimate();
+  return true;
+}
+
+void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
+  const Eigen::LDLT<MountMatrix> ldlt(covariance_);
+  const MountMatrix information = ldlt.solve(MountMatrix::Identity());
+  const MountMatrix fused = information + w.information;
+  const Eigen::LDLT<MountMatrix> fused_ldlt(fused);
+  mean_ = fused_ldlt.solve(information * mean_ + w.information_vector);
+  covariance_ = fused_ldlt.solve(MountMatrix::Identity());
+  covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  ++estimate_.windows_used;
+  last_fused_stamp_s_ = stamp_s;
+  estimate_.last_update_s = stamp_s;
+}
+
+void MountSelfCalibrator::UpdateEstimate() {
+  CameraMount m = commissioned_;
+  m.pitch_rad += mean_(kMountPitch);
+  m.roll_rad += mean_(kMountRoll);
+  m.height_m += mean_(kMountHeight);
+  m.yaw_rad += mean_(kMountYaw);
+  estimate_.mount = m;
+  estimate_.covariance = covariance_;
+  std::ostringstream what;
+  bool alarm = false;
+  for (int i = 0; i < 4; ++i) {
+    const double change = mean_(i);
+    const double sigma = std::sqrt(covariance_(i, i));
+    if (std::abs(change) > options_.alarm_threshold(i) &&
+        std::abs(change) > options_.alarm_sigmas * sigma) {
+      what << (alarm ? "; " : "") << kComponentNames[i] << " changed by " << InUnits(i, change)
+           << " " << UnitOf(i) << " (+-" << InUnits(i, sigma) << ", limit "
+           << InUnits(i, options_.alarm_threshold(i)) << ")";
+      alarm = true;
+    }
+  }
+  estimate_.alarm = alarm;
+  estimate_.alarm_message =
+      alarm ? "camera mount moved from its commissioning: " + what.str() +
+                  "; recommission the camera (groundline calibrate floor)"
+            : "";
+}
+
+}  // namespace groundline::calibration

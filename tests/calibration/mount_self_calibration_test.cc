@@ -1,0 +1,416 @@
+#include "groundline/calibration/mount_self_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <ceres/jet.h>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "jacobian_check.h"
+#include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/mount_remap.h"
+#include "groundline/core/angles.h"
+
+namespace groundline::calibration {
+namespace {
+
+using core::kDegToRad;
+using core::kRadToDeg;
+
+// A pinhole K of the reference camera (1280 x 1024, 6 mm lens).
+Eigen::Matrix3d ReferenceK() {
+  Eigen::Matrix3d K;
+  K << 1132.0, 0.0, 640.0, 0.0, 1132.0, 512.0, 0.0, 0.0, 1.0;
+  return K;
+}
+
+CameraMount Moved(CameraMount m, double pitch_deg, double roll_deg, double height_mm,
+                  double yaw_deg) {
+  m.pitch_rad += pitch_deg * kDegToRad;
+  m.roll_rad += roll_deg * kDegToRad;
+  m.height_m += height_mm * 1e-3;
+  m.yaw_rad += yaw_deg * kDegToRad;
+  return m;
+}
+
+// The remap equals the pixel round trip through each mount's floor homography.
+TEST(MountRemap, IsThePixelRoundTripThroughBothMounts) {
+  const CameraMount a;
+  const CameraMount b = Moved(a, 0.8, -0.5, -6.0, 0.4);
+  const Eigen::Matrix3d H_img_floor_a = FloorToImageHomography(BaseFromCamera(a), ReferenceK());
+  const Eigen::Matrix3d H_floor_img_b =
+      ImageToFloorHomography(FloorToImageHomography(BaseFromCamera(b), ReferenceK()));
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.8, 0.0), Eigen::Vector2d(1.5, 0.6),
+                                  Eigen::Vector2d(2.2, -0.9), Eigen::Vector2d(1.1, -0.3)}) {
+    const auto pixel = ProjectFloorPoint(H_img_floor_a, p);
+    ASSERT_TRUE(pixel.ok());
+    const auto expected = BackProjectPixel(H_floor_img_b, *pixel);
+    ASSERT_TRUE(expected.ok());
+    Eigen::Vector2d q;
+    ASSERT_TRUE(RemapFloorPoint(p, a, b, &q));
+    EXPECT_NEAR((q - *expected).norm(), 0.0, 1e-9) << p.transpose();
+    Eigen::Vector2d back;
+    ASSERT_TRUE(RemapFloorPoint(q, b, a, &back));
+    EXPECT_NEAR((back - p).norm(), 0.0, 1e-12);
+    Eigen::Vector2d same;
+    ASSERT_TRUE(RemapFloorPoint(p, a, a, &same));
+    EXPECT_NEAR((same - p).norm(), 0.0, 1e-12);
+  }
+  // The rotation is BaseFromCamera's.
+  EXPECT_TRUE(BaseFromCameraRotation(b.pitch_rad, b.roll_rad, b.yaw_rad)
+                  .isApprox(BaseFromCamera(b).linear(), 1e-15));
+}
+
+TEST(MountRemap, RefusesARayAboveTheNewHorizon) {
+  const CameraMount a;
+  // A point far ahead seen 48 deg higher no longer meets the floor.
+  const CameraMount b = Moved(a, -48.0, 0.0, 0.0, 0.0);
+  Eigen::Vector2d q(7.0, 7.0);
+  EXPECT_FALSE(RemapFloorPoint(Eigen::Vector2d(3.0, 0.0), a, b, &q));
+  EXPECT_EQ(q, Eigen::Vector2d(7.0, 7.0));
+}
+
+// The Jets' derivatives with respect to the mount (what the window solve
+// uses) against central differences.
+TEST(MountRemap, JetDerivativesMatchNumericDifferentiation) {
+  const CameraMount used = Moved(CameraMount{}, 0.3, 0.2, 2.0, -0.1);
+  const CameraMount reference;
+  const Eigen::Vector2d p(1.7, 0.4);
+  using Jet = ceres::Jet<double, 4>;
+  const Eigen::Vector4d x(0.004, -0.003, -0.005, 0.002);  // pitch, roll, height, yaw
+  Eigen::Matrix<Jet, 2, 1> q;
+  ASSERT_TRUE(RemapFloorPoint<Jet>(p, used, Jet(reference.height_m + x(2), 2),
+                                   Jet(reference.pitch_rad + x(0), 0),
+                                   Jet(reference.roll_rad + x(1), 1),
+                                   Jet(reference.yaw_rad + x(3), 3), reference, &q));
+  Eigen::Matrix<double, 2, 4> J;
+  for (int r = 0; r < 2; ++r) J.row(r) = q(r).v.transpose();
+  auto f = [&](const Eigen::Vector4d& v) {
+    Eigen::Vector2d out;
+    EXPECT_TRUE(RemapFloorPoint(p, used, Moved(reference, v(0) * kRadToDeg, v(1) * kRadToDeg,
+                                               v(2) * 1e3, v(3) * kRadToDeg),
+                                &out));
+    return out;
+  };
+  EXPECT_JACOBIAN_NEAR(J, f, x, 1e-6);
+}
+
+// A straight rack aisle along world x: two lane tapes 1.2 m apart, a joint
+// near the centre line, transverse joints every 3 m and stop bars (two edges
+// 5 cm apart) every 9 m.
+struct WorldLine {
+  Eigen::Vector2d a, b;
+};
+std::vector<WorldLine> Aisle(double length_m) {
+  std::vector<WorldLine> lines = {{{-5.0, 0.6}, {length_m, 0.6}},
+                                  {{-5.0, -0.6}, {length_m, -0.6}},
+                                  {{-5.0, 0.08}, {length_m, 0.08}}};
+  for (double x = 1.5; x < length_m; x += 3.0) lines.push_back({{x, -1.1}, {x, 1.1}});
+  for (double x = 4.0; x < length_m; x += 9.0) {
+    lines.push_back({{x, -0.6}, {x, 0.6}});
+    lines.push_back({{x + 0.05, -0.6}, {x + 0.05, 0.6}});
+  }
+  return lines;
+}
+
+// What the camera's floor footprint holds (base_link): 0.7-2.2 m ahead,
+// widening from +-0.35 m to +-1.0 m.
+bool InView(const Eigen::Vector2d& p) {
+  if (p.x() < 0.7 || p.x() > 2.2) return false;
+  return std::abs(p.y()) < 0.35 + (p.x() - 0.7) * 0.43;
+}
+
+struct Drive {
+  std::vector<WorldLine> world;
+  double speed_mps = 1.5;
+  double rate_hz = 10.0;
+  double wobble_m = 0.04;      // lateral path deviation amplitude
+  double sigma_m = 0.001;      // endpoint noise across the line
+  int clutter_per_frame = 0;   // random segments that are no marking
+  std::mt19937 rng{7};
+};
+
+// The truth's pose at t: along x at speed, a gentle lateral wobble.
+core::SE2 PoseAt(const Drive& d, double t) {
+  const double w = 0.35;
+  const double y = d.wobble_m * std::sin(w * t);
+  const double heading = std::atan2(d.wobble_m * w * std::cos(w * t), d.speed_mps);
+  return core::SE2(d.speed_mps * t, y, heading);
+}
+
+// One frame: each marking's part in view, under the true mount, as the BEV
+// made with `used` shows it, with noise across the line and its covariance.
+MountFrame MakeFrame(Drive& d, double t, const CameraMount& truth, const CameraMount& used) {
+  MountFrame f;
+  f.stamp_s = t;
+  f.T_odom_base = PoseAt(d, t);
+  f.mount_used = used;
+  const core::SE2 T_base_world = f.T_odom_base.Inverse();
+  std::normal_distribution<double> noise(0.0, d.sigma_m);
+  auto add = [&](const Eigen::Vector2d& a_true, const Eigen::Vector2d& b_true) {
+    Eigen::Vector2d a, b;
+    if (!RemapFloorPoint(a_true, truth, used, &a) || !RemapFloorPoint(b_true, truth, used, &b))
+      return;
+    const Eigen::Vector2d dir = (b - a).normalized();
+    const Eigen::Vector2d n(-dir.y(), dir.x());
+    const double e1 = noise(d.rng), e2 = noise(d.rng);
+    FloorSegment s;
+    s.start_m = a + e1 * n;
+    s.end_m = b + e2 * n;
+    // (rho, alpha) from the two endpoints' distances d_i = t_i dalpha - drho.
+    Eigen::Matrix2d J;
+    J << -1.0, dir.dot(s.start_m), -1.0, dir.dot(s.end_m);
+    const Eigen::Matrix2d Jinv = J.inverse();
+    s.covariance = d.sigma_m * d.sigma_m * Jinv * Jinv.transpose();
+    f.segments.push_back(s);
+  };
+  for (const WorldLine& l : d.world) {
+    // The visible stretch of the line, sampled every 2 cm.
+    const Eigen::Vector2d a = T_base_world * l.a, b = T_base_world * l.b;
+    const int n = static_cast<int>((b - a).norm() / 0.02);
+    int first = -1, last = -1;
+    for (int i = 0; i <= n; ++i) {
+      if (InView(a + (b - a) * i / n)) {
+        if (first < 0) first = i;
+        last = i;
+      }
+    }
+    if (first < 0 || last - first < 10) continue;
+    add(a + (b - a) * first / n, a + (b - a) * last / n);
+  }
+  std::uniform_real_distribution<double> ux(0.8, 2.1), uy(-0.6, 0.6), ua(-M_PI, M_PI),
+      ul(0.3, 0.8);
+  for (int i = 0; i < d.clutter_per_frame; ++i) {
+    const Eigen::Vector2d c(ux(d.rng), uy(d.rng));
+    const double angle = ua(d.rng), half = 0.5 * ul(d.rng);
+    const Eigen::Vector2d dir(std::cos(angle), std::sin(angle));
+    FloorSegment s;
+    s.start_m = c - half * dir;
+    s.end_m = c + half * dir;
+    s.covariance = Eigen::Vector2d(1e-6, 1e-5).asDiagonal();
+    f.segments.push_back(s);
+  }
+  return f;
+}
+
+std::vector<MountFrame> Frames(Drive& d, double t0, double t1, const CameraMount& truth,
+                               const CameraMount& used) {
+  std::vector<MountFrame> frames;
+  for (double t = t0; t < t1 - 1e-9; t += 1.0 / d.rate_hz) frames.push_back(MakeFrame(d, t, truth, used));
+  return frames;
+}
+
+MountVector Difference(const CameraMount& a, const CameraMount& b) {
+  return MountVector(a.pitch_rad - b.pitch_rad, a.roll_rad - b.roll_rad, a.height_m - b.height_m,
+                     a.yaw_rad - b.yaw_rad);
+}
+
+TEST(SolveMountWindow, RecoversEveryComponentFromOneNoiseFreeWindow) {
+  Drive d;
+  d.world = Aisle(40.0);
+  d.sigma_m = 1e-9;
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 0.6, -0.3, -4.0, 0.3);
+  const MountSelfCalibrationOptions options;
+  const auto frames = Frames(d, 2.0, 3.6, truth, commissioned);
+  const MountWindowSolution w =
+      SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
+  ASSERT_TRUE(w.ok) << w.message;
+  EXPECT_GE(w.landmarks, 4);
+  EXPECT_GT(w.structure_pairs, 0);
+  const MountVector c_w = w.information.ldlt().solve(w.information_vector);
+  const MountVector truth_c = Difference(truth, commissioned);
+  EXPECT_NEAR(c_w(kMountPitch) * kRadToDeg, truth_c(kMountPitch) * kRadToDeg, 0.005);
+  EXPECT_NEAR(c_w(kMountRoll) * kRadToDeg, truth_c(kMountRoll) * kRadToDeg, 0.005);
+  EXPECT_NEAR(c_w(kMountHeight) * 1e3, truth_c(kMountHeight) * 1e3, 0.1);
+  EXPECT_NEAR(c_w(kMountYaw) * kRadToDeg, truth_c(kMountYaw) * kRadToDeg, 0.005);
+}
+
+// The window's covariance is what its errors show: over windows of noisy
+// observations, the normalized estimation error squared averages about 4.
+// The model is made exact for this world (its markings are exactly parallel
+// or perpendicular, its endpoints' noise is as stated, its odometry exact,
+// no outliers): the presets' allowances for paint that is not, for noise that
+// is not white, for wheels that slip and for clutter would make the
+// covariance conservative here.
+TEST(SolveMountWindow, ItsInformationIsConsistentWithItsErrors) {
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 0.2, 0.1, 2.0, -0.1);
+  MountSelfCalibrationOptions options;
+  options.parallel_sigma_rad = 1e-6;
+  options.min_segment_sigma_m = 1e-6;
+  options.odometry_sigma_m_per_sqrt_m = 1e-7;  // the drive's poses are exact
+  options.odometry_sigma_rad_per_sqrt_m = 1e-7;
+  options.loss_scale = 1e3;  // no outliers to down-weight
+  Drive d;
+  d.world = Aisle(200.0);
+  double nees_sum = 0.0;
+  int n = 0;
+  for (double t0 = 1.0; t0 < 100.0; t0 += 4.0) {
+    const auto frames = Frames(d, t0, t0 + 1.6, truth, commissioned);
+    const MountWindowSolution w =
+        SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
+    ASSERT_TRUE(w.ok) << w.message;
+    const MountVector e =
+        w.information.ldlt().solve(w.information_vector) - Difference(truth, commissioned);
+    nees_sum += e.dot(w.information * e);
+    ++n;
+  }
+  const double nees = nees_sum / n;
+  EXPECT_GT(nees, 4.0 * 0.5) << n << " windows";
+  EXPECT_LT(nees, 4.0 * 2.0) << n << " windows";
+}
+
+TEST(SolveMountWindow, SaysWhyAWindowHasNoEvidence) {
+  Drive d;
+  d.world = {{{-5.0, 0.6}, {100.0, 0.6}}};  // one lane line: nothing to pair, nothing crosses
+  const CameraMount commissioned;
+  auto frames = Frames(d, 2.0, 3.6, commissioned, commissioned);
+  for (auto& f : frames) f.segments.clear();
+  const MountWindowSolution w =
+      SolveMountWindow(frames, commissioned, MountVector::Zero(), MountSelfCalibrationOptions{});
+  EXPECT_FALSE(w.ok);
+  EXPECT_NE(w.message.find("no marking tracked through 3 frames"), std::string::npos) << w.message;
+}
+
+struct SelfCalRun {
+  std::vector<double> stamps;
+  std::vector<MountEstimate> estimates;
+  std::vector<CameraMount> truths;
+};
+
+// Drives the aisle from t0 to t1 with the true mount of `truth_at`, feeding
+// frames under the commissioned mount.
+template <typename TruthAt>
+SelfCalRun Simulate(Drive& d, MountSelfCalibrator& cal, double t0, double t1, TruthAt truth_at) {
+  SelfCalRun run;
+  for (double t = t0; t < t1; t += 1.0 / d.rate_hz) {
+    const CameraMount truth = truth_at(t);
+    cal.AddFrame(MakeFrame(d, t, truth, cal.commissioned()));
+    run.stamps.push_back(t);
+    run.estimates.push_back(cal.estimate());
+    run.truths.push_back(truth);
+  }
+  return run;
+}
+
+TEST(MountSelfCalibrator, TracksAOneDegreePitchStepWithinTenSeconds) {
+  Drive d;
+  d.world = Aisle(200.0);
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const SelfCalRun run = Simulate(d, cal, 0.0, 60.0, [&](double t) {
+    return t < 30.0 ? commissioned : Moved(commissioned, 1.0, 0.0, 0.0, 0.0);
+  });
+  EXPECT_GE(cal.estimate().steps, 1);
+  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
+    const MountVector e = Difference(run.estimates[i].mount, run.truths[i]);
+    if (run.stamps[i] >= 40.0) {
+      EXPECT_LT(std::abs(e(kMountPitch)) * kRadToDeg, 0.05) << "t " << run.stamps[i];
+      EXPECT_LT(std::abs(e(kMountRoll)) * kRadToDeg, 0.05) << "t " << run.stamps[i];
+      EXPECT_LT(std::abs(e(kMountHeight)) * 1e3, 1.0) << "t " << run.stamps[i];
+    }
+    // A payload's pitch is no knock.
+    EXPECT_FALSE(run.estimates[i].alarm) << run.estimates[i].alarm_message;
+  }
+}
+
+TEST(MountSelfCalibrator, TracksAHeightLossAndARollChange) {
+  Drive d;
+  d.world = Aisle(200.0);
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const CameraMount truth = Moved(commissioned, 0.0, 0.1, -5.0, 0.0);
+  Simulate(d, cal, 0.0, 40.0, [&](double) { return truth; });
+  const MountVector e = Difference(cal.estimate().mount, truth);
+  EXPECT_LT(std::abs(e(kMountHeight)) * 1e3, 1.0);
+  EXPECT_LT(std::abs(e(kMountRoll)) * kRadToDeg, 0.05);
+  EXPECT_LT(std::abs(e(kMountPitch)) * kRadToDeg, 0.05);
+}
+
+TEST(MountSelfCalibrator, StaysOnTheTruthWithoutDriftAndRaisesNoAlarm) {
+  Drive d;
+  d.world = Aisle(400.0);
+  d.clutter_per_frame = 2;
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const SelfCalRun run = Simulate(d, cal, 0.0, 150.0, [&](double) { return commissioned; });
+  double worst_pitch_deg = 0.0, worst_height_mm = 0.0;
+  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
+    EXPECT_FALSE(run.estimates[i].alarm) << run.estimates[i].alarm_message;
+    // From half a minute of driving on (20 windows): the start is the
+    // commissioning's uncertainty.
+    if (run.stamps[i] < 30.0) continue;
+    const MountVector e = Difference(run.estimates[i].mount, commissioned);
+    worst_pitch_deg = std::max(worst_pitch_deg, std::abs(e(kMountPitch)) * kRadToDeg);
+    worst_height_mm = std::max(worst_height_mm, std::abs(e(kMountHeight)) * 1e3);
+  }
+  EXPECT_LT(worst_pitch_deg, 0.02);
+  EXPECT_LT(worst_height_mm, 0.5);
+  EXPECT_EQ(cal.estimate().steps, 0);
+  EXPECT_GT(cal.estimate().windows_used, 80);
+  const MountVector e = Difference(cal.estimate().mount, commissioned);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_LT(std::abs(e(i)), 3.0 * std::sqrt(cal.estimate().covariance(i, i))) << "component " << i;
+}
+
+TEST(MountSelfCalibrator, AKnockRaisesTheAlarmWithinFiveSecondsAndSaysWhatMoved) {
+  Drive d;
+  d.world = Aisle(200.0);
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const CameraMount knocked = Moved(commissioned, 0.3, -0.4, 0.0, 1.2);
+  const SelfCalRun run = Simulate(d, cal, 0.0, 40.0, [&](double t) {
+    return t < 20.0 ? commissioned : knocked;
+  });
+  double first_alarm_s = -1.0;
+  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
+    if (run.estimates[i].alarm) {
+      first_alarm_s = run.stamps[i];
+      break;
+    }
+  }
+  ASSERT_GE(first_alarm_s, 20.0);
+  EXPECT_LE(first_alarm_s, 25.0);
+  const std::string& message = cal.estimate().alarm_message;
+  EXPECT_NE(message.find("roll changed by -0.4"), std::string::npos) << message;
+  EXPECT_NE(message.find("recommission"), std::string::npos) << message;
+}
+
+TEST(MountSelfCalibrator, TurnsAndStopsAreGatedOut) {
+  Drive d;
+  d.world = Aisle(200.0);
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const CameraMount truth = Moved(commissioned, 0.5, 0.0, 0.0, 0.0);
+  // Standing still for 5 s, then turning on the spot: no window, whatever the
+  // mount (a wrong one too).
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.1 * i;
+    MountFrame f = MakeFrame(d, 0.0, truth, commissioned);
+    f.stamp_s = t;
+    f.T_odom_base = core::SE2(0.0, 0.0, t < 5.0 ? 0.0 : 0.5 * (t - 5.0));
+    cal.AddFrame(f);
+  }
+  EXPECT_EQ(cal.estimate().windows_used, 0);
+  EXPECT_EQ(cal.estimate().frames_gated, 100);
+  EXPECT_EQ(cal.estimate().mount.pitch_rad, commissioned.pitch_rad);
+}
+
+TEST(MountSelfCalibrationOptions, ErrorsNameTheField) {
+  MountSelfCalibrationOptions o;
+  EXPECT_TRUE(o.Validate().ok()) << o.Validate().message();
+  o.window_s = 0.0;
+  EXPECT_NE(o.Validate().message().find("'window_s'"), std::string::npos);
+  o = {};
+  o.alarm_threshold(kMountRoll) = -1.0;
+  EXPECT_NE(o.Validate().message().find("'alarm_threshold.roll'"), std::string::npos);
+  o = {};
+  o.known_spacings_m = {1.2, std::nan("")};
+  EXPECT_NE(o.Validate().message().find("'known_spacings_m'"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace groundline::calibration
