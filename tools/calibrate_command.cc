@@ -216,7 +216,8 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
 
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
-      "calibrate", "Commissioning: camera intrinsics, floor mount, comparing two calibrations");
+      "calibrate",
+      "Camera intrinsics, floor mount, comparing calibrations, self-calibration history");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

@@ -60,6 +60,10 @@ void AddCalibrateDiffSubcommand(CLI::App* calibrate, CommandRunner* run);
 // measured mount (tools/calibrate_bev_uncertainty_command.cc).
 void AddCalibrateBevUncertaintySubcommand(CLI::App* calibrate, CommandRunner* run);
 
+// `groundline calibrate history RUN`: a recorded run's self-calibration of
+// the camera mount (tools/calibrate_history_command.cc).
+void AddCalibrateHistorySubcommand(CLI::App* calibrate, CommandRunner* run);
+
 // `groundline replay-dds DATASET`: a dataset's sensor streams as ROS 2 topics
 // over DDS (tools/replay_dds_command.cc).
 CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run);

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   groundline::tools::AddCalibrateFloorSubcommand(calibrate, &run);
   groundline::tools::AddCalibrateDiffSubcommand(calibrate, &run);
   groundline::tools::AddCalibrateBevUncertaintySubcommand(calibrate, &run);
+  groundline::tools::AddCalibrateHistorySubcommand(calibrate, &run);
   groundline::tools::AddExtractCommand(app, &run);
   groundline::tools::AddReplayDdsCommand(app, &run);
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "groundline/core/angles.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/dataset_streams.h"
@@ -22,6 +24,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
 #include "groundline/localization/atlas_walls.h"
+#include "groundline/localization/keyframe_mount_calibration.h"
 #include "groundline/localization/localizer_json.h"
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
@@ -49,6 +52,7 @@ struct LocalizeFlags {
   bool lidar = false;
   bool wall_lines = true;
   bool relocalize = false;
+  bool self_calibrate = false;
   std::vector<double> near;  // x_m y_m [radius_m]
   std::string solver = "chain";
   double max_duration_s = 0.0;
@@ -195,6 +199,14 @@ int RunLocalize(const LocalizeFlags& flags) {
                 setup->setup.atlas.lines.size(), loc::CountWallLines(setup->setup.atlas),
                 setup->setup.atlas.junctions.size(), setup->atlas_source.c_str());
   }
+  std::optional<loc::KeyframeMountCalibration> self_calibration;
+  if (flags.self_calibrate) {
+    if (!setup->camera_mount) {
+      return Usage("--self-calibrate needs the camera: use it with --mode lines or mapping");
+    }
+    self_calibration.emplace(*setup->camera_mount,
+                             calibration::MountSelfCalibrationOptions{});
+  }
   const loc::Atlas atlas_copy = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> created =
       loc::Localizer::Create(options, std::move(setup->setup));
@@ -278,6 +290,10 @@ int RunLocalize(const LocalizeFlags& flags) {
   callbacks.on_keyframe = [&](const loc::KeyframeOutput& k) {
     write_start();
     nlohmann::ordered_json line = loc::KeyframeJson(k, options.mode);
+    if (self_calibration) {
+      self_calibration->AddKeyframe(k);
+      line.update(loc::MountEstimateJson(self_calibration->estimate()));
+    }
     if (diagnostics) {
       line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
       line.update(diagnostics->AfterUpdate(k.pose));
@@ -355,6 +371,19 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["update_cpu_ms_median"] = Percentile(update_cpu_ms, 0.5);
   summary["update_cpu_ms_p99"] = Percentile(update_cpu_ms, 0.99);
   summary["counters"] = loc::CountersJson(c);
+  if (self_calibration) {
+    const calibration::MountEstimate& e = self_calibration->estimate();
+    nlohmann::ordered_json j = loc::MountEstimateJson(e);
+    j["frames"] = e.frames;
+    j["frames_gated"] = e.frames_gated;
+    j["windows_rejected"] = e.windows_rejected;
+    summary["self_calibration"] = j;
+    std::printf("self-calibration: pitch %.3f deg, roll %.3f deg, height %.1f mm, yaw %.3f deg "
+                "(%d windows of %d frames, %d steps)%s%s\n",
+                e.mount.pitch_rad * core::kRadToDeg, e.mount.roll_rad * core::kRadToDeg,
+                e.mount.height_m * 1e3, e.mount.yaw_rad * core::kRadToDeg, e.windows_used,
+                e.frames, e.steps, e.alarm ? "; ALARM: " : "", e.alarm_message.c_str());
+  }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
     summary["relocalized"] = RelocalizedJson(*r, localizer.relocalizer_status());
     std::printf("relocalized: %s\n", summary["relocalized"].dump().c_str());
@@ -465,6 +494,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "With --relocalize: x_m y_m [radius_m] where the drive starts (default radius "
                   "2 m); needed where the floor repeats (identical aisle mouths)")
       ->expected(2, 3);
+  cmd->add_flag("--self-calibrate", flags->self_calibrate,
+                "--mode lines/mapping: estimate the camera's pitch, roll, height and yaw from "
+                "the floor lines while driving (parallel and perpendicular markings, the "
+                "markings' motion against the wheel odometry); health.jsonl gets selfcal_* "
+                "fields per keyframe, summary.json the final estimate and any alarm");
   cmd->add_flag("--lidar", flags->lidar,
                 "--mode lines/mapping: add the LiDAR scan-match factor (needs lidar_scans) and, "
                 "when localizing, the straight faces (rack faces, walls) of the scans as line "

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "groundline/core/angles.h"
@@ -79,6 +80,12 @@ MountSelfCalibrator::MountSelfCalibrator(const CameraMount& commissioned,
   UpdateEstimate();
 }
 
+bool MountSelfCalibrator::HasUsableSegment(const MountFrame& frame) const {
+  for (const FloorSegment& s : frame.segments)
+    if ((s.end_m - s.start_m).norm() >= options_.min_segment_length_m) return true;
+  return false;
+}
+
 bool MountSelfCalibrator::FrameQualifies(const MountFrame& frame) const {
   if (recent_.empty()) return false;
   const MountFrame& prev = recent_.back();
@@ -97,10 +104,9 @@ bool MountSelfCalibrator::FrameQualifies(const MountFrame& frame) const {
       if (std::abs(speed - speed0) / (0.5 * (dt + dt0)) > options_.max_accel_mps2) return false;
     }
   }
-  int long_segments = 0;
-  for (const FloorSegment& s : frame.segments)
-    if ((s.end_m - s.start_m).norm() >= options_.min_segment_length_m) ++long_segments;
-  return long_segments > 0;
+  // A frame without a usable segment still qualifies: it carries the
+  // motion, and a marking seen before and after it stays one track.
+  return true;
 }
 
 bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
@@ -117,6 +123,11 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
     if (window_.empty() && recent_.back().stamp_s > last_windowed_stamp_s_)
       window_.push_back(recent_.back());
     window_.push_back(frame);
+    // A window starts at its first frame with a usable segment: frames
+    // before it hold no evidence, and a marking crossing the view (a joint
+    // is in view for about a second) then fits in one window instead of
+    // being cut between two, each with too few sightings.
+    while (window_.size() > 1 && !HasUsableSegment(window_.front())) window_.erase(window_.begin());
     if (window_.back().stamp_s - window_.front().stamp_s >= options_.window_s)
       changed = CloseWindow() || changed;
   }
@@ -217,9 +228,11 @@ void MountSelfCalibrator::UpdateEstimate() {
     const double sigma = std::sqrt(covariance_(i, i));
     if (std::abs(change) > options_.alarm_threshold(i) &&
         std::abs(change) > options_.alarm_sigmas * sigma) {
-      what << (alarm ? "; " : "") << kComponentNames[i] << " changed by " << InUnits(i, change)
-           << " " << UnitOf(i) << " (+-" << InUnits(i, sigma) << ", limit "
-           << InUnits(i, options_.alarm_threshold(i)) << ")";
+      char text[160];
+      std::snprintf(text, sizeof text, "%s changed by %+.2f %s (+-%.2f, limit %.2f)",
+                    kComponentNames[i], InUnits(i, change), UnitOf(i), InUnits(i, sigma),
+                    InUnits(i, options_.alarm_threshold(i)));
+      what << (alarm ? "; " : "") << text;
       alarm = true;
     }
   }

@@ -316,6 +316,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Step(double stamp_s,
       odometry->StartKeyframe();
       KeyframeOutput k;
       k.stamp_s = stamp_s;
+      k.T_odom_base = odometry->T_odom_base();
       k.predicted = {stamp_s, DeadReckoning(), odometry->covariance()};
       k.pose = k.predicted;
       if (options.mode == LocalizerMode::kLidar) {
@@ -375,6 +376,7 @@ std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
   const double cpu_before_s = core::ThreadCpuSeconds();
   KeyframeOutput k;
   k.stamp_s = stamp_s;
+  k.T_odom_base = odometry->T_odom_base();
   ConvertedObservations converted;
   converted.observations.stamp_s = stamp_s;
   if (frame) {

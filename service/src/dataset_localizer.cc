@@ -65,6 +65,7 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
         loc::FloorFrontEnd::Create(*camera, *mount, front_end_options);
     if (!front_end.ok()) return front_end.status().WithContext(name);
     out.setup.camera = std::make_shared<const loc::FloorFrontEnd>(std::move(front_end).value());
+    out.camera_mount = *mount;
   }
   if (o.mode == loc::LocalizerMode::kLines) {
     if (!options.atlas_path.empty()) {

@@ -376,6 +376,7 @@ TEST(MountSelfCalibrator, AKnockRaisesTheAlarmWithinFiveSecondsAndSaysWhatMoved)
   EXPECT_LE(first_alarm_s, 25.0);
   const std::string& message = cal.estimate().alarm_message;
   EXPECT_NE(message.find("roll changed by -0.4"), std::string::npos) << message;
+  EXPECT_NE(message.find("limit 0.25)"), std::string::npos) << message;
   EXPECT_NE(message.find("recommission"), std::string::npos) << message;
 }
 

@@ -157,7 +157,7 @@ struct MountEstimate {
   std::string alarm_message;  // what changed and by how much, when alarm
   // Counters since the start.
   int frames = 0;
-  int frames_gated = 0;  // not straight or steady, or too few segments
+  int frames_gated = 0;  // not straight or steady
   int windows_used = 0;
   int windows_rejected = 0;  // too few frames or evidence, or the solve failed
   int steps = 0;             // steps detected
@@ -204,6 +204,7 @@ class MountSelfCalibrator {
 
  private:
   bool FrameQualifies(const MountFrame& frame) const;
+  bool HasUsableSegment(const MountFrame& frame) const;
   bool CloseWindow();
   void Fuse(const MountWindowSolution& window, double stamp_s);
   void UpdateEstimate();

@@ -244,6 +244,10 @@ struct KeyframeOutput {
   double stamp_s = 0.0;
   PoseEstimate pose;       // the estimate after the update (kLidar: no covariance)
   PoseEstimate predicted;  // odometry prediction from the previous keyframe
+  // The wheel odometry alone at stamp_s (its odom frame, continuous over the
+  // run): the motion between keyframes without the lines or the LiDAR, for
+  // consumers that must not see the estimate they feed (the self-calibration).
+  core::SE2 T_odom_base;
   bool has_covariance = true;
   std::optional<KeyframeHealth> smoother;  // kLines / kMapping
   std::string error;                       // a failed solve or LiDAR stage

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/status.h"
 #include "groundline/localization/floor_front_end.h"
@@ -30,6 +31,9 @@ struct DatasetSetup {
   localization::LocalizerSetup setup;
   // Where the atlas came from ("floor_map.yaml", the atlas file, or "empty").
   std::string atlas_source;
+  // The camera's mount as commissioned (its extrinsics file), when the mode
+  // reads the camera.
+  std::optional<calibration::CameraMount> camera_mount;
   // The manifest's start pose, if it has one.
   std::optional<core::StartPose> start_pose;
   double first_reading_s = 0.0;
