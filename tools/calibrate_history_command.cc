@@ -23,7 +23,7 @@ constexpr char kHistoryHelp[] =
     R"(Reports the camera mount's self-calibration over a recorded run: the run
 directory of `groundline localize --self-calibrate` (its health.jsonl has the
 estimate at every keyframe). Prints the first and last estimate, the steps
-detected and each alarm with the time it was first raised, and writes
+detected and when the alarm was raised and cleared, and writes
 RUN/self_calibration.html: pitch, roll, height and yaw over time, each with
 its 3-sigma band, the commissioned mount and red marks where the alarm was
 raised.
@@ -82,16 +82,21 @@ int RunHistory(const HistoryFlags& flags) {
                   Shown(i, s->sigma(i)), Unit(i), i < 3 ? "," : "\n");
     }
   }
-  std::string last_message;
+  // Each time the alarm is raised (its figures change from keyframe to
+  // keyframe while it stands; the page lists every distinct message).
   int alarms = 0;
+  bool raised = false;
   for (const calibration::SelfCalibrationSample& s : *history) {
-    if (!s.alarm) continue;
-    ++alarms;
-    if (s.alarm_message != last_message)
-      std::printf("  alarm at %.1f s: %s\n", s.stamp_s, s.alarm_message.c_str());
-    last_message = s.alarm_message;
+    if (s.alarm && !raised) {
+      std::printf("  alarm raised at %.1f s: %s\n", s.stamp_s, s.alarm_message.c_str());
+    } else if (!s.alarm && raised) {
+      std::printf("  alarm cleared at %.1f s\n", s.stamp_s);
+    }
+    raised = s.alarm;
+    alarms += s.alarm ? 1 : 0;
   }
   if (alarms == 0) std::printf("  no alarm\n");
+  if (raised) std::printf("  alarm standing at the end: %s\n", last.alarm_message.c_str());
 
   nlohmann::ordered_json j;
   j["run"] = flags.run_dir;

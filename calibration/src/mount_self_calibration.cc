@@ -65,6 +65,7 @@ core::Status MountSelfCalibrationOptions::Validate() const {
   if (!(step_probability > 0.5 && step_probability < 1.0))
     return FieldError("step_probability", "a probability in (0.5, 1)");
   if (step_windows < 1) return FieldError("step_windows", "at least 1");
+  if (alarm_windows < 1) return FieldError("alarm_windows", "at least 1");
   if (!(std::isfinite(alarm_sigmas) && alarm_sigmas >= 0.0))
     return FieldError("alarm_sigmas", "a number >= 0");
   if (max_solver_iterations < 1) return FieldError("max_solver_iterations", "at least 1");
@@ -236,6 +237,10 @@ void MountSelfCalibrator::UpdateEstimate() {
       alarm = true;
     }
   }
+  // The condition must hold over alarm_windows updates in a row: one window
+  // that is off (a marking that is not where paint usually is) is no knock.
+  alarm_streak_ = alarm ? alarm_streak_ + 1 : 0;
+  alarm = alarm_streak_ >= options_.alarm_windows;
   estimate_.alarm = alarm;
   estimate_.alarm_message =
       alarm ? "camera mount moved from its commissioning: " + what.str() +

@@ -41,7 +41,8 @@
 // marking that is not straight).
 //
 // The alarm (a knocked camera): the estimate differs from the commissioned
-// mount by more than a component's threshold, beyond 3 sigma. The
+// mount by more than a component's threshold, beyond 3 sigma, after two
+// window updates in a row. The
 // thresholds separate a bent bracket (roll, yaw) from the load a vehicle
 // carries (pitch, height within a payload's range).
 //
@@ -144,6 +145,8 @@ struct MountSelfCalibrationOptions {
   MountVector alarm_threshold =
       (MountVector() << 0.026, 0.0044, 0.015, 0.0087).finished();  // 1.5, 0.25 deg, 15 mm, 0.5 deg
   double alarm_sigmas = 3.0;
+  // ... after this many window updates in a row (a lone window can be off).
+  int alarm_windows = 2;
   int max_solver_iterations = 30;
 
   core::Status Validate() const;
@@ -216,6 +219,7 @@ class MountSelfCalibrator {
   MountMatrix covariance_ = MountMatrix::Zero();
   double last_fused_stamp_s_ = -1.0;
   double last_windowed_stamp_s_ = -1e300;  // the last frame of the last window
+  int alarm_streak_ = 0;  // updates in a row with the alarm's condition
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;  // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
