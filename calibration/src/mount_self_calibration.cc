@@ -14,11 +14,11 @@
 namespace groundline::calibration {
 namespace {
 
-core::Status FieldError(const std::string& field, const std::string& expected) {
+core::Status OptionError(const std::string& field, const std::string& expected) {
   return core::Status::Error("self-calibration option '" + field + "': expected " + expected);
 }
 
-bool Positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool PositiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
 
 const char* const kComponentNames[4] = {"pitch", "roll", "height", "yaw"};
 
@@ -29,46 +29,46 @@ const char* UnitOf(int i) { return i == kMountHeight ? "mm" : "deg"; }
 }  // namespace
 
 core::Status MountSelfCalibrationOptions::Validate() const {
-  if (!Positive(window_s)) return FieldError("window_s", "a time > 0 s");
-  if (min_window_frames < 2) return FieldError("min_window_frames", "at least 2");
-  if (!Positive(max_frame_gap_s)) return FieldError("max_frame_gap_s", "a time > 0 s");
-  if (!Positive(max_yaw_rate_rad_s)) return FieldError("max_yaw_rate_rad_s", "a rate > 0");
-  if (!Positive(max_accel_mps2)) return FieldError("max_accel_mps2", "an acceleration > 0");
+  if (!PositiveFinite(window_s)) return OptionError("window_s", "a time > 0 s");
+  if (min_window_frames < 2) return OptionError("min_window_frames", "at least 2");
+  if (!PositiveFinite(max_frame_gap_s)) return OptionError("max_frame_gap_s", "a time > 0 s");
+  if (!PositiveFinite(max_yaw_rate_rad_s)) return OptionError("max_yaw_rate_rad_s", "a rate > 0");
+  if (!PositiveFinite(max_accel_mps2)) return OptionError("max_accel_mps2", "an acceleration > 0");
   if (!(std::isfinite(min_speed_mps) && min_speed_mps >= 0.0))
-    return FieldError("min_speed_mps", "a speed >= 0");
-  if (!Positive(min_segment_length_m)) return FieldError("min_segment_length_m", "a length > 0");
-  if (!Positive(min_segment_sigma_m)) return FieldError("min_segment_sigma_m", "a sigma > 0");
-  if (!Positive(associate_max_angle_rad))
-    return FieldError("associate_max_angle_rad", "an angle > 0");
-  if (!Positive(associate_max_distance_m))
-    return FieldError("associate_max_distance_m", "a distance > 0");
-  if (!(Positive(structure_gate_rad) && structure_gate_rad < 0.5))
-    return FieldError("structure_gate_rad", "an angle in (0, 0.5) rad");
-  if (!Positive(parallel_sigma_rad)) return FieldError("parallel_sigma_rad", "a sigma > 0");
+    return OptionError("min_speed_mps", "a speed >= 0");
+  if (!PositiveFinite(min_segment_length_m)) return OptionError("min_segment_length_m", "a length > 0");
+  if (!PositiveFinite(min_segment_sigma_m)) return OptionError("min_segment_sigma_m", "a sigma > 0");
+  if (!PositiveFinite(associate_max_angle_rad))
+    return OptionError("associate_max_angle_rad", "an angle > 0");
+  if (!PositiveFinite(associate_max_distance_m))
+    return OptionError("associate_max_distance_m", "a distance > 0");
+  if (!(PositiveFinite(structure_gate_rad) && structure_gate_rad < 0.5))
+    return OptionError("structure_gate_rad", "an angle in (0, 0.5) rad");
+  if (!PositiveFinite(parallel_sigma_rad)) return OptionError("parallel_sigma_rad", "a sigma > 0");
   for (double s : known_spacings_m)
-    if (!Positive(s)) return FieldError("known_spacings_m", "distances > 0");
-  if (!Positive(spacing_gate_m)) return FieldError("spacing_gate_m", "a distance > 0");
-  if (!Positive(spacing_sigma_m)) return FieldError("spacing_sigma_m", "a sigma > 0");
-  if (!Positive(odometry_sigma_m_per_sqrt_m))
-    return FieldError("odometry_sigma_m_per_sqrt_m", "a sigma > 0");
-  if (!Positive(odometry_sigma_rad_per_sqrt_m))
-    return FieldError("odometry_sigma_rad_per_sqrt_m", "a sigma > 0");
-  if (!Positive(loss_scale)) return FieldError("loss_scale", "a scale > 0");
+    if (!PositiveFinite(s)) return OptionError("known_spacings_m", "distances > 0");
+  if (!PositiveFinite(spacing_gate_m)) return OptionError("spacing_gate_m", "a distance > 0");
+  if (!PositiveFinite(spacing_sigma_m)) return OptionError("spacing_sigma_m", "a sigma > 0");
+  if (!PositiveFinite(odometry_sigma_m_per_sqrt_m))
+    return OptionError("odometry_sigma_m_per_sqrt_m", "a sigma > 0");
+  if (!PositiveFinite(odometry_sigma_rad_per_sqrt_m))
+    return OptionError("odometry_sigma_rad_per_sqrt_m", "a sigma > 0");
+  if (!PositiveFinite(loss_scale)) return OptionError("loss_scale", "a scale > 0");
   for (int i = 0; i < 4; ++i) {
     const std::string c = kComponentNames[i];
-    if (!Positive(window_prior_sigma(i))) return FieldError("window_prior_sigma." + c, "> 0");
-    if (!Positive(initial_sigma(i))) return FieldError("initial_sigma." + c, "> 0");
+    if (!PositiveFinite(window_prior_sigma(i))) return OptionError("window_prior_sigma." + c, "> 0");
+    if (!PositiveFinite(initial_sigma(i))) return OptionError("initial_sigma." + c, "> 0");
     if (!(std::isfinite(random_walk_per_sqrt_s(i)) && random_walk_per_sqrt_s(i) >= 0.0))
-      return FieldError("random_walk_per_sqrt_s." + c, ">= 0");
-    if (!Positive(alarm_threshold(i))) return FieldError("alarm_threshold." + c, "> 0");
+      return OptionError("random_walk_per_sqrt_s." + c, ">= 0");
+    if (!PositiveFinite(alarm_threshold(i))) return OptionError("alarm_threshold." + c, "> 0");
   }
   if (!(step_probability > 0.5 && step_probability < 1.0))
-    return FieldError("step_probability", "a probability in (0.5, 1)");
-  if (step_windows < 1) return FieldError("step_windows", "at least 1");
-  if (alarm_windows < 1) return FieldError("alarm_windows", "at least 1");
+    return OptionError("step_probability", "a probability in (0.5, 1)");
+  if (step_windows < 1) return OptionError("step_windows", "at least 1");
+  if (alarm_windows < 1) return OptionError("alarm_windows", "at least 1");
   if (!(std::isfinite(alarm_sigmas) && alarm_sigmas >= 0.0))
-    return FieldError("alarm_sigmas", "a number >= 0");
-  if (max_solver_iterations < 1) return FieldError("max_solver_iterations", "at least 1");
+    return OptionError("alarm_sigmas", "a number >= 0");
+  if (max_solver_iterations < 1) return OptionError("max_solver_iterations", "at least 1");
   return core::Status::Ok();
 }
 

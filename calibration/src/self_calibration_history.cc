@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "groundline/core/angles.h"
 #include "groundline/core/json_fields.h"
@@ -50,7 +52,7 @@ const core::CameraExtrinsicsRecord& TruthAt(const std::vector<core::CameraExtrin
   return it == t.begin() ? t.front() : *std::prev(it);
 }
 
-std::string Fmt(const char* format, double v) {
+std::string FormatNumber(const char* format, double v) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, format, v);
   return buffer;
@@ -91,8 +93,13 @@ core::Result<std::vector<SelfCalibrationSample>> ReadSelfCalibrationHistory(
     }
     if (s.alarm && j.contains("selfcal_alarm_message"))
       s.alarm_message = r.String(j, "", "selfcal_alarm_message");
-    s.windows = static_cast<int>(r.Id(j, "", "selfcal_windows"));
-    s.steps = static_cast<int>(r.Id(j, "", "selfcal_steps"));
+    for (auto [key, count] : {std::pair{"selfcal_windows", &s.windows}, {"selfcal_steps", &s.steps}}) {
+      const std::int64_t n = r.Id(j, "", key);
+      if (r.ok() && (n < 0 || n > 1000000000)) {
+        r.Fail(key, "a count in [0, 1e9]", std::to_string(n));
+      }
+      *count = static_cast<int>(r.ok() ? n : 0);
+    }
     if (!r.ok()) return r.status();
     out.push_back(std::move(s));
   }
@@ -141,8 +148,8 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
   const double t0 = history.front().stamp_s, t1 = std::max(history.back().stamp_s, t0 + 1e-3);
   int alarms = 0;
   for (const SelfCalibrationSample& s : history) alarms += s.alarm ? 1 : 0;
-  h << "<p>" << history.size() << " keyframes from " << Fmt("%.1f", t0) << " s to "
-    << Fmt("%.1f", t1) << " s; " << history.back().windows << " windows fused, "
+  h << "<p>" << history.size() << " keyframes from " << FormatNumber("%.1f", t0) << " s to "
+    << FormatNumber("%.1f", t1) << " s; " << history.back().windows << " windows fused, "
     << history.back().steps << " steps detected; the alarm was raised at " << alarms
     << " keyframes. Blue: the estimate, its 3-sigma band shaded; grey dashes: the commissioned "
        "mount (the estimate's start)";
@@ -199,44 +206,44 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
       << "<text x='4' y='14' font-weight='bold'>" << c.title << " [" << c.unit << "]</text>\n";
     for (int k = 0; k <= 4; ++k) {
       const double v = lo + (hi - lo) * k / 4.0;
-      h << "<text x='" << kLeft - 4 << "' y='" << Fmt("%.1f", Y(v) + 4)
-        << "' text-anchor='end'>" << Fmt(i == kMountHeight ? "%.1f" : "%.3f", v) << "</text>\n";
+      h << "<text x='" << kLeft - 4 << "' y='" << FormatNumber("%.1f", Y(v) + 4)
+        << "' text-anchor='end'>" << FormatNumber(i == kMountHeight ? "%.1f" : "%.3f", v) << "</text>\n";
       const double t = t0 + (t1 - t0) * k / 4.0;
-      h << "<text x='" << Fmt("%.1f", X(t)) << "' y='" << kHeight - 8
-        << "' text-anchor='middle'>" << Fmt("%.0f s", t) << "</text>\n";
+      h << "<text x='" << FormatNumber("%.1f", X(t)) << "' y='" << kHeight - 8
+        << "' text-anchor='middle'>" << FormatNumber("%.0f s", t) << "</text>\n";
     }
     // The band, then the estimate, over the samples with a window fused.
     std::ostringstream upper, lower, line;
     for (const SelfCalibrationSample& s : history) {
       if (s.windows == 0) continue;
       const double v = Display(i, s.value(i)), d = 3.0 * Display(i, s.sigma(i));
-      upper << Fmt("%.1f", X(s.stamp_s)) << "," << Fmt("%.1f", Y(v + d)) << " ";
-      line << Fmt("%.1f", X(s.stamp_s)) << "," << Fmt("%.1f", Y(v)) << " ";
+      upper << FormatNumber("%.1f", X(s.stamp_s)) << "," << FormatNumber("%.1f", Y(v + d)) << " ";
+      line << FormatNumber("%.1f", X(s.stamp_s)) << "," << FormatNumber("%.1f", Y(v)) << " ";
     }
     for (auto it = history.rbegin(); it != history.rend(); ++it) {
       if (it->windows == 0) continue;
       const double v = Display(i, it->value(i)), d = 3.0 * Display(i, it->sigma(i));
-      lower << Fmt("%.1f", X(it->stamp_s)) << "," << Fmt("%.1f", Y(v - d)) << " ";
+      lower << FormatNumber("%.1f", X(it->stamp_s)) << "," << FormatNumber("%.1f", Y(v - d)) << " ";
     }
     h << "<polygon class='band' points='" << upper.str() << lower.str()
       << "' fill='#9ecae1' fill-opacity='0.5' stroke='none'/>\n";
     if (history.front().windows == 0) {
       h << "<line x1='" << kLeft << "' x2='" << kWidth - kRight << "' y1='"
-        << Fmt("%.1f", Y(commissioned)) << "' y2='" << Fmt("%.1f", Y(commissioned))
+        << FormatNumber("%.1f", Y(commissioned)) << "' y2='" << FormatNumber("%.1f", Y(commissioned))
         << "' stroke='#999' stroke-dasharray='6,4'/>\n";
     }
     if (truth != nullptr && !truth->empty()) {
       std::ostringstream steps;
       double previous = Display(i, TruthVector(TruthAt(*truth, t0))(i));
-      steps << Fmt("%.1f", X(t0)) << "," << Fmt("%.1f", Y(previous)) << " ";
+      steps << FormatNumber("%.1f", X(t0)) << "," << FormatNumber("%.1f", Y(previous)) << " ";
       for (const core::CameraExtrinsicsRecord& r : *truth) {
         if (r.stamp_s <= t0 || r.stamp_s > t1) continue;
         const double v = Display(i, TruthVector(r)(i));
-        steps << Fmt("%.1f", X(r.stamp_s)) << "," << Fmt("%.1f", Y(previous)) << " "
-              << Fmt("%.1f", X(r.stamp_s)) << "," << Fmt("%.1f", Y(v)) << " ";
+        steps << FormatNumber("%.1f", X(r.stamp_s)) << "," << FormatNumber("%.1f", Y(previous)) << " "
+              << FormatNumber("%.1f", X(r.stamp_s)) << "," << FormatNumber("%.1f", Y(v)) << " ";
         previous = v;
       }
-      steps << Fmt("%.1f", X(t1)) << "," << Fmt("%.1f", Y(previous));
+      steps << FormatNumber("%.1f", X(t1)) << "," << FormatNumber("%.1f", Y(previous));
       h << "<polyline class='truth' points='" << steps.str()
         << "' fill='none' stroke='black' stroke-width='1.5'/>\n";
     }
@@ -244,8 +251,8 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
       << "' fill='none' stroke='#2171b5' stroke-width='1.5'/>\n";
     for (const SelfCalibrationSample& s : history) {
       if (!s.alarm) continue;
-      h << "<line class='alarm' x1='" << Fmt("%.1f", X(s.stamp_s)) << "' x2='"
-        << Fmt("%.1f", X(s.stamp_s)) << "' y1='" << kHeight - kBottom << "' y2='"
+      h << "<line class='alarm' x1='" << FormatNumber("%.1f", X(s.stamp_s)) << "' x2='"
+        << FormatNumber("%.1f", X(s.stamp_s)) << "' y1='" << kHeight - kBottom << "' y2='"
         << kHeight - kBottom - 8 << "' stroke='red'/>\n";
     }
     h << "</svg>\n";
@@ -259,7 +266,7 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
   h << "<h2>Alarms</h2>\n";
   if (messages.empty()) h << "<p>None.</p>\n";
   for (const auto& [t, m] : messages)
-    h << "<p class='alarm-message'>" << Fmt("%.1f s: ", t) << internal::XmlEscape(m) << "</p>\n";
+    h << "<p class='alarm-message'>" << FormatNumber("%.1f s: ", t) << internal::XmlEscape(m) << "</p>\n";
   h << "</body></html>\n";
   return h.str();
 }

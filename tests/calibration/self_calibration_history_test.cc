@@ -59,6 +59,13 @@ TEST(SelfCalibrationHistory, ErrorsNameTheFileLineAndField) {
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("health.jsonl:5"), std::string::npos) << bad.message();
   EXPECT_NE(bad.message().find("selfcal_pitch_deg"), std::string::npos) << bad.message();
+  bad = ReadSelfCalibrationHistory(WriteHealth(
+      dir, R"({"stamp_s":4,"selfcal_pitch_deg":1,"selfcal_roll_deg":0,"selfcal_height_m":0.5,)"
+           R"("selfcal_yaw_deg":0,"selfcal_pitch_sigma_deg":0.1,"selfcal_roll_sigma_deg":0.1,)"
+           R"("selfcal_height_sigma_m":0.001,"selfcal_yaw_sigma_deg":0.1,"selfcal_alarm":false,)"
+           R"("selfcal_windows":-2,"selfcal_steps":0})" "\n"));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("selfcal_windows"), std::string::npos) << bad.message();
   bad = ReadSelfCalibrationHistory(WriteHealth(dir, "not json\n"));
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("health.jsonl:5: expected one JSON object"), std::string::npos)
