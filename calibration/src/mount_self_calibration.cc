@@ -53,6 +53,8 @@ core::Status MountSelfCalibrationOptions::Validate() const {
     return OptionError("odometry_sigma_m_per_sqrt_m", "a sigma > 0");
   if (!PositiveFinite(odometry_sigma_rad_per_sqrt_m))
     return OptionError("odometry_sigma_rad_per_sqrt_m", "a sigma > 0");
+  if (!(track_correlation >= 0.0 && track_correlation <= 1.0))
+    return OptionError("track_correlation", "a correlation in [0, 1]");
   if (!PositiveFinite(loss_scale)) return OptionError("loss_scale", "a scale > 0");
   for (int i = 0; i < 4; ++i) {
     const std::string c = kComponentNames[i];

@@ -300,12 +300,14 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   }
   for (Landmark& l : landmarks) {
     ++out.landmarks;
+    const double inflation =
+        1.0 + o.track_correlation * (static_cast<double>(l.observations.size()) - 1.0);
     for (const Observation& obs : l.observations) {
       const FloorSegment& s = *obs.segment;
       problem.AddResidualBlock(
           new ceres::AutoDiffCostFunction<ObservationCost, 2, 4, 2, 3>(new ObservationCost(
               s.start_m, s.end_m, frames[obs.frame].mount_used, reference,
-              EndpointSqrtInformation(s, o.min_segment_sigma_m))),
+              EndpointSqrtInformation(s, o.min_segment_sigma_m) / std::sqrt(inflation))),
           new ceres::CauchyLoss(o.loss_scale), c.data(), l.line.data(), poses[obs.frame].data());
       ++out.observations;
     }

@@ -37,6 +37,14 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   if (config.dds_inputs.enabled && setup->setup.lidar) {
     setup->setup.lidar->stamp = core::LidarStamp::kFirstRay;
   }
+  if (config.self_calibration) {
+    if (!setup->camera_mount) {
+      return core::Status::Error(config.replay_dataset +
+                                 ": localizer.self_calibration needs the dataset's camera");
+    }
+    impl->self_calibration.emplace(*setup->camera_mount,
+                                   calibration::MountSelfCalibrationOptions{});
+  }
   impl->drive = setup->setup.drive;
   impl->camera = setup->setup.camera;
   impl->atlas = setup->setup.atlas;

@@ -192,6 +192,10 @@ core::Status ServiceConfig::Validate() const {
       }
     }
   }
+  if (self_calibration && preset != "fusion" && preset != "lines") {
+    return core::Status::Error(
+        "localizer.self_calibration: needs the camera's lines, the fusion or lines preset");
+  }
   if (relocalize && preset != "fusion" && preset != "lines") {
     return core::Status::Error("start.relocalize: needs the lines or fusion preset (an atlas)");
   }
@@ -269,9 +273,10 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   }
   if (const YAML::Node n = y.Child(root, "", "localizer", false);
       n && y.ExpectMap(n, "localizer")) {
-    y.CheckKeys(n, "localizer", {"preset", "atlas"});
+    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration"});
     if (n["preset"]) c.preset = y.Text(n, "localizer", "preset");
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
+    ReadBool(y, n, "localizer", "self_calibration", &c.self_calibration);
   }
   if (const YAML::Node n = y.Child(root, "", "start", false); n && y.ExpectMap(n, "start")) {
     y.CheckKeys(n, "start", {"initial_pose", "relocalize", "resume", "wait_for_initial_pose"});

@@ -28,6 +28,7 @@
 #include "groundline/io/dds_inputs.h"
 #include "groundline/io/dds_outputs.h"
 #include "groundline/io/frame_source.h"
+#include "groundline/localization/keyframe_mount_calibration.h"
 #include "groundline/localization/localizer_json.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "groundline/service/dataset_localizer.h"
@@ -111,6 +112,8 @@ struct Service::Impl {
   ServiceConfig config;
   core::Dataset dataset;
   std::unique_ptr<loc::Localizer> localizer;
+  // localizer.self_calibration: fed by the estimator thread's keyframes.
+  std::optional<loc::KeyframeMountCalibration> self_calibration;
   std::shared_ptr<const loc::FloorFrontEnd> camera;
   loc::Atlas atlas;
   std::optional<loc::PoseEstimate> start;

@@ -159,6 +159,10 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     }
     if (k) {
       nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
+      if (self_calibration) {
+        self_calibration->AddKeyframe(*k);
+        line.update(loc::MountEstimateJson(self_calibration->estimate()));
+      }
       if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(
             1e3 * std::chrono::duration<double>(Clock::now() - *last_frame_arrival).count());

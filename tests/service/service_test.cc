@@ -85,6 +85,11 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
        "output.dds.pose"},
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nstart: {wait_for_initial_pose: true}\n",
        "start.wait_for_initial_pose"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {self_calibration: maybe}\n",
+       "localizer.self_calibration"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
+       "localizer: {preset: odometry, self_calibration: true}\n",
+       "localizer.self_calibration: needs the camera's lines"},
   };
   for (const Case& c : cases) {
     const core::Result<ServiceConfig> read = ReadServiceConfig(WriteConfig(dir, c.text));
@@ -345,6 +350,45 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
   EXPECT_LE(without, frames_after(last_reading_s - 1e-9));
   EXPECT_GE((*summary)["counters"]["frames_used"].get<long>(), 4);
   EXPECT_LE((*summary)["stamp_s"].get<double>(), last_reading_s + 1e-6);
+}
+
+// localizer.self_calibration through the service's threads: the camera
+// mount is estimated from the keyframes' lines and reported on every
+// health.jsonl line; the drive's mount is the commissioned one, so no alarm.
+TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "a rendered drive and Debug scan matching under AddressSanitizer; runs in the "
+                  "release build";
+#endif
+  const auto dir = ::groundline::testing::ScratchDir("service_selfcal");
+  ASSERT_TRUE(testing::SimulatedZoneBDrive(40.0, 12, dir / "drive", 5.0).has_value());
+  ServiceConfig config;
+  config.replay_dataset = (dir / "drive").string();
+  config.replay_speed = 0.0;
+  config.output_dir = (dir / "out").string();
+  config.http_enabled = false;
+  config.resume = false;
+  config.self_calibration = true;
+  core::Result<std::unique_ptr<Service>> created = Service::Create(config);
+  ASSERT_TRUE(created.ok()) << created.message();
+  std::atomic<bool> never{false};
+  ASSERT_TRUE((*created)->Run(never).ok());
+  std::ifstream health(dir / "out" / "health.jsonl");
+  std::string text;
+  int lines = 0, windows = 0;
+  while (std::getline(health, text)) {
+    const nlohmann::json line = nlohmann::json::parse(text);
+    ASSERT_TRUE(line.contains("selfcal_pitch_deg")) << text;
+    EXPECT_FALSE(line["selfcal_alarm"].get<bool>()) << text;
+    windows = line["selfcal_windows"].get<int>();
+    if (windows > 0) {
+      EXPECT_NEAR(line["selfcal_pitch_deg"].get<double>(), 42.4, 0.5) << text;
+      EXPECT_NEAR(line["selfcal_height_m"].get<double>(), 0.58, 0.02) << text;
+    }
+    ++lines;
+  }
+  EXPECT_GT(lines, 50);
+  EXPECT_GE(windows, 1);
 }
 
 TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {

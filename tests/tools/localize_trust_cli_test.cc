@@ -304,7 +304,8 @@ TEST(LocalizeCarmenCli, SkippedMalformedLinesAreSaidAndCounted) {
 // The camera mount's self-calibration on the rendered drive, whose mount is
 // the commissioned one throughout: the estimate stays near it (tolerances
 // three times what the 48 s drive gave when the test was written: pitch
-// 0.07 deg, roll 0.01 deg, height 2.4 mm, yaw 0.1 deg), raises no alarm,
+// 0.04 to 0.07 deg, roll 0.01 deg, height 2.0 to 2.4 mm, yaw 0.06 to 0.1 deg
+// over the estimator's revisions), raises no alarm,
 // every keyframe reports it, and `calibrate history` plots it against the
 // simulation's truth, which lies within 3 sigma of most keyframes.
 TEST_F(LocalizeTrust, SelfCalibrationEstimatesTheMountAndHistoryPlotsIt) {

@@ -123,6 +123,14 @@ struct MountSelfCalibrationOptions {
   // and across, m/sqrt(m)) and heading (rad/sqrt(m)).
   double odometry_sigma_m_per_sqrt_m = 0.002;
   double odometry_sigma_rad_per_sqrt_m = 0.0005;
+  // The correlation of a marking's errors between the frames of a window:
+  // what pulls a line off in one frame (a scuff beside it, its wear, the
+  // texture under it) pulls it off in the next, so N sightings are worth
+  // N / (1 + rho (N - 1)) independent ones; each observation's covariance is
+  // raised by 1 + rho (N - 1). 1: the sightings of a marking count as one
+  // (the rendered zone B drives, seeds 5 and 12, put roll 5 sigma off with
+  // independent sightings); 0: independent (white noise, the synthetic tests).
+  double track_correlation = 1.0;
   // Cauchy loss scale of the whitened observation and structure residuals.
   double loss_scale = 2.0;
   // The window's regularizing prior about the running estimate (taken out of

@@ -85,6 +85,10 @@ struct ServiceConfig {
   // localizer
   std::string preset = "fusion";  // fusion | lines | odometry | lidar
   std::string atlas;              // empty: the dataset's floor map
+  // localizer.self_calibration: estimate the camera mount from the floor
+  // lines while driving (docs/self_calibration.md); health.jsonl gets the
+  // selfcal_* fields. Needs a preset that reads the camera (fusion, lines).
+  bool self_calibration = false;
   // start: initial_pose [x_m, y_m, yaw_deg], else relocalize, else the
   // dataset's start pose (or the saved state when resume is on).
   std::optional<std::array<double, 3>> initial_pose;
