@@ -369,6 +369,7 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
   config.http_enabled = false;
   config.resume = false;
   config.self_calibration = true;
+  config.preset = "lines";  // the estimator needs the lines, not the scan matching
   core::Result<std::unique_ptr<Service>> created = Service::Create(config);
   ASSERT_TRUE(created.ok()) << created.message();
   std::atomic<bool> never{false};
