@@ -12,7 +12,6 @@
 
 #include "commands.h"
 #include "groundline/calibration/self_calibration_history.h"
-#include "groundline/core/angles.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset_records.h"
 
@@ -49,9 +48,9 @@ struct HistoryFlags {
   double from_s = -1e300;
 };
 
-const char* const kNames[4] = {"pitch", "roll", "height", "yaw"};
-double Shown(int i, double v) { return i == 2 ? v * 1e3 : v * core::kRadToDeg; }
-const char* Unit(int i) { return i == 2 ? "mm" : "deg"; }
+const auto Shown = calibration::MountComponentInUnit;
+const auto Unit = calibration::MountComponentUnit;
+const auto Name = calibration::MountComponentName;
 
 int Fail(const std::string& message) {
   std::fprintf(stderr, "%s: %s\n", kHistoryCommand, message.c_str());
@@ -78,7 +77,7 @@ int RunHistory(const HistoryFlags& flags) {
   for (const auto* s : {&first, &last}) {
     std::printf("  %s (%.1f s):", s == &first ? "first" : "last ", s->stamp_s);
     for (int i = 0; i < 4; ++i) {
-      std::printf(" %s %.3f +- %.3f %s%s", kNames[i], Shown(i, s->value(i)),
+      std::printf(" %s %.3f +- %.3f %s%s", Name(i), Shown(i, s->value(i)),
                   Shown(i, s->sigma(i)), Unit(i), i < 3 ? "," : "\n");
     }
   }
@@ -113,12 +112,12 @@ int RunHistory(const HistoryFlags& flags) {
     errors["truth"] = flags.truth;
     errors["keyframes"] = e.samples;
     for (int i = 0; i < 4; ++i) {
-      std::printf("    %-6s max %.3f %s, rms %.3f %s, within 3 sigma %.1f %%\n", kNames[i],
+      std::printf("    %-6s max %.3f %s, rms %.3f %s, within 3 sigma %.1f %%\n", Name(i),
                   Shown(i, e.max_abs(i)), Unit(i), Shown(i, e.rms(i)), Unit(i),
                   100.0 * e.within_3_sigma(i));
-      errors[std::string(kNames[i]) + "_max_" + Unit(i)] = Shown(i, e.max_abs(i));
-      errors[std::string(kNames[i]) + "_rms_" + Unit(i)] = Shown(i, e.rms(i));
-      errors[std::string(kNames[i]) + "_within_3_sigma"] = e.within_3_sigma(i);
+      errors[std::string(Name(i)) + "_max_" + Unit(i)] = Shown(i, e.max_abs(i));
+      errors[std::string(Name(i)) + "_rms_" + Unit(i)] = Shown(i, e.rms(i));
+      errors[std::string(Name(i)) + "_within_3_sigma"] = e.within_3_sigma(i);
     }
     j["errors_against_truth"] = errors;
   }

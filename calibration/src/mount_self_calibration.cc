@@ -22,11 +22,13 @@ bool PositiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
 
 const char* const kComponentNames[4] = {"pitch", "roll", "height", "yaw"};
 
-// A component's value for a person: degrees for angles, millimetres for height.
-double InUnits(int i, double v) { return i == kMountHeight ? v * 1000.0 : v * core::kRadToDeg; }
-const char* UnitOf(int i) { return i == kMountHeight ? "mm" : "deg"; }
-
 }  // namespace
+
+const char* MountComponentName(int component) { return kComponentNames[component]; }
+const char* MountComponentUnit(int component) { return component == kMountHeight ? "mm" : "deg"; }
+double MountComponentInUnit(int component, double value) {
+  return component == kMountHeight ? value * 1000.0 : value * core::kRadToDeg;
+}
 
 core::Status MountSelfCalibrationOptions::Validate() const {
   if (!PositiveFinite(window_s)) return OptionError("window_s", "a time > 0 s");
@@ -233,8 +235,8 @@ void MountSelfCalibrator::UpdateEstimate() {
         std::abs(change) > options_.alarm_sigmas * sigma) {
       char text[160];
       std::snprintf(text, sizeof text, "%s changed by %+.2f %s (+-%.2f, limit %.2f)",
-                    kComponentNames[i], InUnits(i, change), UnitOf(i), InUnits(i, sigma),
-                    InUnits(i, options_.alarm_threshold(i)));
+                    kComponentNames[i], MountComponentInUnit(i, change), MountComponentUnit(i), MountComponentInUnit(i, sigma),
+                    MountComponentInUnit(i, options_.alarm_threshold(i)));
       what << (alarm ? "; " : "") << text;
       alarm = true;
     }

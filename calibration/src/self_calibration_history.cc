@@ -32,11 +32,6 @@ constexpr Component kComponents[4] = {
     {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", 1.0, core::kDegToRad, "deg"},
 };
 
-// A value of the estimator's units in the plot's.
-double Display(int i, double v) {
-  return i == kMountHeight ? v * 1000.0 : v * core::kRadToDeg;
-}
-
 MountVector TruthVector(const core::CameraExtrinsicsRecord& r) {
   return MountVector(r.pitch_rad, r.roll_rad, r.height_m, r.yaw_rad);
 }
@@ -166,21 +161,21 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     std::vector<double> sigmas;
     for (const SelfCalibrationSample& s : history) {
       if (s.windows == 0) continue;
-      lo = std::min(lo, Display(i, s.value(i)));
-      hi = std::max(hi, Display(i, s.value(i)));
-      sigmas.push_back(Display(i, s.sigma(i)));
+      lo = std::min(lo, MountComponentInUnit(i, s.value(i)));
+      hi = std::max(hi, MountComponentInUnit(i, s.value(i)));
+      sigmas.push_back(MountComponentInUnit(i, s.sigma(i)));
     }
     if (truth != nullptr) {
       for (const core::CameraExtrinsicsRecord& r : *truth) {
         if (r.stamp_s < t0 || r.stamp_s > t1) continue;
-        lo = std::min(lo, Display(i, TruthVector(r)(i)));
-        hi = std::max(hi, Display(i, TruthVector(r)(i)));
+        lo = std::min(lo, MountComponentInUnit(i, TruthVector(r)(i)));
+        hi = std::max(hi, MountComponentInUnit(i, TruthVector(r)(i)));
       }
-      const double v = Display(i, TruthVector(TruthAt(*truth, t0))(i));
+      const double v = MountComponentInUnit(i, TruthVector(TruthAt(*truth, t0))(i));
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
-    const double commissioned = Display(i, history.front().value(i));
+    const double commissioned = MountComponentInUnit(i, history.front().value(i));
     if (history.front().windows == 0) {
       lo = std::min(lo, commissioned);
       hi = std::max(hi, commissioned);
@@ -216,13 +211,13 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     std::ostringstream upper, lower, line;
     for (const SelfCalibrationSample& s : history) {
       if (s.windows == 0) continue;
-      const double v = Display(i, s.value(i)), d = 3.0 * Display(i, s.sigma(i));
+      const double v = MountComponentInUnit(i, s.value(i)), d = 3.0 * MountComponentInUnit(i, s.sigma(i));
       upper << FormatNumber("%.1f", X(s.stamp_s)) << "," << FormatNumber("%.1f", Y(v + d)) << " ";
       line << FormatNumber("%.1f", X(s.stamp_s)) << "," << FormatNumber("%.1f", Y(v)) << " ";
     }
     for (auto it = history.rbegin(); it != history.rend(); ++it) {
       if (it->windows == 0) continue;
-      const double v = Display(i, it->value(i)), d = 3.0 * Display(i, it->sigma(i));
+      const double v = MountComponentInUnit(i, it->value(i)), d = 3.0 * MountComponentInUnit(i, it->sigma(i));
       lower << FormatNumber("%.1f", X(it->stamp_s)) << "," << FormatNumber("%.1f", Y(v - d)) << " ";
     }
     h << "<polygon class='band' points='" << upper.str() << lower.str()
@@ -234,11 +229,11 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     }
     if (truth != nullptr && !truth->empty()) {
       std::ostringstream steps;
-      double previous = Display(i, TruthVector(TruthAt(*truth, t0))(i));
+      double previous = MountComponentInUnit(i, TruthVector(TruthAt(*truth, t0))(i));
       steps << FormatNumber("%.1f", X(t0)) << "," << FormatNumber("%.1f", Y(previous)) << " ";
       for (const core::CameraExtrinsicsRecord& r : *truth) {
         if (r.stamp_s <= t0 || r.stamp_s > t1) continue;
-        const double v = Display(i, TruthVector(r)(i));
+        const double v = MountComponentInUnit(i, TruthVector(r)(i));
         steps << FormatNumber("%.1f", X(r.stamp_s)) << "," << FormatNumber("%.1f", Y(previous)) << " "
               << FormatNumber("%.1f", X(r.stamp_s)) << "," << FormatNumber("%.1f", Y(v)) << " ";
         previous = v;

@@ -71,6 +71,12 @@ enum MountComponent { kMountPitch = 0, kMountRoll = 1, kMountHeight = 2, kMountY
 using MountVector = Eigen::Matrix<double, 4, 1>;  // pitch_rad, roll_rad, height_m, yaw_rad
 using MountMatrix = Eigen::Matrix<double, 4, 4>;
 
+// A component for a person: its name ("pitch", ...), its display unit
+// ("deg", or "mm" for height) and a value (rad, m) in that unit.
+const char* MountComponentName(int component);
+const char* MountComponentUnit(int component);
+double MountComponentInUnit(int component, double value);
+
 // One floor line segment as perception found it, in base_link, under the mount
 // its frame's BEV was made with; covariance of its Hesse (rho_m, alpha_rad)
 // about the origin of base_link (perception's ExtractedLine::covariance).
