@@ -217,7 +217,7 @@ int SolveAndReportIntrinsics(const IntrinsicsFlags& flags, const IntrinsicsSetup
 CLI::App* AddCalibrateCommand(CLI::App& parent, CommandRunner* run) {
   CLI::App* calibrate = parent.add_subcommand(
       "calibrate",
-      "Camera intrinsics, floor mount, comparing calibrations, self-calibration history");
+      "Camera intrinsics, floor mount, comparisons, self-calibration, parallel lines");
   calibrate->require_subcommand(1);
   calibrate->footer(
       "Run 'groundline calibrate <calibration> --help' for one calibration.\n"

@@ -64,6 +64,10 @@ void AddCalibrateBevUncertaintySubcommand(CLI::App* calibrate, CommandRunner* ru
 // the camera mount (tools/calibrate_history_command.cc).
 void AddCalibrateHistorySubcommand(CLI::App* calibrate, CommandRunner* run);
 
+// `groundline calibrate parallels IMAGES`: the mount's pitch and roll from
+// parallel floor markings in still images (tools/calibrate_parallels_command.cc).
+void AddCalibrateParallelsSubcommand(CLI::App* calibrate, CommandRunner* run);
+
 // `groundline replay-dds DATASET`: a dataset's sensor streams as ROS 2 topics
 // over DDS (tools/replay_dds_command.cc).
 CLI::App* AddReplayDdsCommand(CLI::App& parent, CommandRunner* run);

@@ -1,6 +1,5 @@
 // `groundline extract`: floor lines, junctions and their covariances of every
 // image of a folder, a glob or a dataset (docs/perception.md).
-#include <fnmatch.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +18,7 @@
 #include "extract_output.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/io/frame_source.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/statistics.h"
@@ -110,32 +110,8 @@ struct Input {
 };
 
 std::vector<std::filesystem::path> ListImages(const std::string& spec) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> files;
-  const fs::path path(spec);
-  auto is_image = [](const fs::path& p) {
-    std::string ext = p.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    return ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp";
-  };
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    for (const fs::directory_entry& e : fs::directory_iterator(path, ec)) {
-      if (e.is_regular_file() && is_image(e.path())) files.push_back(e.path());
-    }
-  } else if (spec.find_first_of("*?[") != std::string::npos) {
-    const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-    const std::string pattern = path.filename().string();
-    for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-      if (e.is_regular_file() && fnmatch(pattern.c_str(), e.path().filename().c_str(), 0) == 0) {
-        files.push_back(e.path());
-      }
-    }
-  } else if (fs::exists(path, ec)) {
-    files.push_back(path);
-  }
-  std::sort(files.begin(), files.end());
-  return files;
+  const std::vector<std::string> files = io::ListImageFiles(spec);
+  return {files.begin(), files.end()};
 }
 
 core::Result<Input> LoadInput(const ExtractFlags& flags) {

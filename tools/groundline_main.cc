@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   groundline::tools::AddCalibrateDiffSubcommand(calibrate, &run);
   groundline::tools::AddCalibrateBevUncertaintySubcommand(calibrate, &run);
   groundline::tools::AddCalibrateHistorySubcommand(calibrate, &run);
+  groundline::tools::AddCalibrateParallelsSubcommand(calibrate, &run);
   groundline::tools::AddExtractCommand(app, &run);
   groundline::tools::AddReplayDdsCommand(app, &run);
 

@@ -1,0 +1,69 @@
+// The camera mount checked, and its pitch and roll corrected, from floor
+// markings that are parallel (or perpendicular) in still images: each image
+// is mapped to the bird's-eye view under the start mount and its lines are
+// extracted; calibration::SolveMountFromParallels finds the pitch and roll
+// that make them parallel; the images are mapped and extracted again under
+// the solved mount and solved from again until the solution stays put, and
+// the angles between the lines are measured on the last extraction.
+// The measured angles after are the check: they come from a new extraction,
+// not from the solver's own remapped segments.
+//
+// `groundline calibrate parallels` runs it on an image folder
+// (docs/self_calibration.md).
+#ifndef GROUNDLINE_PERCEPTION_MOUNT_PARALLEL_CHECK_H_
+#define GROUNDLINE_PERCEPTION_MOUNT_PARALLEL_CHECK_H_
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "groundline/calibration/camera_model.h"
+#include "groundline/calibration/mount_from_parallels.h"
+#include "groundline/core/status.h"
+#include "groundline/perception/bev_remap.h"
+#include "groundline/perception/line_extractor.h"
+
+namespace groundline::perception {
+
+struct MountParallelCheckOptions {
+  BevRemap::Options bev = BevRemap::Options::ForLineExtraction();
+  LineExtractorOptions extractor;
+  calibration::MountFromParallelsOptions solve;
+  // Extract, solve, extract again under the solution ..: at most this many
+  // solves.
+  int extraction_rounds = 4;
+
+  // The preset for a camera `height_m` above the floor: the BEV grid of
+  // `ForLineExtraction` (0.6-2.4 m ahead, +-1 m, 1 cm cells, for the
+  // reference camera 0.58 m high) and the extractor's least line length
+  // scaled by height_m / 0.58 (a camera half as high sees the same view of a
+  // floor half the size); bright markings (tape, paint) only.
+  static MountParallelCheckOptions ForHeight(double height_m);
+
+  core::Status Validate() const;
+};
+
+struct NamedImage {
+  std::string name;
+  cv::Mat grey;  // CV_8UC1, the camera's full image
+};
+
+struct MountParallelCheck {
+  calibration::MountFromParallels solution;  // the last solve's
+  int extraction_rounds = 0;
+  // Measured on fresh extractions under the start and the solved mount.
+  std::vector<calibration::LinePairAngle> measured_before, measured_after;
+  std::vector<calibration::ParallelImage> lines_before, lines_after;
+  std::vector<cv::Mat> bev_before, bev_after;  // CV_8UC1, per image
+};
+
+// Fails, naming why, when the options or mount are invalid, an image is not
+// the camera's size, or no image shows a pair of lines.
+core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedImage>& images,
+                                                       const calibration::CameraModel& camera,
+                                                       const calibration::CameraMount& start,
+                                                       const MountParallelCheckOptions& options);
+
+}  // namespace groundline::perception
+
+#endif  // GROUNDLINE_PERCEPTION_MOUNT_PARALLEL_CHECK_H_

@@ -1,0 +1,118 @@
+#include "groundline/perception/mount_parallel_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace groundline::perception {
+namespace {
+
+struct Extracted {
+  calibration::ParallelImage lines;
+  cv::Mat bev;
+};
+
+std::vector<Extracted> ExtractAll(const std::vector<NamedImage>& images,
+                                  const calibration::CameraModel& camera,
+                                  const calibration::CameraMount& mount,
+                                  const MountParallelCheckOptions& o) {
+  const BevRemap remap(camera, mount, o.bev);
+  const LineExtractor extractor(remap, o.extractor);
+  std::vector<Extracted> out;
+  out.reserve(images.size());
+  for (const NamedImage& image : images) {
+    Extracted e;
+    remap.Apply(image.grey, &e.bev);
+    const LineExtraction lines = extractor.Extract(e.bev);
+    e.lines.name = image.name;
+    e.lines.mount_used = mount;
+    for (const ExtractedLine& l : lines.lines)
+      e.lines.segments.push_back({l.start_m, l.end_m, l.covariance});
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+}  // namespace
+
+MountParallelCheckOptions MountParallelCheckOptions::ForHeight(double height_m) {
+  MountParallelCheckOptions o;
+  const double scale = height_m / calibration::CameraMount{}.height_m;
+  BevGridOptions& g = o.bev.grid;
+  g.x_min_m *= scale;
+  g.x_max_m *= scale;
+  g.y_min_m *= scale;
+  g.y_max_m *= scale;
+  g.cell_m *= scale;
+  o.extractor.min_line_length_m *= scale;
+  o.extractor.dark = false;
+  return o;
+}
+
+core::Status MountParallelCheckOptions::Validate() const {
+  if (core::Status s = bev.Validate(); !s.ok()) return core::Status::Error("bev: " + s.message());
+  if (core::Status s = extractor.Validate(); !s.ok())
+    return core::Status::Error("extractor: " + s.message());
+  if (core::Status s = solve.Validate(); !s.ok())
+    return core::Status::Error("solve: " + s.message());
+  if (extraction_rounds < 1) return core::Status::Error("extraction_rounds: expected >= 1");
+  return core::Status::Ok();
+}
+
+core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedImage>& images,
+                                                       const calibration::CameraModel& camera,
+                                                       const calibration::CameraMount& start,
+                                                       const MountParallelCheckOptions& o) {
+  if (core::Status s = o.Validate(); !s.ok()) return core::Status::Error(s.message());
+  if (core::Status s = start.Validate(); !s.ok())
+    return core::Status::Error("the start mount: " + s.message());
+  if (images.empty()) return core::Status::Error("no image");
+  for (const NamedImage& image : images) {
+    if (image.grey.type() != CV_8UC1 || image.grey.cols != camera.width_px() ||
+        image.grey.rows != camera.height_px())
+      return core::Status::Error(image.name + ": expected a grey " +
+                                 std::to_string(camera.width_px()) + "x" +
+                                 std::to_string(camera.height_px()) +
+                                 " image (the camera's), got " + std::to_string(image.grey.cols) +
+                                 "x" + std::to_string(image.grey.rows));
+  }
+  MountParallelCheck out;
+  for (Extracted& e : ExtractAll(images, camera, start, o)) {
+    out.lines_before.push_back(std::move(e.lines));
+    out.bev_before.push_back(std::move(e.bev));
+  }
+  // Under a wrong mount the extractor may find other lines than under the
+  // right one (a dashed line's dashes shrink below the least length), so
+  // each solution is extracted again and solved from, until the pitch and
+  // roll move by less than a hundredth of a degree.
+  std::vector<calibration::ParallelImage> lines = out.lines_before;
+  calibration::CameraMount mount = start;
+  for (int round = 0; round < o.extraction_rounds; ++round) {
+    ++out.extraction_rounds;
+    core::Result<calibration::MountFromParallels> solved =
+        calibration::SolveMountFromParallels(lines, mount, o.solve);
+    if (!solved.ok()) {
+      if (round == 0) return core::Status::Error(solved.message());
+      break;  // the last solution stands
+    }
+    const double moved = std::max(std::abs(solved->mount.pitch_rad - mount.pitch_rad),
+                                  std::abs(solved->mount.roll_rad - mount.roll_rad));
+    out.solution = std::move(*solved);
+    mount = out.solution.mount;
+    lines.clear();
+    out.bev_after.clear();
+    for (Extracted& e : ExtractAll(images, camera, mount, o)) {
+      lines.push_back(std::move(e.lines));
+      out.bev_after.push_back(std::move(e.bev));
+    }
+    if (moved < 0.01 * std::numbers::pi / 180.0) break;
+  }
+  out.lines_after = lines;
+  out.measured_before = calibration::PairParallelLines(out.lines_before, start, o.solve);
+  out.measured_after =
+      calibration::PairParallelLines(out.lines_after, out.solution.mount, o.solve);
+  return out;
+}
+
+}  // namespace groundline::perception
