@@ -56,8 +56,9 @@ with --min-line-length. Bright markings are used (tape, paint); --dark adds
 saw-cut joints.
 
 Exit codes: 0 ok, 1 unreadable camera, mount or images, no image with two
-lines parallel or perpendicular within the gates, or none found again under
-the solved mount (the files are written: look at the BEVs), 2 usage error.
+lines parallel or perpendicular within the gates, or the check not
+confirmed: the extraction under the solved mount did not show the lines
+paired again (the files are written: look at the BEVs), 2 usage error.
 
 Example (a camera 10 cm above a taped road, its pitch to check):
   groundline calibrate parallels road/ --camera cam.yaml --extrinsics mount.yaml \
@@ -192,6 +193,8 @@ int RunParallels(const ParallelsFlags& flags) {
   j["pitch_sigma_deg"] = pitch_sigma_deg;
   j["roll_sigma_deg"] = roll_sigma_deg;
   j["extraction_rounds"] = check->extraction_rounds;
+  j["settled"] = check->settled;
+  j["measured_under"] = ParallelsMountJson(check->measured_mount);
   j["before_max_off_deg"] = calibration::MaxOffDeg(check->measured_before);
   j["after_max_off_deg"] = calibration::MaxOffDeg(check->measured_after);
   j["before"] = ParallelPairsJson(check->measured_before, check->lines_before);
@@ -215,10 +218,13 @@ int RunParallels(const ParallelsFlags& flags) {
   }
   std::printf("wrote %s, %s and the BEVs before and after\n", (out / "extrinsics.yaml").c_str(),
               (out / "parallels.json").c_str());
-  if (check->measured_after.empty()) {
+  if (!check->settled || check->measured_after.empty()) {
     return FailParallels(
-        "not confirmed: under the solved mount no two lines were found parallel again (see "
-        "the BEVs; a dashed line may need a shorter --min-line-length)");
+        "not confirmed: the extraction under the solved mount did not show the lines paired "
+        "again (the after figures are under pitch " +
+        std::to_string(check->measured_mount.pitch_rad * core::kRadToDeg) +
+        " deg; see the BEVs: a dashed line may need a shorter --min-line-length, or give "
+        "more images)");
   }
   return 0;
 }

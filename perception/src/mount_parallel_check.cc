@@ -57,6 +57,7 @@ core::Status MountParallelCheckOptions::Validate() const {
   if (core::Status s = solve.Validate(); !s.ok())
     return core::Status::Error("solve: " + s.message());
   if (extraction_rounds < 1) return core::Status::Error("extraction_rounds: expected >= 1");
+  if (max_step_halvings < 0) return core::Status::Error("max_step_halvings: expected >= 0");
   return core::Status::Ok();
 }
 
@@ -85,8 +86,12 @@ core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedIm
   // Under a wrong mount the extractor may find other lines than under the
   // right one (a dashed line's dashes shrink below the least length), so
   // each solution is extracted again and solved from, until the pitch and
-  // roll move by less than a hundredth of a degree.
+  // roll move by less than a hundredth of a degree. Where the extraction
+  // under a solution shows no pair of lines, the step is halved back
+  // towards the mount it was solved from (a solution from a poor pair can
+  // land where the extractor loses a marking).
   std::vector<calibration::ParallelImage> lines = out.lines_before;
+  out.bev_after = out.bev_before;
   calibration::CameraMount mount = start;
   for (int round = 0; round < o.extraction_rounds; ++round) {
     ++out.extraction_rounds;
@@ -96,22 +101,39 @@ core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedIm
       if (round == 0) return core::Status::Error(solved.message());
       break;  // the last solution stands
     }
-    const double moved = std::max(std::abs(solved->mount.pitch_rad - mount.pitch_rad),
-                                  std::abs(solved->mount.roll_rad - mount.roll_rad));
     out.solution = std::move(*solved);
-    mount = out.solution.mount;
+    calibration::CameraMount candidate = out.solution.mount;
+    std::vector<Extracted> extracted;
+    bool paired = false;
+    for (int halving = 0; halving <= o.max_step_halvings && !paired; ++halving) {
+      if (halving > 0) {
+        candidate.pitch_rad = 0.5 * (candidate.pitch_rad + mount.pitch_rad);
+        candidate.roll_rad = 0.5 * (candidate.roll_rad + mount.roll_rad);
+      }
+      extracted = ExtractAll(images, camera, candidate, o);
+      std::vector<calibration::ParallelImage> candidate_lines;
+      for (const Extracted& e : extracted) candidate_lines.push_back(e.lines);
+      paired = !calibration::PairParallelLines(candidate_lines, candidate, o.solve).empty();
+    }
+    if (!paired) break;
+    const double moved = std::max(std::abs(candidate.pitch_rad - mount.pitch_rad),
+                                  std::abs(candidate.roll_rad - mount.roll_rad));
+    mount = candidate;
     lines.clear();
     out.bev_after.clear();
-    for (Extracted& e : ExtractAll(images, camera, mount, o)) {
+    for (Extracted& e : extracted) {
       lines.push_back(std::move(e.lines));
       out.bev_after.push_back(std::move(e.bev));
     }
     if (moved < 0.01 * std::numbers::pi / 180.0) break;
   }
+  out.measured_mount = mount;
+  out.settled = std::max(std::abs(out.solution.mount.pitch_rad - mount.pitch_rad),
+                         std::abs(out.solution.mount.roll_rad - mount.roll_rad)) <
+                0.01 * std::numbers::pi / 180.0;
   out.lines_after = lines;
   out.measured_before = calibration::PairParallelLines(out.lines_before, start, o.solve);
-  out.measured_after =
-      calibration::PairParallelLines(out.lines_after, out.solution.mount, o.solve);
+  out.measured_after = calibration::PairParallelLines(out.lines_after, mount, o.solve);
   return out;
 }
 

@@ -3,8 +3,9 @@
 // is mapped to the bird's-eye view under the start mount and its lines are
 // extracted; calibration::SolveMountFromParallels finds the pitch and roll
 // that make them parallel; the images are mapped and extracted again under
-// the solved mount and solved from again until the solution stays put, and
-// the angles between the lines are measured on the last extraction.
+// the solved mount and solved from again until the solution stays put (the
+// step halved back where the new extraction loses the lines), and the angles
+// between the lines are measured on the last extraction.
 // The measured angles after are the check: they come from a new extraction,
 // not from the solver's own remapped segments.
 //
@@ -31,7 +32,10 @@ struct MountParallelCheckOptions {
   calibration::MountFromParallelsOptions solve;
   // Extract, solve, extract again under the solution ..: at most this many
   // solves.
-  int extraction_rounds = 4;
+  int extraction_rounds = 6;
+  // Where the extraction under a solution shows no pair, the step from the
+  // mount it was solved from is halved at most this many times.
+  int max_step_halvings = 3;
 
   // The preset for a camera `height_m` above the floor: the BEV grid of
   // `ForLineExtraction` (0.6-2.4 m ahead, +-1 m, 1 cm cells, for the
@@ -51,7 +55,14 @@ struct NamedImage {
 struct MountParallelCheck {
   calibration::MountFromParallels solution;  // the last solve's
   int extraction_rounds = 0;
-  // Measured on fresh extractions under the start and the solved mount.
+  // The mount of the last extraction: the solved mount once the iteration
+  // has settled (within 0.01 deg), else the last one whose extraction
+  // showed a pair.
+  calibration::CameraMount measured_mount;
+  // The measured mount is the solved one (within 0.01 deg of pitch and
+  // roll): the check stands only then.
+  bool settled = false;
+  // Measured on fresh extractions under the start and the measured mount.
   std::vector<calibration::LinePairAngle> measured_before, measured_after;
   std::vector<calibration::ParallelImage> lines_before, lines_after;
   std::vector<cv::Mat> bev_before, bev_after;  // CV_8UC1, per image
