@@ -29,7 +29,7 @@ function(groundline_add_library module)
   groundline_set_warnings(${target})
 endfunction()
 
-# groundline_add_test(<name> [HEAVY_TEST_CODE] SOURCES ... [DEPS ...])
+# groundline_add_test(<name> [HEAVY_TEST_CODE] [LONG] SOURCES ... [DEPS ...])
 # One GoogleTest executable; each TEST becomes its own ctest entry.
 # Test code compiles at -O0 in every build: what the tests time and exercise
 # is the libraries (built -O2 in release, -O1 under the sanitizers), and
@@ -38,7 +38,7 @@ endfunction()
 # much in their own code (header-only fixtures), which keeps the build's
 # optimization level.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "HEAVY_TEST_CODE" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "HEAVY_TEST_CODE;LONG" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
@@ -47,6 +47,15 @@ function(groundline_add_test name)
     # sanitizers: 32 s at -O0 against 60 s at -O1 of CPU).
     target_compile_options(${name} PRIVATE -O0)
   endif()
+  # LONG: the executable holds tests of a minute or more (end-to-end runs).
+  # ctest starts tests of a higher COST first; without it a fresh build
+  # directory (CI's) has no timings yet and runs them in declaration order,
+  # and a long test started last leaves a core idle while it finishes.
+  set(cost 0)
+  if(ARG_LONG)
+    set(cost 1000)
+  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
-                       PROPERTIES ENVIRONMENT "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
+                       PROPERTIES ENVIRONMENT "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp"
+                                  COST ${cost})
 endfunction()
