@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # README command 2: install dependencies, build, run the whole test suite,
 # first in the release build, then again under ASan+UBSan. Both include the
-# fuzz smoke tests (fuzz_smoke.*: each fuzz target on its corpus and 2000
-# seeded mutations) and the atomic-write kill loop; the coverage-guided
-# libFuzzer runs are scripts/fuzz.sh's.
+# atomic-write kill loop; the ASan+UBSan run adds the fuzz smoke tests
+# (fuzz_smoke.*: each fuzz target on its corpus and 2000 seeded mutations);
+# the coverage-guided libFuzzer runs are scripts/fuzz.sh's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
