@@ -8,30 +8,37 @@
 namespace groundline::perception {
 namespace {
 
-struct Extracted {
-  calibration::ParallelImage lines;
-  cv::Mat bev;
+// Every image's lines and BEV under one mount.
+struct Extraction {
+  std::vector<calibration::ParallelImage> lines;
+  std::vector<cv::Mat> bevs;
 };
 
-std::vector<Extracted> ExtractAll(const std::vector<NamedImage>& images,
-                                  const calibration::CameraModel& camera,
-                                  const calibration::CameraMount& mount,
-                                  const MountParallelCheckOptions& o) {
+Extraction ExtractAll(const std::vector<NamedImage>& images,
+                      const calibration::CameraModel& camera,
+                      const calibration::CameraMount& mount, const MountParallelCheckOptions& o) {
   const BevRemap remap(camera, mount, o.bev);
   const LineExtractor extractor(remap, o.extractor);
-  std::vector<Extracted> out;
-  out.reserve(images.size());
+  Extraction out;
   for (const NamedImage& image : images) {
-    Extracted e;
-    remap.Apply(image.grey, &e.bev);
-    const LineExtraction lines = extractor.Extract(e.bev);
-    e.lines.name = image.name;
-    e.lines.mount_used = mount;
-    for (const ExtractedLine& l : lines.lines)
-      e.lines.segments.push_back({l.start_m, l.end_m, l.covariance});
-    out.push_back(std::move(e));
+    cv::Mat bev;
+    remap.Apply(image.grey, &bev);
+    calibration::ParallelImage lines;
+    lines.name = image.name;
+    lines.mount_used = mount;
+    for (const ExtractedLine& l : extractor.Extract(bev).lines)
+      lines.segments.push_back({l.start_m, l.end_m, l.covariance});
+    out.lines.push_back(std::move(lines));
+    out.bevs.push_back(std::move(bev));
   }
   return out;
+}
+
+// The iteration has settled when pitch and roll move less than this.
+constexpr double kSettledRad = 0.01 * std::numbers::pi / 180.0;
+
+double PitchRollChange(const calibration::CameraMount& a, const calibration::CameraMount& b) {
+  return std::max(std::abs(a.pitch_rad - b.pitch_rad), std::abs(a.roll_rad - b.roll_rad));
 }
 
 }  // namespace
@@ -79,10 +86,9 @@ core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedIm
                                  "x" + std::to_string(image.grey.rows));
   }
   MountParallelCheck out;
-  for (Extracted& e : ExtractAll(images, camera, start, o)) {
-    out.lines_before.push_back(std::move(e.lines));
-    out.bev_before.push_back(std::move(e.bev));
-  }
+  Extraction before = ExtractAll(images, camera, start, o);
+  out.lines_before = std::move(before.lines);
+  out.bev_before = std::move(before.bevs);
   // Under a wrong mount the extractor may find other lines than under the
   // right one (a dashed line's dashes shrink below the least length), so
   // each solution is extracted again and solved from, until the pitch and
@@ -90,20 +96,20 @@ core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedIm
   // under a solution shows no pair of lines, the step is halved back
   // towards the mount it was solved from (a solution from a poor pair can
   // land where the extractor loses a marking).
-  std::vector<calibration::ParallelImage> lines = out.lines_before;
+  out.lines_after = out.lines_before;
   out.bev_after = out.bev_before;
   calibration::CameraMount mount = start;
   for (int round = 0; round < o.extraction_rounds; ++round) {
     ++out.extraction_rounds;
     core::Result<calibration::MountFromParallels> solved =
-        calibration::SolveMountFromParallels(lines, mount, o.solve);
+        calibration::SolveMountFromParallels(out.lines_after, mount, o.solve);
     if (!solved.ok()) {
       if (round == 0) return core::Status::Error(solved.message());
       break;  // the last solution stands
     }
     out.solution = std::move(*solved);
     calibration::CameraMount candidate = out.solution.mount;
-    std::vector<Extracted> extracted;
+    Extraction extracted;
     bool paired = false;
     for (int halving = 0; halving <= o.max_step_halvings && !paired; ++halving) {
       if (halving > 0) {
@@ -111,27 +117,17 @@ core::Result<MountParallelCheck> CheckMountByParallels(const std::vector<NamedIm
         candidate.roll_rad = 0.5 * (candidate.roll_rad + mount.roll_rad);
       }
       extracted = ExtractAll(images, camera, candidate, o);
-      std::vector<calibration::ParallelImage> candidate_lines;
-      for (const Extracted& e : extracted) candidate_lines.push_back(e.lines);
-      paired = !calibration::PairParallelLines(candidate_lines, candidate, o.solve).empty();
+      paired = !calibration::PairParallelLines(extracted.lines, candidate, o.solve).empty();
     }
     if (!paired) break;
-    const double moved = std::max(std::abs(candidate.pitch_rad - mount.pitch_rad),
-                                  std::abs(candidate.roll_rad - mount.roll_rad));
+    const double moved = PitchRollChange(candidate, mount);
     mount = candidate;
-    lines.clear();
-    out.bev_after.clear();
-    for (Extracted& e : extracted) {
-      lines.push_back(std::move(e.lines));
-      out.bev_after.push_back(std::move(e.bev));
-    }
-    if (moved < 0.01 * std::numbers::pi / 180.0) break;
+    out.lines_after = std::move(extracted.lines);
+    out.bev_after = std::move(extracted.bevs);
+    if (moved < kSettledRad) break;
   }
   out.measured_mount = mount;
-  out.settled = std::max(std::abs(out.solution.mount.pitch_rad - mount.pitch_rad),
-                         std::abs(out.solution.mount.roll_rad - mount.roll_rad)) <
-                0.01 * std::numbers::pi / 180.0;
-  out.lines_after = lines;
+  out.settled = PitchRollChange(out.solution.mount, mount) < kSettledRad;
   out.measured_before = calibration::PairParallelLines(out.lines_before, start, o.solve);
   out.measured_after = calibration::PairParallelLines(out.lines_after, mount, o.solve);
   return out;
