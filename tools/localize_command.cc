@@ -53,6 +53,7 @@ struct LocalizeFlags {
   bool wall_lines = true;
   bool relocalize = false;
   bool self_calibrate = false;
+  bool self_calibrate_report_only = false;
   std::vector<double> near;  // x_m y_m [radius_m]
   std::string solver = "chain";
   double max_duration_s = 0.0;
@@ -204,8 +205,10 @@ int RunLocalize(const LocalizeFlags& flags) {
     if (!setup->camera_mount) {
       return Usage("--self-calibrate needs the camera: use it with --mode lines or mapping");
     }
-    self_calibration.emplace(*setup->camera_mount,
-                             calibration::MountSelfCalibrationOptions{});
+    loc::MountApplyOptions apply;
+    apply.enabled = !flags.self_calibrate_report_only;
+    self_calibration.emplace(*setup->camera_mount, calibration::MountSelfCalibrationOptions{},
+                             apply);
   }
   const loc::Atlas atlas_copy = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> created =
@@ -292,7 +295,12 @@ int RunLocalize(const LocalizeFlags& flags) {
     nlohmann::ordered_json line = loc::KeyframeJson(k, options.mode);
     if (self_calibration) {
       self_calibration->AddKeyframe(k);
-      line.update(loc::MountEstimateJson(self_calibration->estimate()));
+      if (const auto update = self_calibration->DueMountUpdate(k.stamp_s)) {
+        if (core::Status s = localizer.SetCameraMount(update->mount, update->covariance); !s.ok())
+          std::fprintf(stderr, "warning: self-calibration: %s\n", s.message().c_str());
+      }
+      line.update(loc::MountEstimateJson(self_calibration->estimate(),
+                                         &self_calibration->applied()));
     }
     if (diagnostics) {
       line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
@@ -377,6 +385,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     j["frames"] = e.frames;
     j["frames_gated"] = e.frames_gated;
     j["windows_rejected"] = e.windows_rejected;
+    j["mount_updates"] = self_calibration->mount_updates();
     summary["self_calibration"] = j;
     std::printf("self-calibration: pitch %.3f deg, roll %.3f deg, height %.1f mm, yaw %.3f deg "
                 "(%d windows of %d frames, %d steps)%s%s\n",
@@ -494,11 +503,16 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "With --relocalize: x_m y_m [radius_m] where the drive starts (default radius "
                   "2 m); needed where the floor repeats (identical aisle mouths)")
       ->expected(2, 3);
-  cmd->add_flag("--self-calibrate", flags->self_calibrate,
+  CLI::Option* self_calibrate = cmd->add_flag("--self-calibrate", flags->self_calibrate,
                 "--mode lines/mapping: estimate the camera's pitch, roll, height and yaw from "
                 "the floor lines while driving (parallel and perpendicular markings, the "
                 "markings' motion against the wheel odometry); health.jsonl gets selfcal_* "
-                "fields per keyframe, summary.json the final estimate and any alarm");
+                "fields per keyframe, summary.json the final estimate and any alarm; the "
+                "bird's-eye view follows the estimate in bounded steps");
+  cmd->add_flag("--self-calibrate-report-only", flags->self_calibrate_report_only,
+                "With --self-calibrate: estimate and report, but keep the bird's-eye view on "
+                "the commissioned mount (to compare)")
+      ->needs(self_calibrate);
   cmd->add_flag("--lidar", flags->lidar,
                 "--mode lines/mapping: add the LiDAR scan-match factor (needs lidar_scans) and, "
                 "when localizing, the straight faces (rack faces, walls) of the scans as line "

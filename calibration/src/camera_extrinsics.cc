@@ -170,4 +170,13 @@ core::Result<Eigen::Vector2d> BackProjectPixel(const Eigen::Matrix3d& H_floor_im
   return floor_point_m;
 }
 
+bool SameMount(const CameraMount& a, const CameraMount& b, double tolerance) {
+  return std::abs(a.pitch_rad - b.pitch_rad) <= tolerance &&
+         std::abs(a.roll_rad - b.roll_rad) <= tolerance &&
+         std::abs(a.height_m - b.height_m) <= tolerance &&
+         std::abs(a.yaw_rad - b.yaw_rad) <= tolerance &&
+         std::abs(a.forward_m - b.forward_m) <= tolerance &&
+         std::abs(a.lateral_m - b.lateral_m) <= tolerance;
+}
+
 }  // namespace groundline::calibration

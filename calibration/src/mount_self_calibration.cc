@@ -85,6 +85,30 @@ MountSelfCalibrator::MountSelfCalibrator(const CameraMount& commissioned,
   UpdateEstimate();
 }
 
+core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
+                                          const MountEstimate& saved) {
+  if (!SameMount(saved_commissioned, commissioned_)) {
+    return core::Status::Error(
+        "the saved mount estimate was made against another commissioned mount (the camera "
+        "was recommissioned since): starting from the commissioned mount");
+  }
+  if (core::Status s = saved.mount.Validate(); !s.ok()) return s.WithContext("saved estimate");
+  if (!core::IsCovariance(saved.covariance)) {
+    return core::Status::Error(
+        "saved estimate: the covariance is not symmetric positive definite");
+  }
+  mean_ << saved.mount.pitch_rad - commissioned_.pitch_rad,
+      saved.mount.roll_rad - commissioned_.roll_rad, saved.mount.height_m - commissioned_.height_m,
+      saved.mount.yaw_rad - commissioned_.yaw_rad;
+  covariance_ = saved.covariance;
+  estimate_ = saved;
+  estimate_.mount = commissioned_;
+  // A knocked camera stays alarmed until it is recommissioned.
+  alarm_streak_ = saved.alarm ? options_.alarm_windows - 1 : 0;
+  UpdateEstimate();
+  return core::Status::Ok();
+}
+
 bool MountSelfCalibrator::HasUsableSegment(const MountFrame& frame) const {
   for (const FloorSegment& s : frame.segments)
     if ((s.end_m - s.start_m).norm() >= options_.min_segment_length_m) return true;

@@ -6,6 +6,11 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+
+#include "groundline/calibration/mount_remap.h"
+#include "groundline/perception/hesse_line.h"
+
 namespace groundline::localization {
 
 core::Status FloorFrontEndOptions::Validate() const {
@@ -25,6 +30,12 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Create(const calibration::CameraModel
   if (options.grid_from_footprint) {
     remap_options.grid = perception::FloorFootprintGrid(camera, mount, options.remap.grid.cell_m);
   }
+  return Build(camera, mount, remap_options, options);
+}
+
+core::Result<FloorFrontEnd> FloorFrontEnd::Build(
+    const calibration::CameraModel& camera, const calibration::CameraMount& mount,
+    const perception::BevRemap::Options& remap_options, const FloorFrontEndOptions& options) {
   FloorFrontEnd front_end;
   auto remap = std::make_shared<perception::BevRemap>(camera, mount, remap_options);
   if (cv::countNonZero(remap->valid_mask()) == 0) {
@@ -34,10 +45,51 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Create(const calibration::CameraModel
   }
   front_end.extractor_ = std::make_shared<perception::LineExtractor>(*remap, options.extractor);
   front_end.remap_ = std::move(remap);
+  front_end.options_ = options;
+  front_end.remap_options_ = remap_options;
   front_end.width_px_ = camera.width_px();
   front_end.height_px_ = camera.height_px();
   front_end.min_frame_stddev_ = options.min_frame_stddev;
   return front_end;
+}
+
+core::Result<FloorFrontEnd> FloorFrontEnd::WithMount(
+    const calibration::CameraMount& mount, const Eigen::Matrix4d& mount_covariance) const {
+  if (core::Status s = mount.Validate(); !s.ok()) return s.WithContext("floor front end: mount");
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(mount_covariance);
+  if (!mount_covariance.allFinite() || !mount_covariance.isApprox(mount_covariance.transpose()) ||
+      eig.eigenvalues().minCoeff() < -1e-12 * std::max(1.0, eig.eigenvalues().maxCoeff())) {
+    return core::Status::Error(
+        "floor front end: the mount's covariance is not symmetric positive semi-definite");
+  }
+  core::Result<FloorFrontEnd> built = Build(remap_->camera(), mount, remap_options_, options_);
+  if (!built.ok()) return built.status();
+  built->mount_covariance_ = mount_covariance;
+  return built;
+}
+
+void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
+  if (mount_covariance_.isZero(0.0)) return;
+  const calibration::CameraMount& mount = remap_->mount();
+  for (LineObservation& line : observations->lines) {
+    Eigen::Matrix<double, 2, 4> Ja, Jb;
+    Eigen::Matrix2d J_line_a, J_line_b;
+    if (!calibration::FloorPointMountJacobian(line.endpoint_a_base_m, mount, &Ja) ||
+        !calibration::FloorPointMountJacobian(line.endpoint_b_base_m, mount, &Jb)) {
+      continue;
+    }
+    const core::Result<perception::HesseLine> through = perception::LineFromPoints(
+        line.endpoint_a_base_m, line.endpoint_b_base_m, &J_line_a, &J_line_b);
+    if (!through.ok()) continue;
+    const Eigen::Matrix<double, 2, 4> J = J_line_a * Ja + J_line_b * Jb;
+    line.covariance += perception::CovarianceInDescriptionOf(
+        *through, line.line_base, J * mount_covariance_ * J.transpose());
+  }
+  for (JunctionObservation& junction : observations->junctions) {
+    Eigen::Matrix<double, 2, 4> J;
+    if (!calibration::FloorPointMountJacobian(junction.point_base_m, mount, &J)) continue;
+    junction.covariance += J * mount_covariance_ * J.transpose();
+  }
 }
 
 core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey,
@@ -79,7 +131,10 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey, 
     }
   }
   remap_->Apply(grey, bev);
-  return ObservationsFromExtraction(stamp_s, extractor_->Extract(*bev));
+  ConvertedObservations converted = ObservationsFromExtraction(stamp_s, extractor_->Extract(*bev));
+  converted.observations.camera_mount = remap_->mount();
+  AddMountUncertainty(&converted.observations);
+  return converted;
 }
 
 }  // namespace groundline::localization

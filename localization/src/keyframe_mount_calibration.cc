@@ -1,22 +1,58 @@
 #include "groundline/localization/keyframe_mount_calibration.h"
 
+#include <algorithm>
+#include <array>
+#include <cassert>
 #include <cmath>
 
 #include "groundline/core/angles.h"
 
 namespace groundline::localization {
 
+namespace {
+
+calibration::MountVector ComponentsOf(const calibration::CameraMount& m) {
+  return calibration::MountVector(m.pitch_rad, m.roll_rad, m.height_m, m.yaw_rad);
+}
+
+}  // namespace
+
+core::Status MountApplyOptions::Validate() const {
+  if (!(std::isfinite(min_interval_s) && min_interval_s >= 0.0)) {
+    return core::Status::Error("min_interval_s: expected a finite value >= 0 s");
+  }
+  if (!(max_step.allFinite() && (max_step.array() > 0.0).all())) {
+    return core::Status::Error("max_step: expected 4 finite values > 0");
+  }
+  if (!(max_sigma.allFinite() && (max_sigma.array() > 0.0).all())) {
+    return core::Status::Error("max_sigma: expected 4 finite values > 0");
+  }
+  if (!(min_change.allFinite() && (min_change.array() >= 0.0).all())) {
+    return core::Status::Error("min_change: expected 4 finite values >= 0");
+  }
+  return core::Status::Ok();
+}
+
 KeyframeMountCalibration::KeyframeMountCalibration(
     const calibration::CameraMount& commissioned,
-    const calibration::MountSelfCalibrationOptions& options)
-    : calibrator_(commissioned, options), mount_used_(commissioned) {}
+    const calibration::MountSelfCalibrationOptions& options, const MountApplyOptions& apply)
+    : calibrator_(commissioned, options), apply_(apply), applied_(commissioned) {
+  assert(apply.Validate().ok());
+}
+
+core::Result<std::optional<KeyframeMountCalibration::MountUpdate>>
+KeyframeMountCalibration::Restore(const calibration::SavedMountEstimate& saved) {
+  if (core::Status s = calibrator_.Restore(saved.commissioned, saved.estimate); !s.ok()) return s;
+  if (!apply_.enabled) return std::optional<MountUpdate>();
+  return NextUpdate(/*bounded=*/false);
+}
 
 bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
   if (!keyframe.frame_stamp_s) return false;
   calibration::MountFrame frame;
   frame.stamp_s = keyframe.stamp_s;
   frame.T_odom_base = keyframe.T_odom_base;
-  frame.mount_used = mount_used_;
+  frame.mount_used = keyframe.floor.camera_mount.value_or(calibrator_.commissioned());
   frame.segments.reserve(keyframe.floor.lines.size());
   for (const LineObservation& line : keyframe.floor.lines) {
     frame.segments.push_back(
@@ -25,7 +61,53 @@ bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
   return calibrator_.AddFrame(frame);
 }
 
-nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e) {
+std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::DueMountUpdate(
+    double stamp_s) {
+  if (!apply_.enabled) return std::nullopt;
+  if (last_update_s_ && stamp_s - *last_update_s_ < apply_.min_interval_s) return std::nullopt;
+  std::optional<MountUpdate> update = NextUpdate(/*bounded=*/true);
+  if (update) last_update_s_ = stamp_s;
+  return update;
+}
+
+std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::NextUpdate(
+    bool bounded) {
+  const calibration::MountEstimate& e = calibrator_.estimate();
+  const calibration::MountVector target = ComponentsOf(e.mount);
+  const calibration::MountVector current = ComponentsOf(applied_);
+  calibration::MountVector next = current;
+  std::array<bool, 4> follows{};
+  bool moves = false;
+  for (int i = 0; i < 4; ++i) {
+    follows[i] = std::sqrt(e.covariance(i, i)) < apply_.max_sigma(i);
+    const double change = target(i) - current(i);
+    if (!follows[i] || std::abs(change) <= apply_.min_change(i)) continue;
+    next(i) = bounded ? current(i) + std::clamp(change, -apply_.max_step(i), apply_.max_step(i))
+                      : target(i);
+    moves = true;
+  }
+  if (!moves) return std::nullopt;
+  MountUpdate update;
+  update.mount = applied_;
+  update.mount.pitch_rad = next(calibration::kMountPitch);
+  update.mount.roll_rad = next(calibration::kMountRoll);
+  update.mount.height_m = next(calibration::kMountHeight);
+  update.mount.yaw_rad = next(calibration::kMountYaw);
+  // The estimate's uncertainty of the components that follow it, and what a
+  // bounded step leaves between the BEV's mount and the estimate.
+  for (int i = 0; i < 4; ++i) {
+    if (!follows[i]) continue;
+    for (int j = 0; j < 4; ++j)
+      if (follows[j]) update.covariance(i, j) = e.covariance(i, j);
+    update.covariance(i, i) += (target(i) - next(i)) * (target(i) - next(i));
+  }
+  applied_ = update.mount;
+  ++mount_updates_;
+  return update;
+}
+
+nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e,
+                                         const calibration::CameraMount* applied) {
   using calibration::kMountHeight;
   using calibration::kMountPitch;
   using calibration::kMountRoll;
@@ -44,6 +126,12 @@ nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e) {
   if (e.alarm) j["selfcal_alarm_message"] = e.alarm_message;
   j["selfcal_windows"] = e.windows_used;
   j["selfcal_steps"] = e.steps;
+  if (applied) {
+    j["selfcal_applied_pitch_deg"] = applied->pitch_rad * core::kRadToDeg;
+    j["selfcal_applied_roll_deg"] = applied->roll_rad * core::kRadToDeg;
+    j["selfcal_applied_height_m"] = applied->height_m;
+    j["selfcal_applied_yaw_deg"] = applied->yaw_rad * core::kRadToDeg;
+  }
   return j;
 }
 

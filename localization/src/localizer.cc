@@ -90,6 +90,16 @@ core::Status Localizer::SetInitialPose(double stamp_s, const core::SE2& T_map_ba
 }
 core::Status Localizer::RequestRelocalization() { return impl_->RequestRelocalization(); }
 bool Localizer::started() const { return impl_->started; }
+core::Status Localizer::SetCameraMount(const calibration::CameraMount& mount,
+                                       const Eigen::Matrix4d& covariance) {
+  if (!impl_->setup.camera) {
+    return core::Status::Error("set camera mount: the localizer has no camera front end");
+  }
+  core::Result<FloorFrontEnd> rebuilt = impl_->setup.camera->WithMount(mount, covariance);
+  if (!rebuilt.ok()) return rebuilt.status();
+  impl_->setup.camera = std::make_shared<const FloorFrontEnd>(std::move(rebuilt).value());
+  return core::Status::Ok();
+}
 const std::optional<PoseEstimate>& Localizer::relocalized() const { return impl_->relocalized; }
 const RelocalizerStatus* Localizer::relocalizer_status() const {
   return impl_->relocalizer ? &impl_->relocalizer->status() : nullptr;

@@ -474,7 +474,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Relocalize(const core::WheelEncoder
     ++counters.frames_unreadable;
   }
   const std::optional<PoseEstimate> pose = relocalizer->AddFrame(
-      r.stamp_s, motion, seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}});
+      r.stamp_s, motion, seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt});
   if (!pose) return std::nullopt;
   relocalized = *pose;
   relocalizer_odometry.reset();

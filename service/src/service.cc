@@ -47,6 +47,37 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   }
   impl->drive = setup->setup.drive;
   impl->camera = setup->setup.camera;
+  if (impl->self_calibration) {
+    // The mount is the vehicle's, not the trip's: a restart continues from
+    // the saved estimate. One that cannot be used is reported, not fatal.
+    impl->mount_estimate_path = config.mount_estimate.empty()
+                                    ? fs::path(config.output_dir) / "mount_estimate.json"
+                                    : fs::path(config.mount_estimate);
+    std::error_code ec;
+    if (!fs::exists(impl->mount_estimate_path, ec)) {
+      impl->mount_estimate_restored = "none saved: started from the commissioned mount";
+    } else {
+      core::Result<calibration::SavedMountEstimate> saved =
+          calibration::ReadMountEstimate(impl->mount_estimate_path);
+      core::Result<std::optional<loc::KeyframeMountCalibration::MountUpdate>> restored =
+          saved.ok() ? impl->self_calibration->Restore(*saved)
+                     : core::Result<std::optional<loc::KeyframeMountCalibration::MountUpdate>>(
+                           saved.status());
+      if (!restored.ok()) {
+        impl->mount_estimate_restored = "not restored (" + restored.message() +
+                                        "): started from the commissioned mount";
+      } else {
+        impl->mount_estimate_restored = "restored from " + impl->mount_estimate_path.string();
+        if (*restored && impl->camera) {
+          core::Result<loc::FloorFrontEnd> rebuilt =
+              impl->camera->WithMount((*restored)->mount, (*restored)->covariance);
+          if (!rebuilt.ok()) return rebuilt.status().WithContext("restored mount estimate");
+          impl->camera = std::make_shared<const loc::FloorFrontEnd>(std::move(rebuilt).value());
+          setup->setup.camera = impl->camera;
+        }
+      }
+    }
+  }
   impl->atlas = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> localizer =
       loc::Localizer::Create(options.localizer, std::move(setup->setup));
@@ -307,6 +338,17 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   j["mode"] = loc::ModeName(m.localizer->options());
   j["started"] = m.localizer->started();
   j["counters"] = loc::CountersJson(m.counters);
+  if (m.self_calibration) {
+    nlohmann::ordered_json s =
+        loc::MountEstimateJson(m.self_calibration->estimate(), &m.self_calibration->applied());
+    s["mount_updates"] = m.self_calibration->mount_updates();
+    s["mount_rebuilds"] = m.mount_rebuilds.load();
+    s["mount_rebuild_failures"] = m.mount_rebuild_failures.load();
+    s["mount_estimate"] = m.mount_estimate_path.string();
+    s["mount_estimate_restored"] = m.mount_estimate_restored;
+    s["mount_estimate_write_failures"] = m.mount_estimate_write_failures.load();
+    j["self_calibration"] = s;
+  }
   // Per second of data time (the sensors' own rates, also in a replay faster
   // than real time); null until a second of data has passed.
   if (m.rate_samples.size() >= 2 &&

@@ -273,9 +273,10 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   }
   if (const YAML::Node n = y.Child(root, "", "localizer", false);
       n && y.ExpectMap(n, "localizer")) {
-    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration"});
+    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration", "mount_estimate"});
     if (n["preset"]) c.preset = y.Text(n, "localizer", "preset");
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
+    if (n["mount_estimate"]) c.mount_estimate = y.Text(n, "localizer", "mount_estimate");
     ReadBool(y, n, "localizer", "self_calibration", &c.self_calibration);
   }
   if (const YAML::Node n = y.Child(root, "", "start", false); n && y.ExpectMap(n, "start")) {

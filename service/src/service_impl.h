@@ -114,6 +114,17 @@ struct Service::Impl {
   std::unique_ptr<loc::Localizer> localizer;
   // localizer.self_calibration: fed by the estimator thread's keyframes.
   std::optional<loc::KeyframeMountCalibration> self_calibration;
+  // Where the estimate is kept across restarts (written after every window
+  // it fuses), and what the start did with a saved one.
+  std::filesystem::path mount_estimate_path;
+  std::string mount_estimate_restored;
+  std::atomic<long> mount_estimate_write_failures{0};
+  // The mount the camera stage rebuilds its front end with next (set by the
+  // estimator thread, taken by the camera thread).
+  std::mutex mount_mutex;
+  std::optional<loc::KeyframeMountCalibration::MountUpdate> pending_mount;
+  std::atomic<long> mount_rebuilds{0}, mount_rebuild_failures{0};
+  // The camera thread's own after the start (rebuilt there for a new mount).
   std::shared_ptr<const loc::FloorFrontEnd> camera;
   loc::Atlas atlas;
   std::optional<loc::PoseEstimate> start;

@@ -83,6 +83,21 @@ void Service::Impl::CameraStage() {
       ReleasePending(job->stamp_s);
       continue;
     }
+    std::optional<loc::KeyframeMountCalibration::MountUpdate> mount_update;
+    {
+      std::lock_guard<std::mutex> lock(mount_mutex);
+      mount_update.swap(pending_mount);
+    }
+    if (mount_update && camera) {
+      core::Result<loc::FloorFrontEnd> rebuilt =
+          camera->WithMount(mount_update->mount, mount_update->covariance);
+      if (rebuilt.ok()) {
+        camera = std::make_shared<const loc::FloorFrontEnd>(std::move(rebuilt).value());
+        ++mount_rebuilds;
+      } else {
+        ++mount_rebuild_failures;
+      }
+    }
     cv::Mat grey;
     if (job->black && camera) {
       grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
@@ -160,8 +175,19 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (k) {
       nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
       if (self_calibration) {
-        self_calibration->AddKeyframe(*k);
-        line.update(loc::MountEstimateJson(self_calibration->estimate()));
+        if (self_calibration->AddKeyframe(*k) && !mount_estimate_path.empty() &&
+            !calibration::WriteMountEstimate(
+                 mount_estimate_path,
+                 {self_calibration->commissioned(), self_calibration->estimate()})
+                 .ok()) {
+          ++mount_estimate_write_failures;
+        }
+        if (auto update = self_calibration->DueMountUpdate(k->stamp_s)) {
+          std::lock_guard<std::mutex> mount_lock(mount_mutex);
+          pending_mount = std::move(update);
+        }
+        line.update(loc::MountEstimateJson(self_calibration->estimate(),
+                                           &self_calibration->applied()));
       }
       if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(

@@ -50,6 +50,10 @@ struct CameraMount {
   core::Status Validate() const;
 };
 
+// Whether two mounts are the same (every component within tolerance rad or
+// m; the default absorbs a round trip through degrees in a text file).
+bool SameMount(const CameraMount& a, const CameraMount& b, double tolerance = 1e-9);
+
 // The rotation R_base_level of the level camera (see the file comment).
 Eigen::Matrix3d LevelCameraRotation();
 

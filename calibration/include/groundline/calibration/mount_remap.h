@@ -78,6 +78,15 @@ inline bool RemapFloorPoint(const Eigen::Vector2d& p_a, const CameraMount& from,
                                  to, p_b);
 }
 
+// d p_b / d (pitch_rad, roll_rad, height_m, yaw_rad) of B at B = `mount` for
+// a floor point p measured under `mount` itself (p_b = p there): how the
+// point moves when the true mount differs from the one the BEV was made with.
+// It carries the mount's uncertainty into a line's or junction's covariance
+// (J C_mount J^T). Returns false, leaving J alone, for a point whose ray
+// does not go down (RemapFloorPoint; not a point seen on the floor).
+bool FloorPointMountJacobian(const Eigen::Vector2d& p, const CameraMount& mount,
+                             Eigen::Matrix<double, 2, 4>* J);
+
 }  // namespace groundline::calibration
 
 #endif  // GROUNDLINE_CALIBRATION_MOUNT_REMAP_H_

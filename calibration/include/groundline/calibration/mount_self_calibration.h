@@ -216,6 +216,14 @@ class MountSelfCalibrator {
   // The commissioned mount (valid, asserted) and valid options (asserted).
   MountSelfCalibrator(const CameraMount& commissioned, const MountSelfCalibrationOptions& options);
 
+  // Continues from a saved estimate (a restart, mount_estimate_file.h): its
+  // mount, covariance, alarm and counters. The stamps of a new run are not
+  // compared with the saved one's (another clock). Errors: the estimate was
+  // made against another commissioned mount (recommissioned since: start
+  // afresh), an invalid mount or a covariance that is not symmetric
+  // positive definite.
+  core::Status Restore(const CameraMount& saved_commissioned, const MountEstimate& saved);
+
   // Feeds one frame, in stamp order (an older stamp is ignored). Returns true
   // when a window was fused and the estimate changed.
   bool AddFrame(const MountFrame& frame);

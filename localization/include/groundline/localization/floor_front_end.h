@@ -49,6 +49,21 @@ class FloorFrontEnd {
   core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s,
                                               cv::Mat* bev) const;
 
+  // The same camera and options on another mount (a self-calibrated one),
+  // with the mount's uncertainty: `mount_covariance` over (pitch_rad,
+  // roll_rad, height_m, yaw_rad) (mount_self_calibration.h's order), carried
+  // into every line's and junction's covariance (J C J^T through
+  // calibration::FloorPointMountJacobian; zero: none, as Create). The
+  // remap table is rebuilt on this one's grid (the BEV keeps its size and
+  // extent; cells the new mount does not see become unseen); the extractor is
+  // rebuilt for the new table. About the cost of Create: not per frame.
+  // Errors: an invalid mount, a covariance that is not symmetric positive
+  // semi-definite, a mount that sees none of the grid.
+  core::Result<FloorFrontEnd> WithMount(const calibration::CameraMount& mount,
+                                        const Eigen::Matrix4d& mount_covariance) const;
+
+  const calibration::CameraMount& mount() const { return remap_->mount(); }
+  const Eigen::Matrix4d& mount_covariance() const { return mount_covariance_; }
   const perception::BevRemap& remap() const { return *remap_; }
   const perception::LineExtractor& extractor() const { return *extractor_; }
   int image_width_px() const { return width_px_; }
@@ -56,6 +71,16 @@ class FloorFrontEnd {
 
  private:
   FloorFrontEnd() = default;
+  static core::Result<FloorFrontEnd> Build(const calibration::CameraModel& camera,
+                                           const calibration::CameraMount& mount,
+                                           const perception::BevRemap::Options& remap_options,
+                                           const FloorFrontEndOptions& options);
+  // Adds the mount's uncertainty to the observations' covariances.
+  void AddMountUncertainty(FloorObservations* observations) const;
+
+  FloorFrontEndOptions options_;
+  perception::BevRemap::Options remap_options_;  // the grid as built
+  Eigen::Matrix4d mount_covariance_ = Eigen::Matrix4d::Zero();
   std::shared_ptr<const perception::BevRemap> remap_;
   std::shared_ptr<const perception::LineExtractor> extractor_;
   int width_px_ = 0;

@@ -10,8 +10,10 @@
 #define GROUNDLINE_LOCALIZATION_FLOOR_OBSERVATION_H_
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/core/floor_map.h"
 #include "groundline/perception/hesse_line.h"
 
@@ -37,6 +39,10 @@ struct FloorObservations {
   double stamp_s = 0.0;
   std::vector<LineObservation> lines;
   std::vector<JunctionObservation> junctions;
+  // The camera mount the frame's bird's-eye view was made with (FloorFrontEnd
+  // sets it; the self-calibration remaps the lines from it). Unset: lines
+  // made elsewhere, under the commissioned mount.
+  std::optional<calibration::CameraMount> camera_mount;
 };
 
 }  // namespace groundline::localization

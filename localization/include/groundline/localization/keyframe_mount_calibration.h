@@ -10,37 +10,96 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
+
 #include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/mount_estimate_file.h"
 #include "groundline/calibration/mount_self_calibration.h"
 #include "groundline/localization/localizer.h"
 
 namespace groundline::localization {
 
+// When and how far the bird's-eye view follows the estimate. The BEV is
+// rebuilt with the estimated mount at a bounded rate and in bounded steps, so
+// that it never jumps: the lines of consecutive keyframes move by at most
+// what one step of the mount moves them (0.2 deg of pitch: about 1.5 cm 2 m
+// ahead), and a 1 deg payload step is applied over five rebuilds.
+struct MountApplyOptions {
+  bool enabled = true;
+  double min_interval_s = 1.0;  // at most one rebuild per this much time
+  // The largest change of a component per rebuild (pitch_rad, roll_rad,
+  // height_m, yaw_rad).
+  calibration::MountVector max_step =
+      (calibration::MountVector() << 0.0035, 0.0035, 0.003, 0.0035).finished();  // 0.2 deg, 3 mm
+  // A component follows the estimate only while its sigma is below this: a
+  // component the drive does not show (yaw, from joints crossing a straight
+  // aisle, stays near the commissioning's 1 deg) keeps the value it has.
+  calibration::MountVector max_sigma =
+      (calibration::MountVector() << 0.0017, 0.0017, 0.002, 0.0017).finished();  // 0.1 deg, 2 mm
+  // A rebuild only when a component would move by more than this (smaller
+  // changes are below what perception resolves).
+  calibration::MountVector min_change =
+      (calibration::MountVector() << 0.00017, 0.00017, 0.0002, 0.00035).finished();  // 0.01 deg, 0.2 mm, 0.02 deg
+
+  core::Status Validate() const;
+};
+
 class KeyframeMountCalibration {
  public:
-  // The commissioned mount (the one the frames' BEV is made with) and valid
-  // options (asserted).
+  // The commissioned mount (the one the first frames' BEV is made with) and
+  // valid options (asserted).
   KeyframeMountCalibration(const calibration::CameraMount& commissioned,
-                           const calibration::MountSelfCalibrationOptions& options);
+                           const calibration::MountSelfCalibrationOptions& options,
+                           const MountApplyOptions& apply = {});
+
 
   // A keyframe in time order. Keyframes without a frame advance nothing
-  // (their motion is in the next one's odometry pose). Returns true when the
-  // estimate changed.
+  // (their motion is in the next one's odometry pose). The frame's lines are
+  // under the mount its observations carry (FloorObservations::camera_mount;
+  // unset: the commissioned one). Returns true when the estimate changed.
   bool AddKeyframe(const KeyframeOutput& keyframe);
 
+  // The mount to rebuild the BEV with at stamp_s, when a rebuild is due
+  // (MountApplyOptions), with the covariance of the components that follow
+  // the estimate (the others are zero: they stay as they are). The caller
+  // rebuilds (Localizer::SetCameraMount, the service's camera stage); this
+  // object takes the mount as applied.
+  struct MountUpdate {
+    calibration::CameraMount mount;
+    Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+  };
+  std::optional<MountUpdate> DueMountUpdate(double stamp_s);
+
+  // Continues from a saved estimate (calibration/mount_estimate_file.h,
+  // MountSelfCalibrator::Restore's errors). Returns the mount to build the
+  // BEV with from the start, when it differs from the commissioned one: the
+  // saved estimate's components that follow it, whole (no frame has been
+  // seen under another mount, so there is nothing to jump from).
+  core::Result<std::optional<MountUpdate>> Restore(const calibration::SavedMountEstimate& saved);
   const calibration::MountEstimate& estimate() const { return calibrator_.estimate(); }
+  const calibration::CameraMount& commissioned() const { return calibrator_.commissioned(); }
+  // The mount of the last update handed out (the commissioned one before any).
+  const calibration::CameraMount& applied() const { return applied_; }
+  int mount_updates() const { return mount_updates_; }
 
  private:
+  std::optional<MountUpdate> NextUpdate(bool bounded);
+
   calibration::MountSelfCalibrator calibrator_;
-  calibration::CameraMount mount_used_;
+  MountApplyOptions apply_;
+  calibration::CameraMount applied_;
+  std::optional<double> last_update_s_;
+  int mount_updates_ = 0;
 };
 
 // The health fields of an estimate, in the extrinsics file's convention
 // (docs/extrinsics.md): selfcal_pitch_deg, selfcal_roll_deg,
 // selfcal_height_m, selfcal_yaw_deg, their 1-sigma selfcal_*_sigma_*,
 // selfcal_alarm and, when raised, selfcal_alarm_message; selfcal_windows
-// (windows fused so far) and selfcal_steps.
-nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& estimate);
+// (windows fused so far) and selfcal_steps; with `applied`, the mount the
+// BEV is made with: selfcal_applied_pitch_deg, _roll_deg, _height_m, _yaw_deg.
+nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& estimate,
+                                         const calibration::CameraMount* applied = nullptr);
 
 }  // namespace groundline::localization
 

@@ -296,6 +296,12 @@ class Localizer {
   // the estimate starts when one hypothesis is unambiguous. Errors: another mode.
   core::Status RequestRelocalization();
   bool started() const;
+  // The camera front end rebuilt for another mount (the self-calibrated one,
+  // with its covariance: FloorFrontEnd::WithMount); frames observed from now
+  // on use it, and their observations carry the mount. Errors (the front end
+  // is unchanged): no camera in the setup; those of WithMount.
+  core::Status SetCameraMount(const calibration::CameraMount& mount,
+                              const Eigen::Matrix4d& covariance);
   // Set once a relocalization committed.
   const std::optional<PoseEstimate>& relocalized() const;
   const RelocalizerStatus* relocalizer_status() const;

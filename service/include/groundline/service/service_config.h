@@ -89,6 +89,10 @@ struct ServiceConfig {
   // lines while driving (docs/self_calibration.md); health.jsonl gets the
   // selfcal_* fields. Needs a preset that reads the camera (fusion, lines).
   bool self_calibration = false;
+  // localizer.mount_estimate: where the self-calibration keeps its estimate
+  // across restarts (written after every update, read at the start);
+  // empty: output.dir/mount_estimate.json.
+  std::string mount_estimate;
   // start: initial_pose [x_m, y_m, yaw_deg], else relocalize, else the
   // dataset's start pose (or the saved state when resume is on).
   std::optional<std::array<double, 3>> initial_pose;
