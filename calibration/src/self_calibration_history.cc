@@ -86,6 +86,15 @@ core::Result<std::vector<SelfCalibrationSample>> ReadSelfCalibrationHistory(
         s.alarm = a->get<bool>();
       }
     }
+    if (j.contains("selfcal_applied_pitch_deg")) {
+      MountVector applied;
+      for (int i = 0; i < 4; ++i) {
+        const Component& c = kComponents[i];
+        const std::string key = std::string("selfcal_applied_") + (c.value_key + 8);
+        applied(i) = r.Finite(j, "", key.c_str()) * c.from_field;
+      }
+      s.applied = applied;
+    }
     if (s.alarm && j.contains("selfcal_alarm_message"))
       s.alarm_message = r.String(j, "", "selfcal_alarm_message");
     for (auto [key, count] : {std::pair{"selfcal_windows", &s.windows}, {"selfcal_steps", &s.steps}}) {
@@ -152,6 +161,7 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     h << "; black: the true mount of the simulation (evaluation only, not available on a "
          "vehicle)";
   }
+  if (history.back().applied) h << "; green: the mount the bird's-eye view was made with";
   h << "; red marks: the alarm raised.</p>\n";
   for (int i = 0; i < 4; ++i) {
     const Component& c = kComponents[i];
@@ -241,6 +251,16 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
       steps << FormatNumber("%.1f", X(t1)) << "," << FormatNumber("%.1f", Y(previous));
       h << "<polyline class='truth' points='" << steps.str()
         << "' fill='none' stroke='black' stroke-width='1.5'/>\n";
+    }
+    std::ostringstream applied;
+    for (const SelfCalibrationSample& s : history) {
+      if (!s.applied) continue;
+      applied << FormatNumber("%.1f", X(s.stamp_s)) << ","
+              << FormatNumber("%.1f", Y(MountComponentInUnit(i, (*s.applied)(i)))) << " ";
+    }
+    if (!applied.str().empty()) {
+      h << "<polyline class='applied' points='" << applied.str()
+        << "' fill='none' stroke='#31a354' stroke-width='1.5' stroke-dasharray='4,2'/>\n";
     }
     h << "<polyline class='estimate' points='" << line.str()
       << "' fill='none' stroke='#2171b5' stroke-width='1.5'/>\n";

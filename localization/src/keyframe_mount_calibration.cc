@@ -27,6 +27,9 @@ core::Status MountApplyOptions::Validate() const {
   if (!(max_sigma.allFinite() && (max_sigma.array() > 0.0).all())) {
     return core::Status::Error("max_sigma: expected 4 finite values > 0");
   }
+  if (!(std::isfinite(min_significance) && min_significance > 0.0)) {
+    return core::Status::Error("min_significance: expected a finite value > 0 sigma");
+  }
   if (!(min_change.allFinite() && (min_change.array() >= 0.0).all())) {
     return core::Status::Error("min_change: expected 4 finite values >= 0");
   }
@@ -73,15 +76,21 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::D
 std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::NextUpdate(
     bool bounded) {
   const calibration::MountEstimate& e = calibrator_.estimate();
-  const calibration::MountVector target = ComponentsOf(e.mount);
+  const calibration::MountVector estimated = ComponentsOf(e.mount);
+  calibration::MountVector target;
   const calibration::MountVector current = ComponentsOf(applied_);
+  const calibration::MountVector commissioned_components =
+      ComponentsOf(calibrator_.commissioned());
   calibration::MountVector next = current;
   std::array<bool, 4> follows{};
   bool moves = false;
   for (int i = 0; i < 4; ++i) {
-    follows[i] = std::sqrt(e.covariance(i, i)) < apply_.max_sigma(i);
+    const double sigma = std::sqrt(e.covariance(i, i));
+    const double moved = std::abs(estimated(i) - commissioned_components(i));
+    follows[i] = sigma < apply_.max_sigma(i) || moved > apply_.min_significance * sigma;
+    target(i) = follows[i] ? estimated(i) : commissioned_components(i);
     const double change = target(i) - current(i);
-    if (!follows[i] || std::abs(change) <= apply_.min_change(i)) continue;
+    if (std::abs(change) <= apply_.min_change(i)) continue;
     next(i) = bounded ? current(i) + std::clamp(change, -apply_.max_step(i), apply_.max_step(i))
                       : target(i);
     moves = true;

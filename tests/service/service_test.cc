@@ -15,6 +15,7 @@
 
 #include <Eigen/Cholesky>
 
+#include "groundline/calibration/mount_estimate_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
@@ -390,6 +391,48 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
   }
   EXPECT_GT(lines, 50);
   EXPECT_GE(windows, 1);
+
+  // The estimate is kept for a restart: mount_estimate.json holds the last
+  // one, and the next run (same output directory) starts from it.
+  const nlohmann::json summary =
+      nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  const nlohmann::json& first = summary["self_calibration"];
+  EXPECT_EQ(first["mount_estimate_restored"].get<std::string>(),
+            "none saved: started from the commissioned mount");
+  EXPECT_EQ(first["mount_estimate_write_failures"].get<long>(), 0);
+  // The BEV follows no change here (within min_change of the commissioning,
+  // or too uncertain); what it did is counted, and never failed.
+  EXPECT_EQ(first["mount_rebuild_failures"].get<long>(), 0);
+  const core::Result<calibration::SavedMountEstimate> saved =
+      calibration::ReadMountEstimate(dir / "out" / "mount_estimate.json");
+  ASSERT_TRUE(saved.ok()) << saved.message();
+  EXPECT_EQ(saved->estimate.windows_used, windows);
+  EXPECT_NEAR(saved->estimate.mount.pitch_rad * 180.0 / M_PI,
+              first["selfcal_pitch_deg"].get<double>(), 1e-9);
+
+  core::Result<std::unique_ptr<Service>> again = Service::Create(config);
+  ASSERT_TRUE(again.ok()) << again.message();
+  ASSERT_TRUE((*again)->Run(never).ok());
+  const nlohmann::json second =
+      nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"))["self_calibration"];
+  EXPECT_NE(second["mount_estimate_restored"].get<std::string>().find("restored from"),
+            std::string::npos)
+      << second.dump();
+  EXPECT_GT(second["selfcal_windows"].get<int>(), windows);
+
+  // A saved estimate that cannot be read is reported and the run goes on
+  // from the commissioned mount.
+  std::ofstream(dir / "out" / "mount_estimate.json") << "{\"format\": 3";
+  core::Result<std::unique_ptr<Service>> third = Service::Create(config);
+  ASSERT_TRUE(third.ok()) << third.message();
+  const nlohmann::json status = (*third)->StatusJson()["self_calibration"];
+  EXPECT_NE(status["mount_estimate_restored"].get<std::string>().find("not restored"),
+            std::string::npos)
+      << status.dump();
+  EXPECT_NE(status["mount_estimate_restored"].get<std::string>().find("mount_estimate.json"),
+            std::string::npos)
+      << status.dump();
+  EXPECT_EQ(status["selfcal_windows"].get<int>(), 0);
 }
 
 TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {

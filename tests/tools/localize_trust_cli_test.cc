@@ -348,6 +348,7 @@ TEST_F(LocalizeTrust, SelfCalibrationEstimatesTheMountAndHistoryPlotsIt) {
   const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
   EXPECT_NE(html.find("data-component='height'"), std::string::npos);
   EXPECT_NE(html.find("class='truth'"), std::string::npos);
+  EXPECT_NE(html.find("class='applied'"), std::string::npos);  // the BEV's mount
   // Without selfcal fields: an error that says what to do.
   ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) + " --mode lines --out " +
                               Quoted(dir_ / "plain_run"),

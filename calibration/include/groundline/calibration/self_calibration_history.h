@@ -26,6 +26,9 @@ struct SelfCalibrationSample {
   std::string alarm_message;
   int windows = 0;  // windows fused so far
   int steps = 0;
+  // The mount the BEV was made with (selfcal_applied_*), when the run
+  // applied the estimate.
+  std::optional<MountVector> applied;
 };
 
 // The selfcal_* fields of every keyframe line of a health.jsonl
@@ -49,7 +52,8 @@ SelfCalibrationErrors CompareWithTruth(const std::vector<SelfCalibrationSample>&
                                        double from_s = -1e300);
 
 // One self-contained HTML page: a panel per component (degrees, millimetres)
-// with the estimate, its 3-sigma band, the truth when given (labelled as the
+// with the estimate, its 3-sigma band, the mount the BEV was made with (when
+// the run applied the estimate), the truth when given (labelled as the
 // simulation's), the commissioned value (the samples before the first window
 // hold it), and a red mark at each sample where the alarm is raised; the
 // alarm messages listed below.

@@ -31,11 +31,17 @@ struct MountApplyOptions {
   // height_m, yaw_rad).
   calibration::MountVector max_step =
       (calibration::MountVector() << 0.0035, 0.0035, 0.003, 0.0035).finished();  // 0.2 deg, 3 mm
-  // A component follows the estimate only while its sigma is below this: a
-  // component the drive does not show (yaw, from joints crossing a straight
-  // aisle, stays near the commissioning's 1 deg) keeps the value it has.
+  // A component follows the estimate while the estimate lies more than
+  // min_significance sigma from the commissioned value (the drive shows that
+  // it moved: a payload's pitch, seen in a rack aisle only through joints
+  // crossing the view, is that sure within about a minute), or while its
+  // sigma is below max_sigma (the estimate is as good as a commissioning).
+  // Otherwise the BEV goes back to, or stays on, the commissioned value: an
+  // estimate that is mostly its wide start (yaw on a straight aisle), or that
+  // wanders within its noise about an unchanged mount, is not applied.
   calibration::MountVector max_sigma =
-      (calibration::MountVector() << 0.0017, 0.0017, 0.002, 0.0017).finished();  // 0.1 deg, 2 mm
+      (calibration::MountVector() << 0.00035, 0.00035, 0.0005, 0.00035).finished();  // 0.02 deg, 0.5 mm
+  double min_significance = 3.0;
   // A rebuild only when a component would move by more than this (smaller
   // changes are below what perception resolves).
   calibration::MountVector min_change =
@@ -61,7 +67,7 @@ class KeyframeMountCalibration {
 
   // The mount to rebuild the BEV with at stamp_s, when a rebuild is due
   // (MountApplyOptions), with the covariance of the components that follow
-  // the estimate (the others are zero: they stay as they are). The caller
+  // the estimate (the others are zero: they are the commissioned ones). The caller
   // rebuilds (Localizer::SetCameraMount, the service's camera stage); this
   // object takes the mount as applied.
   struct MountUpdate {
