@@ -381,7 +381,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["counters"] = loc::CountersJson(c);
   if (self_calibration) {
     const calibration::MountEstimate& e = self_calibration->estimate();
-    nlohmann::ordered_json j = loc::MountEstimateJson(e);
+    nlohmann::ordered_json j = loc::MountEstimateJson(e, &self_calibration->applied());
     j["frames"] = e.frames;
     j["frames_gated"] = e.frames_gated;
     j["windows_rejected"] = e.windows_rejected;
