@@ -20,11 +20,9 @@ namespace {
 template <typename T>
 bool Endpoints(const FloorSegment& s, const CameraMount& used, const CameraMount& start, const T* c,
                Eigen::Matrix<T, 2, 1>* a, Eigen::Matrix<T, 2, 1>* b) {
-  const T pitch = T(start.pitch_rad) + c[0], roll = T(start.roll_rad) + c[1];
-  return RemapFloorPoint<T>(s.start_m, used, T(start.height_m), pitch, roll, T(start.yaw_rad),
-                            start, a) &&
-         RemapFloorPoint<T>(s.end_m, used, T(start.height_m), pitch, roll, T(start.yaw_rad), start,
-                            b);
+  const T zero(0.0);
+  return RemapFloorPointCorrected<T>(s.start_m, used, start, c[0], c[1], zero, zero, a) &&
+         RemapFloorPointCorrected<T>(s.end_m, used, start, c[0], c[1], zero, zero, b);
 }
 
 // sin (parallel) or cos (perpendicular) of the angle between two segments'

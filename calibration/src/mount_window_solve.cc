@@ -22,16 +22,6 @@
 namespace groundline::calibration {
 namespace {
 
-// The candidate mount: reference + correction c (pitch, roll, height, yaw).
-template <typename T>
-bool RemapUnder(const Eigen::Vector2d& p, const CameraMount& used, const CameraMount& reference,
-                const T* c, Eigen::Matrix<T, 2, 1>* q) {
-  return RemapFloorPoint<T>(p, used, T(reference.height_m) + c[kMountHeight],
-                            T(reference.pitch_rad) + c[kMountPitch],
-                            T(reference.roll_rad) + c[kMountRoll],
-                            T(reference.yaw_rad) + c[kMountYaw], reference, q);
-}
-
 // Distances of a segment's two endpoints, remapped under the candidate mount
 // and moved into the window frame by the frame's pose (x, y, theta), from the
 // landmark (rho, alpha); whitened by the endpoints' covariance.
@@ -43,7 +33,10 @@ struct ObservationCost {
   template <typename T>
   bool operator()(const T* c, const T* landmark, const T* pose, T* residual) const {
     Eigen::Matrix<T, 2, 1> qa, qb;
-    if (!RemapUnder(a_, used_, reference_, c, &qa) || !RemapUnder(b_, used_, reference_, c, &qb))
+    if (!RemapFloorPointCorrected<T>(a_, used_, reference_, c[kMountPitch], c[kMountRoll],
+                                     c[kMountHeight], c[kMountYaw], &qa) ||
+        !RemapFloorPointCorrected<T>(b_, used_, reference_, c[kMountPitch], c[kMountRoll],
+                                     c[kMountHeight], c[kMountYaw], &qb))
       return false;
     using std::cos;
     using std::sin;

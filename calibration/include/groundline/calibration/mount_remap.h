@@ -71,6 +71,19 @@ bool RemapFloorPoint(const Eigen::Vector2d& p_a, const CameraMount& from, const 
   return true;
 }
 
+// The same to `reference` changed by a correction (added to its pitch, roll,
+// height and yaw; Jets in the solvers that estimate the correction).
+template <typename T>
+bool RemapFloorPointCorrected(const Eigen::Vector2d& p_a, const CameraMount& from,
+                              const CameraMount& reference, const T& d_pitch_rad,
+                              const T& d_roll_rad, const T& d_height_m, const T& d_yaw_rad,
+                              Eigen::Matrix<T, 2, 1>* p_b) {
+  return RemapFloorPoint<T>(p_a, from, T(reference.height_m) + d_height_m,
+                            T(reference.pitch_rad) + d_pitch_rad,
+                            T(reference.roll_rad) + d_roll_rad, T(reference.yaw_rad) + d_yaw_rad,
+                            reference, p_b);
+}
+
 // The same for two whole mounts, in doubles.
 inline bool RemapFloorPoint(const Eigen::Vector2d& p_a, const CameraMount& from,
                             const CameraMount& to, Eigen::Vector2d* p_b) {
