@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <vector>
 
 #include "synthetic_aisle.h"
@@ -52,10 +53,11 @@ KeyframeOutput KeyframeOf(const calibration::MountFrame& f) {
   return k;
 }
 
-// A payload pitches the camera 1 deg down and lowers it 5 mm at 10 s. The BEV
-// (frames made under the applied mount) follows in steps of at most
-// max_step, at most one per min_interval_s, and ends on the truth; the
-// estimate is not disturbed by the frames' changing mount.
+// A payload pitches the camera 1 deg down and lowers it 5 mm at 10 s and is
+// taken off at 30 s. The BEV (frames made under the applied mount) follows
+// in steps of at most max_step, at most one per min_interval_s, is on the
+// loaded mount before the unloading and back on the commissioned one at the
+// end; the estimate is not disturbed by the frames' changing mount.
 TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   Drive d;
   d.world = Aisle(200.0);
@@ -65,8 +67,10 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   KeyframeMountCalibration cal(commissioned, calibration::MountSelfCalibrationOptions{}, apply);
   CameraMount bev_mount = commissioned;
   std::vector<double> update_stamps;
-  for (double t = 0.0; t < 35.0; t += 1.0 / d.rate_hz) {
-    const CameraMount truth = t < 10.0 ? commissioned : loaded;
+  std::optional<CameraMount> bev_when_unloaded;
+  for (double t = 0.0; t < 50.0; t += 1.0 / d.rate_hz) {
+    const CameraMount truth = t < 10.0 || t >= 30.0 ? commissioned : loaded;
+    if (t >= 30.0 && !bev_when_unloaded) bev_when_unloaded = bev_mount;
     cal.AddKeyframe(KeyframeOf(MakeFrame(d, t, truth, bev_mount)));
     if (const auto update = cal.DueMountUpdate(t)) {
       const MountVector step = Difference(update->mount, bev_mount);
@@ -82,12 +86,17 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
       bev_mount = update->mount;
     }
   }
-  ASSERT_GE(update_stamps.size(), 5u);  // 1 deg in steps of 0.2 deg at least
-  const MountVector off = Difference(bev_mount, loaded);
+  ASSERT_GE(update_stamps.size(), 10u);  // 1 deg there and back in steps of 0.2 deg at least
+  ASSERT_TRUE(bev_when_unloaded.has_value());
+  const MountVector loaded_off = Difference(*bev_when_unloaded, loaded);
+  EXPECT_LT(std::abs(loaded_off(kMountPitch)) * kRadToDeg, 0.05);
+  EXPECT_LT(std::abs(loaded_off(kMountRoll)) * kRadToDeg, 0.05);
+  EXPECT_LT(std::abs(loaded_off(kMountHeight)) * 1e3, 1.0);
+  const MountVector off = Difference(bev_mount, commissioned);
   EXPECT_LT(std::abs(off(kMountPitch)) * kRadToDeg, 0.05);
   EXPECT_LT(std::abs(off(kMountRoll)) * kRadToDeg, 0.05);
   EXPECT_LT(std::abs(off(kMountHeight)) * 1e3, 1.0);
-  const MountVector estimate_off = Difference(cal.estimate().mount, loaded);
+  const MountVector estimate_off = Difference(cal.estimate().mount, commissioned);
   EXPECT_LT(std::abs(estimate_off(kMountPitch)) * kRadToDeg, 0.05);
   EXPECT_LT(std::abs(estimate_off(kMountHeight)) * 1e3, 1.0);
   EXPECT_FALSE(cal.estimate().alarm) << cal.estimate().alarm_message;
