@@ -82,8 +82,9 @@ void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
         line.endpoint_a_base_m, line.endpoint_b_base_m, &J_line_a, &J_line_b);
     if (!through.ok()) continue;
     const Eigen::Matrix<double, 2, 4> J = J_line_a * Ja + J_line_b * Jb;
-    line.covariance += perception::CovarianceInDescriptionOf(
+    line.mount_covariance = perception::CovarianceInDescriptionOf(
         *through, line.line_base, J * mount_covariance_ * J.transpose());
+    line.covariance += line.mount_covariance;
   }
   for (JunctionObservation& junction : observations->junctions) {
     Eigen::Matrix<double, 2, 4> J;

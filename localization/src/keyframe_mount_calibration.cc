@@ -58,8 +58,8 @@ bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
   frame.mount_used = keyframe.floor.camera_mount.value_or(calibrator_.commissioned());
   frame.segments.reserve(keyframe.floor.lines.size());
   for (const LineObservation& line : keyframe.floor.lines) {
-    frame.segments.push_back(
-        {line.endpoint_a_base_m, line.endpoint_b_base_m, line.covariance});
+    frame.segments.push_back({line.endpoint_a_base_m, line.endpoint_b_base_m,
+                              line.covariance - line.mount_covariance});
   }
   return calibrator_.AddFrame(frame);
 }

@@ -47,7 +47,11 @@ KeyframeOutput KeyframeOf(const calibration::MountFrame& f) {
     LineObservation line;
     line.endpoint_a_base_m = s.start_m;
     line.endpoint_b_base_m = s.end_m;
-    line.covariance = s.covariance;
+    // As FloorFrontEnd::WithMount gives it: the applied mount's uncertainty
+    // on top of perception's (about 2 cm across the line), which the
+    // self-calibration must take out again.
+    line.mount_covariance = Eigen::Vector2d(4e-4, 1e-4).asDiagonal();
+    line.covariance = s.covariance + line.mount_covariance;
     k.floor.lines.push_back(line);
   }
   return k;
@@ -264,6 +268,8 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
     EXPECT_NEAR(added(1, 1), expected(1, 1), 1e-3 * expected(1, 1) + 1e-12) << i;
     EXPECT_NEAR(added(0, 1), expected(0, 1), 1e-3 * std::abs(expected(0, 1)) + 1e-12) << i;
     EXPECT_GT(added(0, 0), 0.0);
+    EXPECT_TRUE(with_c->observations.lines[i].mount_covariance.isApprox(added, 1e-9)) << i;
+    EXPECT_TRUE(base.mount_covariance.isZero(0.0)) << i;
   }
 
   const Eigen::Matrix4d not_psd = -C;

@@ -22,6 +22,12 @@ namespace groundline::localization {
 struct LineObservation {
   perception::HesseLine line_base;
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // symmetric positive definite
+  // The camera mount's uncertainty within `covariance` (FloorFrontEnd::
+  // WithMount adds it; zero otherwise): covariance - mount_covariance is
+  // perception's own, what the mount's self-calibration weighs the line with
+  // (the mount is what it estimates; its own uncertainty would only weaken
+  // the evidence about it).
+  Eigen::Matrix2d mount_covariance = Eigen::Matrix2d::Zero();
   core::MarkingKind kind = core::MarkingKind::kTapeSolid;
   // The observed extent of the marking: two points on (near) the line.
   Eigen::Vector2d endpoint_a_base_m = Eigen::Vector2d::Zero();

@@ -62,7 +62,9 @@ class KeyframeMountCalibration {
   // A keyframe in time order. Keyframes without a frame advance nothing
   // (their motion is in the next one's odometry pose). The frame's lines are
   // under the mount its observations carry (FloorObservations::camera_mount;
-  // unset: the commissioned one). Returns true when the estimate changed.
+  // unset: the commissioned one), weighed by perception's own covariance
+  // (LineObservation::mount_covariance taken out). Returns true when the
+  // estimate changed.
   bool AddKeyframe(const KeyframeOutput& keyframe);
 
   // The mount to rebuild the BEV with at stamp_s, when a rebuild is due
