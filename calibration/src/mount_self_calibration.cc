@@ -30,6 +30,18 @@ double MountComponentInUnit(int component, double value) {
   return component == kMountHeight ? value * 1000.0 : value * core::kRadToDeg;
 }
 
+MountVector MountComponents(const CameraMount& m) {
+  return MountVector(m.pitch_rad, m.roll_rad, m.height_m, m.yaw_rad);
+}
+
+CameraMount WithMountComponents(CameraMount m, const MountVector& v) {
+  m.pitch_rad = v(kMountPitch);
+  m.roll_rad = v(kMountRoll);
+  m.height_m = v(kMountHeight);
+  m.yaw_rad = v(kMountYaw);
+  return m;
+}
+
 core::Status MountSelfCalibrationOptions::Validate() const {
   if (!PositiveFinite(window_s)) return OptionError("window_s", "a time > 0 s");
   if (min_window_frames < 2) return OptionError("min_window_frames", "at least 2");
@@ -97,9 +109,7 @@ core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
     return core::Status::Error(
         "saved estimate: the covariance is not symmetric positive definite");
   }
-  mean_ << saved.mount.pitch_rad - commissioned_.pitch_rad,
-      saved.mount.roll_rad - commissioned_.roll_rad, saved.mount.height_m - commissioned_.height_m,
-      saved.mount.yaw_rad - commissioned_.yaw_rad;
+  mean_ = MountComponents(saved.mount) - MountComponents(commissioned_);
   covariance_ = saved.covariance;
   estimate_ = saved;
   estimate_.mount = commissioned_;
@@ -243,12 +253,7 @@ void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
 }
 
 void MountSelfCalibrator::UpdateEstimate() {
-  CameraMount m = commissioned_;
-  m.pitch_rad += mean_(kMountPitch);
-  m.roll_rad += mean_(kMountRoll);
-  m.height_m += mean_(kMountHeight);
-  m.yaw_rad += mean_(kMountYaw);
-  estimate_.mount = m;
+  estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
   std::ostringstream what;
   bool alarm = false;

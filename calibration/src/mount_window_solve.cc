@@ -185,11 +185,8 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   MountWindowSolution out;
   out.frames = static_cast<int>(frames.size());
   if (frames.size() < 2) return Failed(out, "fewer than two frames");
-  CameraMount prior_mount = reference;
-  prior_mount.pitch_rad += prior_correction(kMountPitch);
-  prior_mount.roll_rad += prior_correction(kMountRoll);
-  prior_mount.height_m += prior_correction(kMountHeight);
-  prior_mount.yaw_rad += prior_correction(kMountYaw);
+  const CameraMount prior_mount =
+      WithMountComponents(reference, MountComponents(reference) + prior_correction);
 
   // Frames' poses in the window frame (the first frame's base_link).
   const core::SE2 T_first_odom = frames.front().T_odom_base.Inverse();

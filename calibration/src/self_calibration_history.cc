@@ -20,16 +20,21 @@ struct Component {
   const char* title;
   const char* value_key;
   const char* sigma_key;
-  double to_display;  // field units -> the plot's (deg, mm)
-  double from_field;  // field units -> the estimator's (rad, m)
+  const char* applied_key;  // the mount the BEV was made with
+  double to_display;        // field units -> the plot's (deg, mm)
+  double from_field;        // field units -> the estimator's (rad, m)
   const char* unit;
 };
 // In MountComponent order. The health fields are degrees and metres.
 constexpr Component kComponents[4] = {
-    {"pitch", "selfcal_pitch_deg", "selfcal_pitch_sigma_deg", 1.0, core::kDegToRad, "deg"},
-    {"roll", "selfcal_roll_deg", "selfcal_roll_sigma_deg", 1.0, core::kDegToRad, "deg"},
-    {"height", "selfcal_height_m", "selfcal_height_sigma_m", 1000.0, 1.0, "mm"},
-    {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", 1.0, core::kDegToRad, "deg"},
+    {"pitch", "selfcal_pitch_deg", "selfcal_pitch_sigma_deg", "selfcal_applied_pitch_deg", 1.0,
+     core::kDegToRad, "deg"},
+    {"roll", "selfcal_roll_deg", "selfcal_roll_sigma_deg", "selfcal_applied_roll_deg", 1.0,
+     core::kDegToRad, "deg"},
+    {"height", "selfcal_height_m", "selfcal_height_sigma_m", "selfcal_applied_height_m", 1000.0,
+     1.0, "mm"},
+    {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", "selfcal_applied_yaw_deg", 1.0,
+     core::kDegToRad, "deg"},
 };
 
 MountVector TruthVector(const core::CameraExtrinsicsRecord& r) {
@@ -88,16 +93,14 @@ core::Result<std::vector<SelfCalibrationSample>> ReadSelfCalibrationHistory(
     }
     if (j.contains("selfcal_applied_pitch_deg")) {
       MountVector applied;
-      for (int i = 0; i < 4; ++i) {
-        const Component& c = kComponents[i];
-        const std::string key = std::string("selfcal_applied_") + (c.value_key + 8);
-        applied(i) = r.Finite(j, "", key.c_str()) * c.from_field;
-      }
+      for (int i = 0; i < 4; ++i)
+        applied(i) = r.Finite(j, "", kComponents[i].applied_key) * kComponents[i].from_field;
       s.applied = applied;
     }
     if (s.alarm && j.contains("selfcal_alarm_message"))
       s.alarm_message = r.String(j, "", "selfcal_alarm_message");
-    for (auto [key, count] : {std::pair{"selfcal_windows", &s.windows}, {"selfcal_steps", &s.steps}}) {
+    for (auto [key, count] :
+         {std::pair{"selfcal_windows", &s.windows}, {"selfcal_steps", &s.steps}}) {
       const std::int64_t n = r.Id(j, "", key);
       if (r.ok() && (n < 0 || n > 1000000000)) {
         r.Fail(key, "a count in [0, 1e9]", std::to_string(n));

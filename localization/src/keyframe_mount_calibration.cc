@@ -9,14 +9,6 @@
 
 namespace groundline::localization {
 
-namespace {
-
-calibration::MountVector ComponentsOf(const calibration::CameraMount& m) {
-  return calibration::MountVector(m.pitch_rad, m.roll_rad, m.height_m, m.yaw_rad);
-}
-
-}  // namespace
-
 core::Status MountApplyOptions::Validate() const {
   if (!(std::isfinite(min_interval_s) && min_interval_s >= 0.0)) {
     return core::Status::Error("min_interval_s: expected a finite value >= 0 s");
@@ -76,11 +68,11 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::D
 std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::NextUpdate(
     bool bounded) {
   const calibration::MountEstimate& e = calibrator_.estimate();
-  const calibration::MountVector estimated = ComponentsOf(e.mount);
+  const calibration::MountVector estimated = calibration::MountComponents(e.mount);
   calibration::MountVector target;
-  const calibration::MountVector current = ComponentsOf(applied_);
+  const calibration::MountVector current = calibration::MountComponents(applied_);
   const calibration::MountVector commissioned_components =
-      ComponentsOf(calibrator_.commissioned());
+      calibration::MountComponents(calibrator_.commissioned());
   calibration::MountVector next = current;
   std::array<bool, 4> follows{};
   bool moves = false;
@@ -97,11 +89,7 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
   }
   if (!moves) return std::nullopt;
   MountUpdate update;
-  update.mount = applied_;
-  update.mount.pitch_rad = next(calibration::kMountPitch);
-  update.mount.roll_rad = next(calibration::kMountRoll);
-  update.mount.height_m = next(calibration::kMountHeight);
-  update.mount.yaw_rad = next(calibration::kMountYaw);
+  update.mount = calibration::WithMountComponents(applied_, next);
   // The estimate's uncertainty of the components that follow it, and what a
   // bounded step leaves between the BEV's mount and the estimate.
   for (int i = 0; i < 4; ++i) {

@@ -77,6 +77,11 @@ const char* MountComponentName(int component);
 const char* MountComponentUnit(int component);
 double MountComponentInUnit(int component, double value);
 
+// The estimated components of a mount, and a mount with them replaced
+// (forward and lateral kept).
+MountVector MountComponents(const CameraMount& mount);
+CameraMount WithMountComponents(CameraMount mount, const MountVector& components);
+
 // One floor line segment as perception found it, in base_link, under the mount
 // its frame's BEV was made with; covariance of its Hesse (rho_m, alpha_rad)
 // about the origin of base_link (perception's ExtractedLine::covariance).
