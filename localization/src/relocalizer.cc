@@ -1,6 +1,7 @@
 #include "groundline/localization/relocalizer.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cassert>
@@ -76,6 +77,10 @@ core::Status RelocalizerOptions::Validate() const {
     return core::Status::Error(
         "relocalizer: need commit_margin > 0, prune_margin > commit_margin, max_track_m > "
         "min_travel_m >= 0, min_matched >= 1, min_match_share in (0, 1]");
+  }
+  if (!(commit_max_sigma_m > 0.0) || !(commit_max_sigma_rad > 0.0)) {
+    return core::Status::Error(
+        "relocalizer: commit_max_sigma_m and commit_max_sigma_rad must be > 0");
   }
   return core::Status::Ok();
 }
@@ -206,7 +211,11 @@ std::optional<PoseEstimate> Relocalizer::AddFrame(double stamp_s, const Relative
     // contradicted, and the search goes on to gather evidence.
     const bool lost = !best_ || (IsLost(hypotheses_[*best_]) &&
                                  (!best_excluded_ || IsLost(hypotheses_[*best_excluded_])));
-    if (lost || status_.travel_since_seed_m > options_.max_track_m) {
+    // A drive still ambiguous after max_track_m reseeds; one whose start is
+    // decided and only waits for its pose to become certain (rule 6) goes on
+    // for as long again (its matches may never bring the pose there).
+    const double track_m = Decided() ? 2.0 * options_.max_track_m : options_.max_track_m;
+    if (lost || status_.travel_since_seed_m > track_m) {
       // The drive has one start: a seed whose frames contradict the prior
       // at its end contradicts it for the rest of the drive.
       earlier_seed_contradicted_ = earlier_seed_contradicted_ || seed_contradicted_;
@@ -269,6 +278,7 @@ void Relocalizer::AddExcludedHypotheses(double stamp_s, const FloorObservations&
   SeedFromJunctions(stamp_s, observations, &born);
   std::erase_if(born, [](const Hypothesis& h) { return h.allowed; });
   if (born.empty()) return;
+  status_.born_excluded = born.size();
   // From this frame on, the hypotheses the prior allows and the newborn ones
   // are scored on the same frames.
   for (Hypothesis& h : hypotheses_) h.check = {};
@@ -289,6 +299,9 @@ void Relocalizer::Seed(double stamp_s, const FloorObservations& observations) {
   if (std::none_of(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; })) {
     return;
   }
+  status_.born_allowed = static_cast<std::size_t>(
+      std::count_if(born.begin(), born.end(), [](const Hypothesis& h) { return h.allowed; }));
+  status_.born_excluded = born.size() - status_.born_allowed;
   hypotheses_ = std::move(born);
   best_.reset();
   best_excluded_.reset();
@@ -512,15 +525,20 @@ void Relocalizer::PruneAndUpdateStatus() {
   status_.overall_unmatched = overall ? overall->check.unmatched : 0;
   status_.overall_start_m =
       overall ? StartOf(overall->pose.T_map_base) : Eigen::Vector2d::Zero().eval();
-  excluded_lead_ = !excluded ? kNone
-                   : !best   ? std::numeric_limits<double>::infinity()
-                             : excluded->check.log_likelihood - best->check.log_likelihood;
-  status_.excluded_lead = excluded_lead_;
+  status_.excluded_lead = !excluded ? kNone
+                          : !best   ? std::numeric_limits<double>::infinity()
+                                    : excluded->check.log_likelihood - best->check.log_likelihood;
+  status_.look_elsewhere = status_.born_allowed > 0 && status_.born_excluded > status_.born_allowed
+                               ? std::log(static_cast<double>(status_.born_excluded) /
+                                          static_cast<double>(status_.born_allowed))
+                               : 0.0;
+  excluded_log_odds_ = status_.excluded_lead - status_.look_elsewhere;
+  status_.excluded_log_odds = excluded_log_odds_;
   // Rule 4 counts only an exclusion that is itself a good explanation
   // (rule 3), not one that is merely less bad.
   status_.hint_contradicted = excluded != nullptr &&
                               MeetsMatchRule(excluded->check.matched, excluded->check.unmatched) &&
-                              excluded_lead_ >= options_.hint_contradiction_margin;
+                              excluded_log_odds_ >= options_.hint_contradiction_margin;
   // The verdict is that of all the frames since the exclusions were born,
   // not of the first few: a handful of observations that perception got
   // wrong can cost the true hypothesis a lead of 15 that one of thousands
@@ -529,7 +547,7 @@ void Relocalizer::PruneAndUpdateStatus() {
   // rule 5 lets the hypothesis the prior allows commit.
   if (status_.hint_contradicted) {
     seed_contradicted_ = true;
-  } else if (excluded_lead_ < options_.hint_tie_margin) {
+  } else if (excluded_log_odds_ < options_.hint_tie_margin) {
     seed_contradicted_ = false;
   }
   status_.hint_rejected = earlier_seed_contradicted_ || seed_contradicted_;
@@ -546,18 +564,28 @@ void Relocalizer::PruneAndUpdateStatus() {
   }
 }
 
-std::optional<PoseEstimate> Relocalizer::TryCommit() const {
-  // The evidence rule of RelocalizerOptions.
-  if (!best_ || status_.hint_rejected) return std::nullopt;             // rule 4
-  if (excluded_lead_ >= options_.hint_tie_margin) return std::nullopt;  // rule 5
+bool Relocalizer::Decided() const {
+  // Rules 1, 3, 4 and 5 of the evidence rule of RelocalizerOptions.
+  if (!best_ || status_.hint_rejected) return false;                 // rule 4
+  if (excluded_log_odds_ >= options_.hint_tie_margin) return false;  // rule 5
   const Hypothesis& best = hypotheses_[*best_];
-  const bool leads =
-      status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin;
-  if (leads && status_.travel_since_seed_m >= options_.min_travel_m &&
-      MeetsMatchRule(best.matched, best.unmatched)) {
-    return best.pose;
+  return status_.best_log_likelihood - status_.runner_up_log_likelihood >= options_.commit_margin &&
+         MeetsMatchRule(best.matched, best.unmatched);
+}
+
+std::optional<PoseEstimate> Relocalizer::TryCommit() const {
+  if (!Decided() || status_.travel_since_seed_m < options_.min_travel_m) return std::nullopt;
+  const PoseEstimate& pose = hypotheses_[*best_].pose;
+  const core::Matrix3& C = pose.covariance;  // rule 6
+  const double position_variance =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(C.topLeftCorner<2, 2>())
+          .eigenvalues()
+          .maxCoeff();
+  if (position_variance > options_.commit_max_sigma_m * options_.commit_max_sigma_m ||
+      C(2, 2) > options_.commit_max_sigma_rad * options_.commit_max_sigma_rad) {
+    return std::nullopt;
   }
-  return std::nullopt;
+  return pose;
 }
 
 }  // namespace groundline::localization

@@ -82,20 +82,37 @@ struct RelocalizerOptions {
   //     min_match_share of all its observations;
   //  4. with a prior (near_m): the prior is not contradicted. It is
   //     contradicted when a hypothesis it excludes, itself meeting rule 3,
-  //     leads the best it allows by hint_contradiction_margin or more on all
-  //     the frames both were scored on: the floor seen is explained better
-  //     by a start the prior rules out. The verdict is withdrawn when later
-  //     frames bring that lead below hint_tie_margin (a few perception
-  //     errors early in the drive, which one of thousands of twins elsewhere
-  //     happens to fit, are outweighed by what follows). The drive has one
-  //     start, so a verdict standing when the search reseeds stands for the
-  //     rest of the drive: nothing commits, and status() says why.
-  //  5. with a prior: no hypothesis it excludes scores better than the one
-  //     that would commit by hint_tie_margin or more. The prior breaks ties
-  //     between twins (a floor that repeats); it does not overrule the floor.
-  //     A prior that lands on a twin of the true start (a floor that repeats
-  //     with that offset) is not contradicted by anything the camera sees;
-  //     nothing can tell it from the truth.
+  //     is more probable than the best it allows by hint_contradiction_margin
+  //     or more in log-odds, on all the frames both were scored on: the
+  //     floor seen is explained better by a start the prior rules out. The
+  //     log-odds are the lead in log-likelihood less the look-elsewhere
+  //     term log(born excluded / born allowed), floored at 0: every
+  //     hypothesis born gets an equal share of the prior mass of its side
+  //     (the start is as likely inside the prior's circle as outside it),
+  //     and the best of the thousands of starts outside, born from every
+  //     junction of the atlas, fits a few perception errors by luck more
+  //     often than the best of the tens inside. The verdict is withdrawn
+  //     when later frames bring the log-odds below hint_tie_margin (a few
+  //     perception errors early in the drive, which a twin elsewhere happens
+  //     to fit, are outweighed by what follows). The drive has one start, so
+  //     a verdict standing when the search reseeds stands for the rest of
+  //     the drive: nothing commits, and status() says why.
+  //  5. with a prior: no hypothesis it excludes is more probable than the one
+  //     that would commit by hint_tie_margin or more (the log-odds of rule
+  //     4). The prior breaks ties between twins (a floor that repeats); it
+  //     does not overrule the floor. A prior that lands on a twin of the
+  //     true start (a floor that repeats with that offset) is not
+  //     contradicted by anything the camera sees; nothing can tell it from
+  //     the truth.
+  //  6. the pose it would commit is certain enough for the smoother to take
+  //     over: its position sigma (largest axis) is at most commit_max_sigma_m
+  //     and its heading sigma at most commit_max_sigma_rad. A lead says
+  //     which start; only the matches gathered say how well the pose is
+  //     known. The committed covariance is the hypothesis' own (a Kalman
+  //     update per frame): its heading errors on zone A drives with coarse
+  //     perception were consistent with it (NEES about 1), reaching 0.8 deg
+  //     at 0.29 deg sigma when the lead came before the matches had pinned
+  //     the heading down.
   // A margin of 15 is a likelihood ratio of e^15 (3e6): about three
   // observations more explained than the runner-up (unmatched costs 6, a
   // match about 1).
@@ -107,11 +124,17 @@ struct RelocalizerOptions {
   // Half the cost of one unexplained observation: twins on a periodic floor
   // score alike to within their observation noise.
   double hint_tie_margin = 3.0;
+  // Rule 6: 3 sigma within 9 cm and 0.9 deg; with coarse perception zone
+  // A's hypotheses settle at 0.28-0.3 deg.
+  double commit_max_sigma_m = 0.03;
+  double commit_max_sigma_rad = 0.3 * std::numbers::pi / 180.0;
   // Hypotheses further than prune_margin below the best are dropped (with a
   // prior: those it allows below the best it allows, the others below the
   // best of all).
   double prune_margin = 40.0;
-  // Reseed after this much travel without a commit (ambiguous drive), or
+  // Reseed after this much travel without a decided start (rules 1, 3, 4
+  // and 5: an ambiguous drive; a decided one waits up to twice as far for
+  // rule 6), or
   // when the best hypothesis of all has a match share below min_match_share
   // after 3 scored frames (the seed junction was not on the atlas).
   double max_track_m = 40.0;
@@ -153,6 +176,13 @@ struct RelocalizerStatus {
   // on the frames both were scored on (negative: it trails; -infinity:
   // there is none). The overall_* scores are on those frames too.
   double excluded_lead = 0.0;
+  // That lead as log-odds (rules 4 and 5): less the look-elsewhere term.
+  double excluded_log_odds = 0.0;
+  double look_elsewhere = 0.0;
+  // How many hypotheses the current seed gave birth to where the prior
+  // allows the start, and elsewhere (the excluded ones, born to check it).
+  std::size_t born_allowed = 0;
+  std::size_t born_excluded = 0;
   // True after this frame's scores contradicted the prior.
   bool hint_contradicted = false;
   // The verdict of evidence rule 4 on the frames so far: the prior is
@@ -243,6 +273,9 @@ class Relocalizer {
   // Where the drive started if the vehicle is at T_map_base now.
   Eigen::Vector2d StartOf(const core::SE2& T_map_base) const;
   bool PriorAllows(const core::SE2& T_map_base) const;
+  // Rules 1, 3, 4 and 5 hold: the start is decided.
+  bool Decided() const;
+  // ... and rules 2 and 6: the pose to commit.
   std::optional<PoseEstimate> TryCommit() const;
 
   Atlas atlas_;
@@ -263,12 +296,12 @@ class Relocalizer {
   std::vector<std::vector<std::size_t>> cell_junctions_;
   std::vector<Hypothesis> hypotheses_;
   // After PruneAndUpdateStatus: the best hypothesis the prior allows (by
-  // log-likelihood), the best it excludes (by check.log_likelihood), and how
-  // far the latter leads the former on the frames both were scored on
-  // (-inf without an excluded one).
+  // log-likelihood), the best it excludes (by check.log_likelihood), and the
+  // log-odds of the latter against the former on the frames both were scored
+  // on (rules 4 and 5; -inf without an excluded one).
   std::optional<std::size_t> best_;
   std::optional<std::size_t> best_excluded_;
-  double excluded_lead_ = 0.0;
+  double excluded_log_odds_ = 0.0;
   RelocalizerStatus status_;
   // Rule 4's verdict on the current seed's frames, and whether an earlier
   // seed ended with it.
