@@ -4,9 +4,14 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <limits>
+#include <numbers>
+#include <unordered_map>
 
 #include "groundline/core/covariance.h"
 #include "groundline/core/segment_distance.h"
@@ -86,6 +91,66 @@ core::Status RelocalizerOptions::Validate() const {
 }
 
 namespace {
+
+// Poses bucketed in cells of cell_m x cell_m x cell_rad (heading cells
+// wrapped at +-pi, each at least cell_rad wide): a pose within cell_m and
+// cell_rad of another lies in one of the 27 cells around it, so finding
+// duplicates among tens of thousands of hypotheses is linear, not quadratic.
+class PoseBuckets {
+ public:
+  PoseBuckets(double cell_m, double cell_rad)
+      : cell_m_(cell_m),
+        yaw_cells_(std::max<std::int64_t>(
+            1, static_cast<std::int64_t>(std::floor(2.0 * std::numbers::pi / cell_rad)))) {}
+
+  void Add(const core::SE2& T, std::size_t index) { cells_[KeyOf(T)].push_back(index); }
+
+  // True when pred(index) holds for a pose added in the cells around T.
+  template <class Pred>
+  bool AnyNear(const core::SE2& T, Pred&& pred) const {
+    const Key k = KeyOf(T);
+    std::array<std::int64_t, 3> yaws = {(k.yaw + yaw_cells_ - 1) % yaw_cells_, k.yaw,
+                                        (k.yaw + 1) % yaw_cells_};
+    const std::size_t n_yaws = yaw_cells_ >= 3 ? 3 : static_cast<std::size_t>(yaw_cells_);
+    if (yaw_cells_ < 3) yaws = {0, yaw_cells_ - 1, 0};
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::size_t i = 0; i < n_yaws; ++i) {
+          const auto it = cells_.find(Key{k.x + dx, k.y + dy, yaws[i]});
+          if (it == cells_.end()) continue;
+          for (std::size_t index : it->second) {
+            if (pred(index)) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Key {
+    std::int64_t x, y, yaw;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v); };
+      return std::hash<std::uint64_t>()(u(k.x) * 73856093u ^ u(k.y) * 19349663u ^
+                                        u(k.yaw) * 83492791u);
+    }
+  };
+  Key KeyOf(const core::SE2& T) const {
+    const double turn = (core::WrapAngle(T.yaw()) + std::numbers::pi) / (2.0 * std::numbers::pi);
+    return {static_cast<std::int64_t>(std::floor(T.x() / cell_m_)),
+            static_cast<std::int64_t>(std::floor(T.y() / cell_m_)),
+            std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(turn * yaw_cells_)), 0,
+                                     yaw_cells_ - 1)};
+  }
+
+  double cell_m_;
+  std::int64_t yaw_cells_;
+  std::unordered_map<Key, std::vector<std::size_t>, KeyHash> cells_;
+};
 
 // The camera recognizes floor markings: wall and rack faces take no part.
 Atlas FloorLandmarks(const Atlas& atlas) {
@@ -239,6 +304,8 @@ core::Matrix3 Relocalizer::BirthCovariance() const {
 void Relocalizer::SeedFromJunctions(double stamp_s, const FloorObservations& observations,
                                     std::vector<Hypothesis>* born) const {
   const core::Matrix3 birth_covariance = BirthCovariance();
+  PoseBuckets buckets(options_.duplicate_m, options_.duplicate_rad);
+  for (std::size_t i = 0; i < born->size(); ++i) buckets.Add((*born)[i].pose.T_map_base, i);
   for (const JunctionObservation& seen : observations.junctions) {
     for (const LineObservation& through : observations.lines) {
       if (std::abs(perception::SignedDistance(through.line_base, seen.point_base_m)) >
@@ -254,10 +321,11 @@ void Relocalizer::SeedFromJunctions(double stamp_s, const FloorObservations& obs
             const core::SE2 rotation(0.0, 0.0, yaw);
             const Eigen::Vector2d t = atlas_.junctions[j].point_m - rotation * seen.point_base_m;
             const core::SE2 T(t, yaw);
-            const bool duplicate =
-                std::any_of(born->begin(), born->end(),
-                            [&](const Hypothesis& h) { return IsSamePose(h.pose.T_map_base, T); });
-            if (!duplicate) born->push_back(NewHypothesis(stamp_s, T, birth_covariance));
+            const bool duplicate = buckets.AnyNear(
+                T, [&](std::size_t i) { return IsSamePose((*born)[i].pose.T_map_base, T); });
+            if (duplicate) continue;
+            buckets.Add(T, born->size());
+            born->push_back(NewHypothesis(stamp_s, T, birth_covariance));
           }
         }
       }
@@ -484,11 +552,15 @@ void Relocalizer::PruneAndUpdateStatus() {
   // runner-up must be a different pose, so merge into the better one.
   std::vector<Hypothesis> distinct;
   distinct.reserve(hypotheses_.size());
+  PoseBuckets buckets(options_.duplicate_m, options_.duplicate_rad);
   for (Hypothesis& h : hypotheses_) {
-    auto same = std::find_if(distinct.begin(), distinct.end(), [&](const Hypothesis& k) {
-      return k.allowed == h.allowed && IsSamePose(k.pose.T_map_base, h.pose.T_map_base);
+    const bool same = buckets.AnyNear(h.pose.T_map_base, [&](std::size_t i) {
+      return distinct[i].allowed == h.allowed &&
+             IsSamePose(distinct[i].pose.T_map_base, h.pose.T_map_base);
     });
-    if (same == distinct.end()) distinct.push_back(std::move(h));
+    if (same) continue;
+    buckets.Add(h.pose.T_map_base, distinct.size());
+    distinct.push_back(std::move(h));
   }
   hypotheses_ = std::move(distinct);
 
