@@ -18,11 +18,13 @@
 #include "extract_output.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/camera_mount_yaml.h"
-#include "groundline/io/frame_source.h"
+#include "groundline/calibration/ground_homography.h"
+#include "groundline/calibration/ros_camera_info_io.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/dataset.h"
 #include "groundline/core/statistics.h"
 #include "groundline/core/trajectory_association.h"
+#include "groundline/io/frame_source.h"
 #include "png_file.h"
 #include "progress.h"
 
@@ -34,7 +36,10 @@ struct ExtractFlags {
   std::string dataset;
   std::string camera;
   std::string extrinsics;
+  std::string homography;
   std::string bev_uncertainty;
+  std::vector<double> bev_x_m, bev_y_m;
+  double bev_cell_m = perception::BevExtent{}.cell_m;
   std::string out;
   int png_every = 10;
   int max_frames = 0;
@@ -52,8 +57,9 @@ struct ExtractFlags {
 
 constexpr char kExtractHelp[] =
     R"(Extracts floor lines from camera images (docs/perception.md): each image is
-mapped to a metric bird's-eye view (BEV, base_link x 0.6-2.4 m ahead, y +-1 m,
-1 cm cells) through the lens model and the mount, ridges are found with a
+mapped to a metric bird's-eye view (BEV: by default the floor the camera sees,
+up to 6 m around its foot point, at 1 cm cells; --bev-x, --bev-y and --bev-cell
+set it) through the lens model and the mount, ridges are found with a
 steerable filter, lines fitted by total least squares with sub-pixel ridge
 centres, classified (tape = bright, joint = dark; longitudinal / transverse /
 oblique) and paired into junctions.
@@ -61,7 +67,9 @@ oblique) and paired into junctions.
 Input: DIR (every .png/.jpg in it, sorted), a glob ('run/*.png', quoted), or
 --dataset DIR (camera, extrinsics, images, ground truth and floor map from a
 groundline dataset). Without --extrinsics the reference mount is used (0.58 m
-high, pitched 42.4 deg down, 0.42 m ahead of the axle). --bev-uncertainty
+high, pitched 42.4 deg down, 0.42 m ahead of the axle). --homography FILE takes
+the mount from a ground homography instead (written out as mount.yaml, a
+groundline extrinsics file): its floor frame becomes base_link. --bev-uncertainty
 FILE (the bev_uncertainty.json of `calibrate floor`; default with --dataset:
 the manifest's camera.bev_uncertainty_file, if any) raises each line's
 covariance to at least what the calibration's own uncertainty leaves there.
@@ -86,8 +94,11 @@ Writes into --out:
   bev_NAME.png, overlay_NAME.png   every --png-every-th frame (0: none), named
                  after the source image NAME.png/.jpg; the overlay's colours are
                  explained in a legend below it (and in docs/perception.md)
+  mount.yaml     with --homography: the mount decomposed from it
   summary.json   frames, skipped (unreadable images, named on stderr),
-                 ms_per_frame_median; with ground truth and a floor map also tpr,
+                 ms_per_frame_median, bev (x_m, y_m, cell_m, rows, cols), mount
+                 (source, height_m, pitch_deg, roll_deg, yaw_deg, forward_m,
+                 lateral_m); with ground truth and a floor map also tpr,
                  fp_share, rho_err_median_m, alpha_err_median_deg and
                  nees_inside_95_band_share for lines 1.0-2.5 m ahead, overall and
                  per kind.
@@ -96,12 +107,14 @@ Example:
   groundline sim --zone B --length 89m --camera-rate 2 --no-lidar --out /tmp/b
   groundline extract --dataset /tmp/b --out /tmp/b-lines
   groundline extract 'frames/*.png' --camera cam.cameramodel --extrinsics mount.yaml --out x
+  groundline extract road/ --camera info.yaml --homography robot.yaml --bev-x 0.1 0.6 --out y
 Exit codes: 0 ok (also when some images were skipped), 1 unreadable camera,
 extrinsics or dataset, or no image readable, 2 usage error.)";
 
 struct Input {
   std::optional<calibration::CameraModel> camera;
   calibration::CameraMount mount;
+  std::string mount_source = "the reference mount";  // for the summary
   std::vector<std::filesystem::path> images;
   std::vector<double> stamps_s;  // with a dataset
   core::Trajectory ground_truth;
@@ -131,7 +144,7 @@ core::Result<Input> LoadInput(const ExtractFlags& flags) {
     const fs::path dir(flags.dataset);
     if (camera_path.empty())
       camera_path = (dir / dataset->manifest.camera->intrinsics_file).string();
-    if (extrinsics_path.empty()) {
+    if (extrinsics_path.empty() && flags.homography.empty()) {
       extrinsics_path = (dir / dataset->manifest.camera->extrinsics_file).string();
     }
     if (bev_uncertainty_path.empty() && !dataset->manifest.camera->bev_uncertainty_file.empty()) {
@@ -153,11 +166,38 @@ core::Result<Input> LoadInput(const ExtractFlags& flags) {
   core::Result<calibration::CameraModel> camera = calibration::ReadCameraModel(camera_path);
   if (!camera.ok()) return core::Status::Error(camera.message());
   input.camera = std::move(*camera);
-  if (!extrinsics_path.empty()) {
+  if (!flags.homography.empty()) {
+    core::Result<calibration::GroundHomography> h =
+        calibration::ReadGroundHomographyYaml(flags.homography);
+    if (!h.ok()) return h.status();
+    // A legacy file maps rectified pixels: it needs the rectified image's
+    // pinhole matrix, the left 3x3 of camera_info's P.
+    Eigen::Matrix3d K_rectified = input.camera->K();
+    if (h->input == calibration::HomographyInput::kRectifiedPixel) {
+      core::Result<calibration::RosCameraInfo> info = calibration::ReadRosCameraInfo(camera_path);
+      if (!info.ok()) {
+        return core::Status::Error(
+            flags.homography +
+            ": this homography maps rectified pixels; --camera must be the ROS camera_info "
+            "YAML of that rectification (its projection_matrix P), but " +
+            info.message());
+      }
+      K_rectified = info->projection.leftCols<3>();
+    }
+    core::Result<calibration::GroundHomographyMount> mount =
+        calibration::MountFromGroundHomography(*h, K_rectified);
+    if (!mount.ok()) return mount.status().WithContext(flags.homography);
+    input.mount = mount->mount;
+    input.mount_source = flags.homography;
+    if (mount->mirrored_y) {
+      input.mount_source += " (its left-handed floor frame mirrored in y)";
+    }
+  } else if (!extrinsics_path.empty()) {
     core::Result<calibration::CameraMount> mount =
         calibration::ReadCameraMountYaml(extrinsics_path);
     if (!mount.ok()) return core::Status::Error(mount.message());
     input.mount = *mount;
+    input.mount_source = extrinsics_path;
   }
   if (!bev_uncertainty_path.empty()) {
     core::Result<calibration::BevUncertaintyMap> map =
@@ -208,6 +248,23 @@ int RunExtract(const ExtractFlags& flags) {
   perception::BevRemap::Options remap_options = perception::BevRemap::Options::ForLineExtraction();
   remap_options.supersampling = flags.supersampling;
   remap_options.supersampling_across = flags.supersampling_across;
+  perception::BevExtent extent;
+  if (!flags.bev_x_m.empty()) extent.x_m = {flags.bev_x_m[0], flags.bev_x_m[1]};
+  if (!flags.bev_y_m.empty()) extent.y_m = {flags.bev_y_m[0], flags.bev_y_m[1]};
+  extent.cell_m = flags.bev_cell_m;
+  if (core::Status s = extent.Validate(); !s.ok()) {
+    std::fprintf(stderr, "groundline extract: %s (--bev-x, --bev-y, --bev-cell)\n",
+                 s.message().c_str());
+    return 2;
+  }
+  core::Result<perception::BevGridOptions> bev_grid =
+      perception::ResolveBevGrid(*input->camera, input->mount, extent);
+  if (!bev_grid.ok()) {
+    std::fprintf(stderr, "groundline extract: %s (mount: %s)\n", bev_grid.message().c_str(),
+                 input->mount_source.c_str());
+    return 1;
+  }
+  remap_options.grid = *bev_grid;
   const perception::BevRemap remap(*input->camera, input->mount, remap_options);
   const perception::LineExtractor extractor(remap, options);
   const perception::BevGrid& grid = remap.grid();
@@ -231,6 +288,14 @@ int RunExtract(const ExtractFlags& flags) {
     return 1;
   }
   const fs::path out = staged->path();
+  if (!flags.homography.empty()) {
+    if (core::Status s = core::WriteFileAtomically(out / "mount.yaml",
+                                                   calibration::CameraMountToYaml(input->mount));
+        !s.ok()) {
+      std::fprintf(stderr, "groundline extract: %s\n", s.message().c_str());
+      return 1;
+    }
+  }
   std::set<std::string> image_names;
   // Kept in memory and written once at the end, atomically: an interrupted
   // run leaves no lines.jsonl rather than a cut one.
@@ -336,6 +401,12 @@ int RunExtract(const ExtractFlags& flags) {
   summary["skipped"] = skipped;
   summary["ms_per_frame_median"] =
       ms.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(core::Median(ms));
+  summary["bev"] = {{"x_m", {grid.options().x_min_m, grid.options().x_max_m}},
+                    {"y_m", {grid.options().y_min_m, grid.options().y_max_m}},
+                    {"cell_m", grid.cell_m()},
+                    {"rows", grid.rows()},
+                    {"cols", grid.cols()}};
+  summary["mount"] = MountToJson(input->mount, input->mount_source);
   if (evaluate) {
     summary["tape_occludes_joints"] = flags.tape_occludes_joints;
     summary["min_visible_run_m"] = flags.min_visible_run_m;
@@ -394,6 +465,25 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--extrinsics", flags->extrinsics,
                   "groundline extrinsics YAML (T_base_cam; default: the dataset's, else the "
                   "reference mount)");
+  cmd->add_option("--homography", flags->homography,
+                  "A ground homography YAML (Duckietown's layouts: a robot's "
+                  "camera_extrinsic file, which needs --camera as its camera_info, or a "
+                  "version-2 file) in place of --extrinsics: the mount is decomposed from it and "
+                  "its floor frame is base_link")
+      ->excludes("--extrinsics");
+  cmd->add_option("--bev-x", flags->bev_x_m,
+                  "BEV extent along base_link x: NEAR FAR, metres ahead (default: the camera's "
+                  "floor footprint, up to 6 m around its foot point)")
+      ->expected(2);
+  cmd->add_option("--bev-y", flags->bev_y_m,
+                  "BEV extent along base_link y: RIGHT LEFT, metres (default: the footprint's)")
+      ->expected(2);
+  cmd->add_option("--bev-cell", flags->bev_cell_m,
+                  "BEV cell side [m]. The ridge filter's scale is 3.5 cells, made for 5-10 cm "
+                  "tape at 1 cm: scale the cell with the markings' width (2-3 cm for 15-20 cm "
+                  "road lines)")
+      ->check(CLI::Range(1e-4, 1.0))
+      ->capture_default_str();
   cmd->add_option("--bev-uncertainty", flags->bev_uncertainty,
                   "The calibration's floor uncertainty (bev_uncertainty.json of calibrate "
                   "floor): the floor of the line covariances (default with --dataset: the "

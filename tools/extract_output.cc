@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/statistics.h"
 #include "json_number.h"
 
@@ -80,6 +81,17 @@ nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth) {
   out["evaluated_length_m"] = truth.evaluated_length_m;
   out["longest_evaluated_run_m"] = truth.longest_evaluated_run_m;
   return out;
+}
+
+nlohmann::ordered_json MountToJson(const calibration::CameraMount& mount,
+                                   const std::string& source) {
+  return {{"source", source},
+          {"height_m", mount.height_m},
+          {"pitch_deg", mount.pitch_rad * core::kRadToDeg},
+          {"roll_deg", mount.roll_rad * core::kRadToDeg},
+          {"yaw_deg", mount.yaw_rad * core::kRadToDeg},
+          {"forward_m", mount.forward_m},
+          {"lateral_m", mount.lateral_m}};
 }
 
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s) {

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/perception/ground_truth_lines.h"
 #include "groundline/perception/line_evaluation.h"
@@ -30,6 +31,11 @@ nlohmann::ordered_json TruthToJson(const perception::ExtractedLine& line,
 // A missed (evaluated, unmatched) true line: {marking_id, kind, edge, rho_m,
 // alpha_rad, start_m, end_m, evaluated_length_m} (base_link).
 nlohmann::ordered_json MissedTruthToJson(const perception::TrueLine& truth);
+
+// The mount the extraction used: {source, height_m, pitch_deg, roll_deg,
+// yaw_deg, forward_m, lateral_m}.
+nlohmann::ordered_json MountToJson(const calibration::CameraMount& mount,
+                                   const std::string& source);
 
 // The summary's rate fields of one breakdown.
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);

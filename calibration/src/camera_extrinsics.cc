@@ -9,6 +9,8 @@
 #include <string>
 
 #include <Eigen/LU>
+#include <Eigen/SVD>
+#include <algorithm>
 
 namespace groundline::calibration {
 namespace {
@@ -129,6 +131,38 @@ Eigen::Matrix3d ImageToFloorHomography(const Eigen::Matrix3d& H_img_floor) {
   assert(invertible);
   (void)invertible;
   return H_floor_img;
+}
+
+core::Result<CameraMount> MountFromFloorHomography(const Eigen::Matrix3d& H_norm_floor,
+                                                   const Eigen::Vector2d& floor_point_in_view) {
+  if (!H_norm_floor.allFinite() || !floor_point_in_view.allFinite()) {
+    return core::Status::Error("floor homography: not finite");
+  }
+  const double n1 = H_norm_floor.col(0).norm(), n2 = H_norm_floor.col(1).norm();
+  if (!(n1 > 0.0 && n2 > 0.0) || std::abs(H_norm_floor.determinant()) < 1e-12 * n1 * n2 * n1) {
+    return core::Status::Error("floor homography: singular");
+  }
+  if (std::max(n1, n2) > 1.5 * std::min(n1, n2)) {
+    std::ostringstream out;
+    out << "floor homography: its first two columns (the floor's axes seen from the camera) "
+           "differ in length by a factor "
+        << std::max(n1, n2) / std::min(n1, n2)
+        << ", expected about 1 for a homography from the floor to normalized image "
+           "coordinates (one in pixels needs K^-1 first)";
+    return core::Status::Error(out.str());
+  }
+  // H = s [r1 r2 t] with R = R_cam_base.
+  Eigen::Matrix3d H = H_norm_floor / (0.5 * (n1 + n2));
+  if ((H * floor_point_in_view.homogeneous()).z() < 0.0) H = -H;
+  Eigen::Matrix3d R;
+  R << H.col(0), H.col(1), H.col(0).cross(H.col(1));
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0.0) return core::Status::Error("floor homography: degenerate rotation");
+  Eigen::Isometry3d T_cam_base = Eigen::Isometry3d::Identity();
+  T_cam_base.linear() = R;
+  T_cam_base.translation() = H.col(2);
+  return MountFromBaseCamera(T_cam_base.inverse());
 }
 
 core::Result<Eigen::Vector2d> ProjectFloorPoint(const Eigen::Matrix3d& H_img_floor,

@@ -135,25 +135,13 @@ core::Result<CameraMount> InitialMount(const CameraModel& camera,
     return core::Status::Error("floor extrinsics: only " + std::to_string(floor.size()) +
                                " corners unproject; need at least 8 (two tags)");
   }
-  Eigen::Matrix3d H = Homography(floor, image);
-  // H = s [r1 r2 t] with R = R_cam_base; fix the scale by |r1|, |r2| and the
-  // sign by positive depth of the first floor point.
-  H /= 0.5 * (H.col(0).norm() + H.col(1).norm());
-  if ((H * floor[0].homogeneous()).z() < 0.0) H = -H;
-  Eigen::Matrix3d R;
-  R << H.col(0), H.col(1), H.col(0).cross(H.col(1));
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  R = svd.matrixU() * svd.matrixV().transpose();
-  if (R.determinant() < 0.0) {
+  core::Result<CameraMount> mount = MountFromFloorHomography(Homography(floor, image), floor[0]);
+  if (!mount.ok()) {
     return core::Status::Error(
-        "floor extrinsics: degenerate corner geometry (the tags may lie "
-        "on one line); add tags spread across the image");
+        "floor extrinsics: initialization from the tags' pooled homography failed (do the tags "
+        "lie on one line? add tags spread across the image): " +
+        mount.message());
   }
-  Eigen::Isometry3d T_cam_base = Eigen::Isometry3d::Identity();
-  T_cam_base.linear() = R;
-  T_cam_base.translation() = H.col(2);
-  core::Result<CameraMount> mount = MountFromBaseCamera(T_cam_base.inverse());
-  if (!mount.ok()) return mount.status().WithContext("floor extrinsics: initialization");
   return mount;
 }
 

@@ -130,6 +130,31 @@ Eigen::Matrix3d FloorFromNormalizedImage(const GroundHomography& homography,
   return homography.H_floor_input * K_rectified;
 }
 
+core::Result<GroundHomographyMount> MountFromGroundHomography(const GroundHomography& homography,
+                                                              const Eigen::Matrix3d& K_rectified) {
+  GroundHomographyMount out;
+  Eigen::Matrix3d H_floor_norm = FloorFromNormalizedImage(homography, K_rectified);
+  out.mirrored_y = !homography.floor_frame_right_handed;
+  if (out.mirrored_y) H_floor_norm.row(1) *= -1.0;
+  Eigen::Matrix3d H_norm_floor;
+  bool invertible = false;
+  H_floor_norm.computeInverseWithCheck(H_norm_floor, invertible);
+  if (!invertible || !H_norm_floor.allFinite()) {
+    return core::Status::Error("ground homography: singular matrix");
+  }
+  // The sign convention (see the header) puts the floor point of the
+  // normalized input (0, 1) in front of the camera.
+  const Eigen::Vector3d in_view = H_floor_norm * Eigen::Vector3d(0.0, 1.0, 1.0);
+  if (!(std::abs(in_view.z()) > 0.0)) {
+    return core::Status::Error(
+        "ground homography: the ray 45 deg below the optical axis does not meet the floor");
+  }
+  core::Result<CameraMount> mount = MountFromFloorHomography(H_norm_floor, in_view.hnormalized());
+  if (!mount.ok()) return mount.status().WithContext("ground homography");
+  out.mount = *mount;
+  return out;
+}
+
 core::Result<Eigen::Vector2d> FloorPointOfPixel(const CameraModel& camera,
                                                 const Eigen::Matrix3d& H_floor_norm,
                                                 const Eigen::Vector2d& pixel,

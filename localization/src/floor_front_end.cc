@@ -16,6 +16,7 @@ namespace groundline::localization {
 core::Status FloorFrontEndOptions::Validate() const {
   if (core::Status s = remap.Validate(); !s.ok()) return s.WithContext("remap");
   if (core::Status s = extractor.Validate(); !s.ok()) return s.WithContext("extractor");
+  if (core::Status s = bev.Validate(); !s.ok()) return s;
   if (!(min_frame_stddev >= 0.0 && min_frame_stddev < 128.0)) {
     return core::Status::Error("min_frame_stddev: expected 0..128 grey levels");
   }
@@ -27,15 +28,17 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Create(const calibration::CameraModel
                                                   const FloorFrontEndOptions& options) {
   if (core::Status s = options.Validate(); !s.ok()) return s.WithContext("floor front end");
   perception::BevRemap::Options remap_options = options.remap;
-  if (options.grid_from_footprint) {
-    remap_options.grid = perception::FloorFootprintGrid(camera, mount, options.remap.grid.cell_m);
-  }
+  core::Result<perception::BevGridOptions> grid =
+      perception::ResolveBevGrid(camera, mount, options.bev);
+  if (!grid.ok()) return grid.status().WithContext("floor front end");
+  remap_options.grid = *grid;
   return Build(camera, mount, remap_options, options);
 }
 
-core::Result<FloorFrontEnd> FloorFrontEnd::Build(
-    const calibration::CameraModel& camera, const calibration::CameraMount& mount,
-    const perception::BevRemap::Options& remap_options, const FloorFrontEndOptions& options) {
+core::Result<FloorFrontEnd> FloorFrontEnd::Build(const calibration::CameraModel& camera,
+                                                 const calibration::CameraMount& mount,
+                                                 const perception::BevRemap::Options& remap_options,
+                                                 const FloorFrontEndOptions& options) {
   FloorFrontEnd front_end;
   auto remap = std::make_shared<perception::BevRemap>(camera, mount, remap_options);
   if (cv::countNonZero(remap->valid_mask()) == 0) {

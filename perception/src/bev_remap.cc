@@ -5,6 +5,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace groundline::perception {
@@ -185,28 +187,144 @@ Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::Cam
   return H_img_floor * grid.FloorFromCell();
 }
 
-BevGridOptions FloorFootprintGrid(const calibration::CameraModel& camera,
-                                  const calibration::CameraMount& mount, double cell_m,
-                                  double max_ahead_m, double max_side_m) {
+std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel& camera,
+                                                 const calibration::CameraMount& mount,
+                                                 double cell_m, double max_range_m,
+                                                 double max_cells_per_pixel) {
+  // The probe's far-left corner on the 2 cm lattice through the origin, so that
+  // cameras near the origin get the same grid wherever the square is centred.
+  constexpr double kProbeCell = 0.02;
+  const auto on_lattice = [&](double v) { return kProbeCell * std::ceil(v / kProbeCell); };
   BevRemap::Options coarse;
-  coarse.grid = {0.0, max_ahead_m, -max_side_m, max_side_m, 0.02};
+  coarse.fill_unseen = false;
+  coarse.grid.cell_m = kProbeCell;
+  coarse.grid.x_max_m = on_lattice(mount.forward_m + max_range_m);
+  coarse.grid.y_max_m = on_lattice(mount.lateral_m + max_range_m);
+  coarse.grid.x_min_m = coarse.grid.x_max_m - 2.0 * max_range_m;
+  coarse.grid.y_min_m = coarse.grid.y_max_m - 2.0 * max_range_m;
   const BevRemap probe(camera, mount, coarse);
+  // Seen, and seen finely enough: the floor one pixel covers (the larger axis
+  // of its footprint, 1 / the smaller singular value of d pixel / d floor,
+  // differenced between probe cells) spans at most max_cells_per_pixel cells.
+  const cv::Mat& map = probe.pixel_map();
+  const double max_floor_per_px = max_cells_per_pixel * cell_m;
+  const auto step = [&](int row, int col, int d_row, int d_col, Eigen::Vector2d* d) {
+    for (const int sign : {1, -1}) {
+      const int r = row + sign * d_row, c = col + sign * d_col;
+      if (r < 0 || c < 0 || r >= map.rows || c >= map.cols) continue;
+      const cv::Vec2f a = map.at<cv::Vec2f>(row, col), b = map.at<cv::Vec2f>(r, c);
+      if (b[0] < 0.0f) continue;
+      *d = sign * Eigen::Vector2d(b[0] - a[0], b[1] - a[1]) / kProbeCell;
+      return true;
+    }
+    return false;
+  };
   std::vector<cv::Point> valid;
-  cv::findNonZero(probe.valid_mask(), valid);
-  BevGridOptions grid;
-  grid.cell_m = cell_m;
-  if (valid.empty()) return grid;
+  for (int row = 0; row < map.rows; ++row) {
+    for (int col = 0; col < map.cols; ++col) {
+      if (probe.valid_mask().at<std::uint8_t>(row, col) == 0) continue;
+      Eigen::Matrix2d J;  // d pixel / d (col, row) in metres of floor
+      Eigen::Vector2d d_col, d_row;
+      if (!step(row, col, 0, 1, &d_col) || !step(row, col, 1, 0, &d_row)) continue;
+      J << d_col, d_row;
+      // The smaller singular value of a 2x2 matrix, closed form.
+      const double a = J.squaredNorm(), det = std::abs(J.determinant());
+      const double s_min =
+          std::sqrt(std::max(0.0, 0.5 * (a - std::sqrt(std::max(0.0, a * a - 4.0 * det * det)))));
+      if (s_min > 0.0 && 1.0 / s_min <= max_floor_per_px) valid.emplace_back(col, row);
+    }
+  }
+  if (valid.empty()) return std::nullopt;
   const cv::Rect box = cv::boundingRect(valid);
   const BevGrid& g = probe.grid();
   // Row 0 is the far edge (x_max), column 0 the left edge (y_max).
   const Eigen::Vector2d far_left = g.FloorPointOfCell(Eigen::Vector2d(box.x, box.y));
   const Eigen::Vector2d near_right =
       g.FloorPointOfCell(Eigen::Vector2d(box.x + box.width - 1, box.y + box.height - 1));
-  const double margin_m = g.cell_m();
-  grid.x_max_m = far_left.x() + margin_m;
-  grid.y_max_m = far_left.y() + margin_m;
-  grid.x_min_m = std::max(0.0, near_right.x() - margin_m);
-  grid.y_min_m = near_right.y() - margin_m;
+  // One probe cell, plus 10 cells of floor beyond the seen edge: the ridge
+  // filter (sigma 3.5 cells) then sees the fill of unseen cells, not the
+  // image border's reflection, within 3 sigma of a marking at the edge.
+  const double margin_m = g.cell_m() + 10.0 * cell_m;
+  BevGridOptions grid;
+  grid.cell_m = cell_m;
+  grid.x_max_m = std::min(far_left.x() + margin_m, g.options().x_max_m);
+  grid.y_max_m = std::min(far_left.y() + margin_m, g.options().y_max_m);
+  grid.x_min_m = std::max(near_right.x() - margin_m, g.options().x_min_m);
+  grid.y_min_m = std::max(near_right.y() - margin_m, g.options().y_min_m);
+  return grid;
+}
+
+core::Status BevExtent::Validate() const {
+  for (const auto& [name, range] : {std::pair{"x_m", x_m}, std::pair{"y_m", y_m}}) {
+    if (!range) continue;
+    if (!std::isfinite((*range)[0]) || !std::isfinite((*range)[1]) || (*range)[0] >= (*range)[1]) {
+      return core::Status::Error(std::string("BEV extent ") + name +
+                                 ": expected two finite numbers [min, max] with min < max, got [" +
+                                 std::to_string((*range)[0]) + ", " + std::to_string((*range)[1]) +
+                                 "]");
+    }
+  }
+  if (!(cell_m > 0.0 && cell_m <= 1.0)) {
+    return core::Status::Error("BEV extent cell_m: expected a cell side in (0, 1] m, got " +
+                               std::to_string(cell_m));
+  }
+  if (!(max_range_m > 0.0 && max_range_m <= 100.0)) {
+    return core::Status::Error("BEV extent max_range_m: expected (0, 100] m, got " +
+                               std::to_string(max_range_m));
+  }
+  if (!(max_cells_per_pixel > 0.0)) {
+    return core::Status::Error("BEV extent max_cells_per_pixel: expected > 0, got " +
+                               std::to_string(max_cells_per_pixel));
+  }
+  return core::Status::Ok();
+}
+
+core::Result<BevGridOptions> ResolveBevGrid(const calibration::CameraModel& camera,
+                                            const calibration::CameraMount& mount,
+                                            const BevExtent& extent) {
+  if (core::Status s = extent.Validate(); !s.ok()) return s;
+  BevGridOptions grid;
+  grid.cell_m = extent.cell_m;
+  if (!extent.x_m || !extent.y_m) {
+    const std::optional<BevGridOptions> footprint = FloorFootprintGrid(
+        camera, mount, extent.cell_m, extent.max_range_m, extent.max_cells_per_pixel);
+    if (!footprint) {
+      return core::Status::Error(
+          "BEV extent: the camera sees no floor within " + std::to_string(extent.max_range_m) +
+          " m of its foot point at one pixel per " + std::to_string(extent.max_cells_per_pixel) +
+          " cells or finer (check the mount's height and pitch, choose a coarser cell, or give "
+          "both ranges, x and y, explicitly)");
+    }
+    grid = *footprint;
+  }
+  if (extent.x_m)
+    std::tie(grid.x_min_m, grid.x_max_m) = std::pair((*extent.x_m)[0], (*extent.x_m)[1]);
+  if (extent.y_m)
+    std::tie(grid.y_min_m, grid.y_max_m) = std::pair((*extent.y_m)[0], (*extent.y_m)[1]);
+  const double rows = (grid.x_max_m - grid.x_min_m) / grid.cell_m,
+               cols = (grid.y_max_m - grid.y_min_m) / grid.cell_m;
+  if (rows > kMaxCellsPerSide || cols > kMaxCellsPerSide || rows < 1.0 || cols < 1.0) {
+    return core::Status::Error(
+        "BEV extent: x " + std::to_string(grid.x_min_m) + ".." + std::to_string(grid.x_max_m) +
+        " m, y " + std::to_string(grid.y_min_m) + ".." + std::to_string(grid.y_max_m) + " m at " +
+        std::to_string(grid.cell_m) + " m cells is " +
+        std::to_string(static_cast<long>(std::lround(rows))) + " x " +
+        std::to_string(static_cast<long>(std::lround(cols))) +
+        " cells; expected 1..4096 per side (choose a coarser cell or smaller ranges)");
+  }
+  // Whether the camera sees any of it: a probe at the grid's extent, 2 cm cells at most.
+  BevRemap::Options check;
+  check.fill_unseen = false;
+  check.grid = grid;
+  check.grid.cell_m = std::max(
+      grid.cell_m,
+      std::min(0.02, 0.5 * std::min(grid.x_max_m - grid.x_min_m, grid.y_max_m - grid.y_min_m)));
+  if (const BevRemap probe(camera, mount, check); probe.valid_cells() == 0) {
+    return core::Status::Error("BEV extent: the camera sees none of the floor in x " +
+                               std::to_string(grid.x_min_m) + ".." + std::to_string(grid.x_max_m) +
+                               " m, y " + std::to_string(grid.y_min_m) + ".." +
+                               std::to_string(grid.y_max_m) + " m");
+  }
   return grid;
 }
 

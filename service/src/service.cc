@@ -29,6 +29,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   impl->dataset = std::move(dataset).value();
   DatasetLocalizerOptions options;
   options.localizer = PresetOptions(config.preset);
+  options.front_end.bev = config.Bev();
   options.atlas_path = config.atlas;
   core::Result<DatasetSetup> setup =
       SetupFromDataset(config.replay_dataset, impl->dataset, options);
@@ -64,8 +65,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
                      : core::Result<std::optional<loc::KeyframeMountCalibration::MountUpdate>>(
                            saved.status());
       if (!restored.ok()) {
-        impl->mount_estimate_restored = "not restored (" + restored.message() +
-                                        "): started from the commissioned mount";
+        impl->mount_estimate_restored =
+            "not restored (" + restored.message() + "): started from the commissioned mount";
       } else {
         impl->mount_estimate_restored = "restored from " + impl->mount_estimate_path.string();
         if (*restored && impl->camera) {
@@ -92,8 +93,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
     core::Result<SavedState> state = ReadServiceState(state_path);
     if (!state.ok()) return state.status();
     impl->resume_after_s = state->stamp_s;
-    started =
-        impl->localizer->SetInitialPose(state->stamp_s, state->T_map_base, state->covariance);
+    started = impl->localizer->SetInitialPose(state->stamp_s, state->T_map_base, state->covariance);
     if (!started.ok()) return started.WithContext(state_path.string());
   } else if (config.wait_for_initial_pose) {
     // Started by the first rt/initialpose (the estimator applies it).
@@ -356,9 +356,10 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
     const Impl::RateSample& a = m.rate_samples.front();
     const Impl::RateSample& b = m.rate_samples.back();
     const double dt = b.stamp_s - a.stamp_s;
-    j["rates_hz"] = {{"wheel_readings", static_cast<double>(b.wheel_readings - a.wheel_readings) / dt},
-                     {"frames", static_cast<double>(b.frames - a.frames) / dt},
-                     {"scans", static_cast<double>(b.scans - a.scans) / dt}};
+    j["rates_hz"] = {
+        {"wheel_readings", static_cast<double>(b.wheel_readings - a.wheel_readings) / dt},
+        {"frames", static_cast<double>(b.frames - a.frames) / dt},
+        {"scans", static_cast<double>(b.scans - a.scans) / dt}};
   } else {
     j["rates_hz"] = nullptr;
   }

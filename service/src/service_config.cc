@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "groundline/core/yaml_fields.h"
+#include "groundline/perception/bev_remap.h"
 
 namespace groundline::service {
 namespace {
@@ -109,7 +110,16 @@ void ReadDdsOutputs(core::internal::YamlFields& y, const YAML::Node& n, DdsOutpu
 
 }  // namespace
 
+perception::BevExtent ServiceConfig::Bev() const {
+  perception::BevExtent bev;
+  bev.x_m = bev_x_m;
+  bev.y_m = bev_y_m;
+  bev.cell_m = bev_cell_m;
+  return bev;
+}
+
 core::Status ServiceConfig::Validate() const {
+  if (core::Status s = Bev().Validate(); !s.ok()) return s.WithContext("localizer.bev");
   if (replay_dataset.empty()) {
     return core::Status::Error("inputs.replay.dataset: expected a dataset directory, got nothing");
   }
@@ -127,23 +137,23 @@ core::Status ServiceConfig::Validate() const {
     const InjectedFault& f = faults[i];
     const std::string at = "inputs.replay.faults[" + std::to_string(i) + "]";
     using Sensor = InjectedFault::Sensor;
-    const bool known =
-        f.sensor == Sensor::kCamera
-            ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
-        : f.sensor == Sensor::kLidar ? f.kind == "silent"
-        : f.sensor == Sensor::kClock
-            ? f.kind == "jump"
-            : (f.kind == "nan" || f.kind == "frozen" || f.kind == "reorder" ||
-               f.kind == "duplicate");
+    const bool known = f.sensor == Sensor::kCamera
+                           ? (f.kind == "silent" || f.kind == "blackout" || f.kind == "corrupt")
+                       : f.sensor == Sensor::kLidar ? f.kind == "silent"
+                       : f.sensor == Sensor::kClock
+                           ? f.kind == "jump"
+                           : (f.kind == "nan" || f.kind == "frozen" || f.kind == "reorder" ||
+                              f.kind == "duplicate");
     if (!known) {
-      return core::Status::Error(at +
-                                 ".kind: expected camera silent|blackout|corrupt, lidar "
-                                 "silent, odometry nan|frozen|reorder|duplicate, clock jump, got '" +
-                                 f.kind + "'");
+      return core::Status::Error(
+          at +
+          ".kind: expected camera silent|blackout|corrupt, lidar "
+          "silent, odometry nan|frozen|reorder|duplicate, clock jump, got '" +
+          f.kind + "'");
     }
     if (f.sensor == Sensor::kClock) {
-      if (!(std::isfinite(f.from_s) && f.from_s >= 0.0 && std::isfinite(f.by_s) &&
-            f.by_s != 0.0 && std::abs(f.by_s) <= 1e7)) {
+      if (!(std::isfinite(f.from_s) && f.from_s >= 0.0 && std::isfinite(f.by_s) && f.by_s != 0.0 &&
+            std::abs(f.by_s) <= 1e7)) {
         return core::Status::Error(at + ": expected from_s >= 0 and a finite by_s != 0 [s]");
       }
     } else if (!(std::isfinite(f.from_s) && std::isfinite(f.to_s) && f.from_s >= 0.0 &&
@@ -256,8 +266,7 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
           } else if (sensor == "clock") {
             f.sensor = InjectedFault::Sensor::kClock;
           } else if (y.ok()) {
-            y.Fail(faults[i]["sensor"], at + ".sensor", "camera, lidar, odometry or clock",
-                   sensor);
+            y.Fail(faults[i]["sensor"], at + ".sensor", "camera, lidar, odometry or clock", sensor);
           }
           f.kind = y.Text(faults[i], at, "kind");
           f.from_s = y.Number(faults[i], at, "from_s");
@@ -273,7 +282,22 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   }
   if (const YAML::Node n = y.Child(root, "", "localizer", false);
       n && y.ExpectMap(n, "localizer")) {
-    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration", "mount_estimate"});
+    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration", "mount_estimate", "bev"});
+    if (const YAML::Node bev = n["bev"]; bev && y.ExpectMap(bev, "localizer.bev")) {
+      y.CheckKeys(bev, "localizer.bev", {"x_m", "y_m", "cell_m"});
+      for (const auto& [key, range] :
+           {std::pair{"x_m", &c.bev_x_m}, std::pair{"y_m", &c.bev_y_m}}) {
+        const std::string at = std::string("localizer.bev.") + key;
+        const YAML::Node p = bev[key];
+        if (!p || !y.ExpectSequence(p, at)) continue;
+        if (p.size() != 2) {
+          y.Fail(p, at, "two numbers [min, max] in metres", std::to_string(p.size()) + " values");
+          continue;
+        }
+        *range = std::array<double, 2>{y.NumberAt(p[0], at + "[0]"), y.NumberAt(p[1], at + "[1]")};
+      }
+      if (bev["cell_m"]) c.bev_cell_m = y.Number(bev, "localizer.bev", "cell_m");
+    }
     if (n["preset"]) c.preset = y.Text(n, "localizer", "preset");
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
     if (n["mount_estimate"]) c.mount_estimate = y.Text(n, "localizer", "mount_estimate");

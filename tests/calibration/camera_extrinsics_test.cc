@@ -13,8 +13,8 @@
 namespace groundline::calibration {
 namespace {
 
-using ::groundline::testing::kPi;
 using ::groundline::testing::kDeg;
+using ::groundline::testing::kPi;
 
 // The reference camera: 6 mm lens, 5.3 um pixels, 1280 x 1024 sensor.
 Eigen::Matrix3d ReferenceK() {
@@ -238,6 +238,45 @@ TEST(FloorHomography, BackProjectionJacobianMatchesNumeric) {
     EXPECT_JACOBIAN_NEAR(
         J, [&](const Eigen::Vector2d& px) { return BackProjectPixel(G, px).value(); }, pixel, 1e-8);
   }
+}
+
+// MountFromFloorHomography inverts FloorToImageHomography (K = I) for any
+// scale and sign of the matrix, on cameras looking down at the floor.
+TEST(FloorHomography, MountFromFloorHomographyInvertsIt) {
+  std::mt19937 rng(20261204);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    CameraMount mount = RandomMount(rng);
+    mount.pitch_rad = 0.8 + 0.7 * unit(rng);  // 0.1 .. 1.5 rad down
+    const Eigen::Isometry3d T_base_cam = BaseFromCamera(mount);
+    // Where the optical axis meets the floor: in view.
+    const Eigen::Vector3d axis = T_base_cam.linear().col(2);
+    const Eigen::Vector3d centre = T_base_cam.translation();
+    const Eigen::Vector2d in_view = (centre - axis * (centre.z() / axis.z())).head<2>();
+    const double scale = std::exp(2.0 * unit(rng)) * (unit(rng) < 0.0 ? -1.0 : 1.0);
+    const Eigen::Matrix3d H =
+        scale * FloorToImageHomography(T_base_cam, Eigen::Matrix3d::Identity());
+    const core::Result<CameraMount> back = MountFromFloorHomography(H, in_view);
+    ASSERT_TRUE(back.ok()) << back.message();
+    EXPECT_TRUE(SameMount(*back, mount, 1e-9))
+        << "trial " << trial << ": height " << back->height_m << " vs " << mount.height_m;
+  }
+}
+
+TEST(FloorHomography, MountFromFloorHomographyRejectsWhatIsNoFloorHomography) {
+  const Eigen::Vector2d in_view(1.0, 0.0);
+  Eigen::Matrix3d nan = Eigen::Matrix3d::Identity();
+  nan(0, 2) = std::nan("");
+  EXPECT_NE(MountFromFloorHomography(nan, in_view).message().find("not finite"), std::string::npos);
+  EXPECT_NE(MountFromFloorHomography(Eigen::Matrix3d::Zero(), in_view).message().find("singular"),
+            std::string::npos);
+  // Floor axes of different units (y in thirds of a metre): no rigid camera.
+  const Eigen::Matrix3d pixels =
+      FloorToImageHomography(BaseFromCamera(ReferenceMount()), Eigen::Matrix3d::Identity()) *
+      Eigen::Vector3d(1.0, 3.0, 1.0).asDiagonal();
+  const core::Result<CameraMount> wrong = MountFromFloorHomography(pixels, {1.0, 0.0});
+  EXPECT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.message().find("normalized image"), std::string::npos) << wrong.message();
 }
 
 }  // namespace

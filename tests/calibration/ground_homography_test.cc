@@ -27,8 +27,8 @@
 namespace groundline::calibration {
 namespace {
 
-using ::groundline::testing::kPi;
 using ::groundline::testing::kDeg;
+using ::groundline::testing::kPi;
 
 CameraMount TiltedMount() {
   CameraMount mount;
@@ -233,6 +233,84 @@ TEST(RealGroundHomography, Dd24BoardCornersLandOnTheGridAndTheArrowBeforeTheBoar
     previous_y_m = floor->y();
   }
   EXPECT_FALSE(FloorPointOfPixel(info->camera, H, {240.0, 60.0}).ok());  // above the horizon
+}
+
+// The mount decomposed from the real per-robot files: a camera about 0.1 m
+// high, 0-15 cm ahead of the axle, pitched down, whose floor points agree with
+// the homography's over the lower image (the files' columns are up to 10 % off
+// a rotation's, so within a few millimetres, not exactly).
+TEST(RealGroundHomography, DuckietownRobotFilesGiveTheirMount) {
+  GROUNDLINE_REQUIRE_DATA("floor/duckietown/robot_calibrations");
+  const std::filesystem::path root =
+      groundline::testing::SharedDataDir() / "floor/duckietown/robot_calibrations";
+  for (const char* robot : {"default", "milo", "tori", "kitt", "tesla"}) {
+    core::Result<GroundHomography> h =
+        ReadGroundHomographyYaml(root / "camera_extrinsic" / (std::string(robot) + ".yaml"));
+    ASSERT_TRUE(h.ok()) << h.message();
+    core::Result<RosCameraInfo> info =
+        ReadRosCameraInfo(root / "camera_intrinsic" / (std::string(robot) + ".yaml"));
+    ASSERT_TRUE(info.ok()) << info.message();
+    const Eigen::Matrix3d P = info->projection.leftCols<3>();
+    core::Result<GroundHomographyMount> mount = MountFromGroundHomography(*h, P);
+    ASSERT_TRUE(mount.ok()) << robot << ": " << mount.message();
+    EXPECT_FALSE(mount->mirrored_y);
+    const CameraMount& m = mount->mount;
+    EXPECT_GT(m.height_m, 0.07) << robot;
+    EXPECT_LT(m.height_m, 0.14) << robot;
+    EXPECT_GT(m.forward_m, 0.0) << robot;
+    EXPECT_LT(m.forward_m, 0.15) << robot;
+    EXPECT_GT(m.pitch_rad, 5.0 * kDeg) << robot;
+    EXPECT_LT(m.pitch_rad, 40.0 * kDeg) << robot;
+    const Eigen::Matrix3d H_floor_norm = FloorFromNormalizedImage(*h, P);
+    const Eigen::Matrix3d H_floor_norm_of_mount = ImageToFloorHomography(
+        FloorToImageHomography(BaseFromCamera(m), Eigen::Matrix3d::Identity()));
+    for (double v : {470.0, 420.0, 370.0}) {
+      for (double u : {120.0, 320.0, 520.0}) {
+        core::Result<Eigen::Vector2d> by_file =
+            FloorPointOfPixel(info->camera, H_floor_norm, {u, v});
+        core::Result<Eigen::Vector2d> by_mount =
+            FloorPointOfPixel(info->camera, H_floor_norm_of_mount, {u, v});
+        ASSERT_TRUE(by_file.ok() && by_mount.ok()) << robot;
+        EXPECT_LT((*by_file - *by_mount).norm(), 0.1 * by_file->norm())
+            << robot << " pixel " << u << ", " << v << ": " << by_file->transpose() << " vs "
+            << by_mount->transpose();
+      }
+    }
+  }
+}
+
+// dd24's version-2 file maps to the board frame, left-handed: the mount comes
+// with y mirrored, and its floor points are the file's mirrored, to 3 mm on the
+// board's corners.
+TEST(RealGroundHomography, Dd24VersionTwoGivesAMountInTheMirroredBoardFrame) {
+  GROUNDLINE_REQUIRE_DATA("floor/duckietown/extrinsics/dd24/real-world/scenario0");
+  const std::filesystem::path dir = groundline::testing::SharedDataDir() /
+                                    "floor/duckietown/extrinsics/dd24/real-world/scenario0";
+  core::Result<GroundHomography> h = ReadGroundHomographyYaml(dir / "homography.yaml");
+  ASSERT_TRUE(h.ok()) << h.message();
+  core::Result<RosCameraInfo> info = ReadRosCameraInfo(dir / "calibration-intrinsic-dd24.yaml");
+  ASSERT_TRUE(info.ok()) << info.message();
+  core::Result<GroundHomographyMount> mount = MountFromGroundHomography(*h, info->camera.K());
+  ASSERT_TRUE(mount.ok()) << mount.message();
+  EXPECT_TRUE(mount->mirrored_y);
+  EXPECT_GT(mount->mount.height_m, 0.05);
+  EXPECT_LT(mount->mount.height_m, 0.20);
+  const Eigen::Matrix3d H_file = FloorFromNormalizedImage(*h, Eigen::Matrix3d::Identity());
+  const Eigen::Matrix3d H_mount = ImageToFloorHomography(
+      FloorToImageHomography(BaseFromCamera(mount->mount), Eigen::Matrix3d::Identity()));
+  const cv::Mat image = cv::imread((dir / "image-0.png").string(), cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(image.empty());
+  std::vector<cv::Point2f> corners;
+  ASSERT_TRUE(cv::findChessboardCornersSB(image, cv::Size(7, 5), corners));
+  for (const cv::Point2f& corner : corners) {
+    core::Result<Eigen::Vector2d> by_file =
+        FloorPointOfPixel(info->camera, H_file, {corner.x, corner.y});
+    core::Result<Eigen::Vector2d> by_mount =
+        FloorPointOfPixel(info->camera, H_mount, {corner.x, corner.y});
+    ASSERT_TRUE(by_file.ok() && by_mount.ok());
+    EXPECT_LT((Eigen::Vector2d(by_file->x(), -by_file->y()) - *by_mount).norm(), 0.003)
+        << by_file->transpose() << " vs " << by_mount->transpose();
+  }
 }
 
 }  // namespace

@@ -357,5 +357,127 @@ TEST(BevRemapTest, RebuildAfterPitchAndHeightChangeMovesPointsAsPredicted) {
   EXPECT_GT(raised[1], after[1] + 5.0);  // a higher camera sees the point lower
 }
 
+// The footprint grid holds the floor a camera sees within its probe square
+// (+-6 m around its foot point; compared with a 1 cm probe of the same square)
+// but for slivers under 2 cm at the corners (its own probe samples every 2 cm),
+// and little else: seen cells reach within 15 cm of each of its edges (its
+// margin: one probe cell and 10 cells). Cameras
+// looking ahead, behind (yaw 180 deg, mounted behind the axle) and to the side.
+TEST(FloorFootprintGridTest, HoldsWhatTheCameraSeesAndLittleElse) {
+  const CameraModel camera = ReferenceCamera(0.25);
+  std::vector<CameraMount> mounts(3);
+  mounts[1].yaw_rad = 180.0 * kDeg;
+  mounts[1].forward_m = -0.5;
+  mounts[2].yaw_rad = 90.0 * kDeg;
+  mounts[2].lateral_m = 0.3;
+  mounts[2].pitch_rad = 30.0 * kDeg;
+  for (const CameraMount& mount : mounts) {
+    // Everything it sees, however coarsely (the resolution test is below).
+    const std::optional<BevGridOptions> footprint =
+        FloorFootprintGrid(camera, mount, 0.01, 6.0, 1e9);
+    ASSERT_TRUE(footprint.has_value());
+    BevRemap::Options fine;
+    fine.fill_unseen = false;
+    fine.grid = {mount.forward_m - 6.0, mount.forward_m + 6.0, mount.lateral_m - 6.0,
+                 mount.lateral_m + 6.0, 0.01};
+    const BevRemap all(camera, mount, fine);
+    double x_min = 1e9, x_max = -1e9, y_min = 1e9, y_max = -1e9;
+    for (int row = 0; row < all.grid().rows(); ++row) {
+      for (int col = 0; col < all.grid().cols(); ++col) {
+        if (all.valid_mask().at<std::uint8_t>(row, col) == 0) continue;
+        const Eigen::Vector2d p = all.grid().FloorPointOfCell({col, row});
+        x_min = std::min(x_min, p.x());
+        x_max = std::max(x_max, p.x());
+        y_min = std::min(y_min, p.y());
+        y_max = std::max(y_max, p.y());
+      }
+    }
+    ASSERT_LT(x_min, x_max) << "yaw " << mount.yaw_rad;
+    const std::string which = "yaw " + std::to_string(mount.yaw_rad / kDeg);
+    EXPECT_LE(footprint->x_min_m, x_min + 0.02) << which;
+    EXPECT_GE(footprint->x_max_m, x_max - 0.02) << which;
+    EXPECT_LE(footprint->y_min_m, y_min + 0.02) << which;
+    EXPECT_GE(footprint->y_max_m, y_max - 0.02) << which;
+    EXPECT_GT(footprint->x_min_m, x_min - 0.15) << which;
+    EXPECT_LT(footprint->x_max_m, x_max + 0.15) << which;
+    EXPECT_GT(footprint->y_min_m, y_min - 0.15) << which;
+    EXPECT_LT(footprint->y_max_m, y_max + 0.15) << which;
+  }
+  // The reference camera at full resolution: sees about 0.7-2.3 m ahead, all of it
+  // resolved (9 mm per pixel along the floor at the far edge), so the same
+  // grid as without the resolution test.
+  const std::optional<BevGridOptions> reference =
+      FloorFootprintGrid(ReferenceCamera(), CameraMount{}, 0.01);
+  const std::optional<BevGridOptions> reference_all =
+      FloorFootprintGrid(ReferenceCamera(), CameraMount{}, 0.01, 6.0, 1e9);
+  ASSERT_TRUE(reference.has_value() && reference_all.has_value());
+  EXPECT_NEAR(reference->x_min_m, 0.7 - 0.12, 0.1);
+  EXPECT_NEAR(reference->x_max_m, 2.3 + 0.12, 0.1);
+  EXPECT_EQ(reference->x_max_m, reference_all->x_max_m);
+  EXPECT_EQ(reference->y_max_m, reference_all->y_max_m);
+  EXPECT_EQ(reference->y_min_m, reference_all->y_min_m);
+  // A low camera looking towards the horizon sees floor to the probe's edge,
+  // but resolves it (a pixel <= 3 cells) only over the first metre or so.
+  CameraMount low;
+  low.height_m = 0.1;
+  low.pitch_rad = 15.0 * kDeg;
+  low.forward_m = 0.05;
+  const std::optional<BevGridOptions> seen = FloorFootprintGrid(camera, low, 0.01, 6.0, 1e9);
+  const std::optional<BevGridOptions> resolved = FloorFootprintGrid(camera, low, 0.01);
+  ASSERT_TRUE(seen.has_value() && resolved.has_value());
+  EXPECT_GT(seen->x_max_m, 6.0);
+  EXPECT_LT(resolved->x_max_m, 1.5);
+  EXPECT_GT(resolved->x_max_m, 0.4);
+  EXPECT_GT(FloorFootprintGrid(camera, low, 0.05)->x_max_m, resolved->x_max_m + 0.5);
+  // Looking up: no floor.
+  CameraMount up;
+  up.pitch_rad = -40.0 * kDeg;
+  EXPECT_FALSE(FloorFootprintGrid(camera, up, 0.01).has_value());
+}
+
+TEST(ResolveBevGridTest, GivenRangesReplaceTheFootprintsAndErrorsSayWhy) {
+  const CameraModel camera = ReferenceCamera(0.25);
+  const CameraMount mount;
+  const std::optional<BevGridOptions> footprint = FloorFootprintGrid(camera, mount, 0.02);
+  ASSERT_TRUE(footprint.has_value());
+  BevExtent extent;
+  extent.cell_m = 0.02;
+  core::Result<BevGridOptions> grid = ResolveBevGrid(camera, mount, extent);
+  ASSERT_TRUE(grid.ok()) << grid.message();
+  EXPECT_EQ(grid->x_min_m, footprint->x_min_m);
+  EXPECT_EQ(grid->y_max_m, footprint->y_max_m);
+  EXPECT_EQ(grid->cell_m, 0.02);
+  extent.x_m = {{1.0, 2.0}};
+  grid = ResolveBevGrid(camera, mount, extent);
+  ASSERT_TRUE(grid.ok()) << grid.message();
+  EXPECT_EQ(grid->x_min_m, 1.0);
+  EXPECT_EQ(grid->x_max_m, 2.0);
+  EXPECT_EQ(grid->y_min_m, footprint->y_min_m);
+  extent.y_m = {{-0.5, 0.25}};
+  grid = ResolveBevGrid(camera, mount, extent);
+  ASSERT_TRUE(grid.ok()) << grid.message();
+  EXPECT_EQ(grid->y_min_m, -0.5);
+  EXPECT_EQ(grid->y_max_m, 0.25);
+
+  BevExtent bad;
+  bad.x_m = {{2.0, 1.0}};
+  EXPECT_NE(ResolveBevGrid(camera, mount, bad).message().find("x_m"), std::string::npos);
+  bad = BevExtent{};
+  bad.cell_m = 0.0;
+  EXPECT_NE(ResolveBevGrid(camera, mount, bad).message().find("cell_m"), std::string::npos);
+  bad = BevExtent{};
+  bad.x_m = {{0.0, 50.0}};
+  bad.cell_m = 0.001;
+  EXPECT_NE(ResolveBevGrid(camera, mount, bad).message().find("4096"), std::string::npos);
+  bad = BevExtent{};
+  bad.x_m = {{-3.0, -2.0}};  // behind the camera
+  bad.y_m = {{-1.0, 1.0}};
+  EXPECT_NE(ResolveBevGrid(camera, mount, bad).message().find("sees none"), std::string::npos);
+  CameraMount up;
+  up.pitch_rad = -40.0 * kDeg;
+  EXPECT_NE(ResolveBevGrid(camera, up, BevExtent{}).message().find("sees no floor"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace groundline::perception

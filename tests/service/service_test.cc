@@ -19,6 +19,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
+#include "groundline/perception/bev_remap.h"
 #include "groundline/service/service_config.h"
 #include "groundline/service/service_state.h"
 #include "groundline/sim/sim_run.h"
@@ -91,6 +92,13 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
        "localizer: {preset: odometry, self_calibration: true}\n",
        "localizer.self_calibration: needs the camera's lines"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {x_m: [2, 1]}}\n",
+       "localizer.bev: BEV extent x_m"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {y_m: [1]}}\n",
+       "localizer.bev.y_m"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {cell: 1}}\n", "cell"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {cell_m: 0}}\n",
+       "localizer.bev: BEV extent cell_m"},
   };
   for (const Case& c : cases) {
     const core::Result<ServiceConfig> read = ReadServiceConfig(WriteConfig(dir, c.text));
@@ -110,6 +118,18 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
   EXPECT_EQ(ok->http_address, "127.0.0.1");
   EXPECT_FALSE(ok->dds_inputs.enabled);
   EXPECT_FALSE(ok->dds_outputs.enabled);
+  EXPECT_FALSE(ok->bev_x_m.has_value());  // the BEV: the camera's footprint
+  EXPECT_EQ(ok->bev_cell_m, 0.01);
+  const core::Result<ServiceConfig> bev =
+      ReadServiceConfig(WriteConfig(dir,
+                                    "inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
+                                    "localizer: {bev: {x_m: [0.7, 2.1], cell_m: 0.02}}\n"));
+  ASSERT_TRUE(bev.ok()) << bev.message();
+  ASSERT_TRUE(bev->bev_x_m.has_value());
+  EXPECT_EQ((*bev->bev_x_m)[0], 0.7);
+  EXPECT_EQ((*bev->bev_x_m)[1], 2.1);
+  EXPECT_FALSE(bev->bev_y_m.has_value());
+  EXPECT_EQ(bev->Bev().cell_m, 0.02);
   // DDS: the line of a bad value, and the keys as read.
   const core::Result<ServiceConfig> bad_line =
       ReadServiceConfig(WriteConfig(dir,
@@ -176,7 +196,8 @@ TEST(ServiceState, RoundTripsExactlyAndADamagedFileNamesTheField) {
     const char* text;
     const char* expected;  // in the message
   } cases[] = {
-      {"{\"stamp_s\": 1, \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": [1, 0, 0", "not valid JSON"},
+      {"{\"stamp_s\": 1, \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": [1, 0, 0",
+       "not valid JSON"},
       {"", "not valid JSON"},
       {"[1, 2, 3]", "field 'stamp_s'"},
       {"{\"stamp_s\": \"1\", \"x_m\": 0, \"y_m\": 0, \"yaw_rad\": 0, \"cov\": []}",
@@ -324,8 +345,7 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
   const auto dir = ::groundline::testing::ScratchDir("service_no_odometry");
-  std::optional<sim::SimRun> simulated =
-      testing::SimulatedZoneBDrive(15.0, 5, dir / "drive", 2.0);
+  std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(15.0, 5, dir / "drive", 2.0);
   ASSERT_TRUE(simulated.has_value());
   // The wheel encoders go silent after 4 s; the camera and the LiDAR go on.
   constexpr double kSilentAfterS = 4.0;
@@ -339,8 +359,7 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
     return std::count_if(d.images.begin(), d.images.end(),
                          [&](const core::ImageRecord& i) { return i.stamp_s > t; });
   };
-  core::Result<nlohmann::ordered_json> summary =
-      ReplayAsFastAsPossible(dir / "drive", dir / "out");
+  core::Result<nlohmann::ordered_json> summary = ReplayAsFastAsPossible(dir / "drive", dir / "out");
   ASSERT_TRUE(summary.ok()) << summary.message();
   // Every frame after the last reading (beyond the localizer's frame lag) is
   // counted as never met by odometry; the frames before it were used, and
@@ -394,8 +413,7 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
 
   // The estimate is kept for a restart: mount_estimate.json holds the last
   // one, and the next run (same output directory) starts from it.
-  const nlohmann::json summary =
-      nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"));
   const nlohmann::json& first = summary["self_calibration"];
   EXPECT_EQ(first["mount_estimate_restored"].get<std::string>(),
             "none saved: started from the commissioned mount");

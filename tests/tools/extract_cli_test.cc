@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli_runner.h"
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/camera_model.h"
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/calibration/floor_projection.h"
@@ -123,13 +124,13 @@ TEST(ExtractCli, FolderWithACorruptImage) {
       << out;
   EXPECT_NE(out.find("worst"), std::string::npos) << out;
   const std::filesystem::path floored = dir / "out_floored";
-  ASSERT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " +
-                              Quoted(dir / "camera.cameramodel") + " --extrinsics " +
-                              Quoted(dir / "extrinsics.yaml") + " --bev-uncertainty " +
-                              Quoted(dir / "bev_uncertainty.json") + " --png-every 0 --out " +
-                              Quoted(floored),
-                          dir, &out),
-            0)
+  ASSERT_EQ(
+      RunGroundline(
+          "extract " + Quoted(images) + " --camera " + Quoted(dir / "camera.cameramodel") +
+              " --extrinsics " + Quoted(dir / "extrinsics.yaml") + " --bev-uncertainty " +
+              Quoted(dir / "bev_uncertainty.json") + " --png-every 0 --out " + Quoted(floored),
+          dir, &out),
+      0)
       << out;
   {
     std::ifstream plain_lines(result / "lines.jsonl"), floored_lines(floored / "lines.jsonl");
@@ -149,16 +150,18 @@ TEST(ExtractCli, FolderWithACorruptImage) {
     EXPECT_EQ(compared, 3);
   }
   // Every sigma zero: a map that would claim an exact calibration is refused.
-  EXPECT_EQ(RunGroundline(map_command + " --out " + Quoted(dir / "zero.json"), dir, &out), 2) << out;
+  EXPECT_EQ(RunGroundline(map_command + " --out " + Quoted(dir / "zero.json"), dir, &out), 2)
+      << out;
   // A map of another camera is refused by name.
   const calibration::CameraModel other = *calibration::CameraModel::Create(
       "LENSMODEL_PINHOLE", {280.0, 280.0, 159.5, 127.5}, 320, 256);
   ASSERT_TRUE(calibration::WriteMrcalCameraModel(dir / "other.cameramodel", other).ok());
-  ASSERT_EQ(RunGroundline("calibrate bev-uncertainty --camera " + Quoted(dir / "other.cameramodel") +
-                              " --extrinsics " + Quoted(dir / "extrinsics.yaml") +
-                              " --sigma-pitch-deg 0.5 --out " + Quoted(dir / "other.json"),
-                          dir, &out),
-            0)
+  ASSERT_EQ(
+      RunGroundline("calibrate bev-uncertainty --camera " + Quoted(dir / "other.cameramodel") +
+                        " --extrinsics " + Quoted(dir / "extrinsics.yaml") +
+                        " --sigma-pitch-deg 0.5 --out " + Quoted(dir / "other.json"),
+                    dir, &out),
+      0)
       << out;
   EXPECT_EQ(RunGroundline("extract " + Quoted(images) + " --camera " +
                               Quoted(dir / "camera.cameramodel") + " --bev-uncertainty " +
@@ -174,6 +177,137 @@ TEST(ExtractCli, FolderWithACorruptImage) {
                           dir, &out),
             1)
       << out;
+}
+
+// Any camera, any mount: the BEV's extent and cell from the command line
+// (by default the camera's floor footprint), and the mount from a ground
+// homography in place of the extrinsics file.
+TEST(ExtractCli, BevExtentAndGroundHomography) {
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("extract_cli_bev");
+  const std::filesystem::path images = dir / "images";
+  std::filesystem::create_directories(images);
+  const calibration::CameraModel camera = *calibration::CameraModel::Create(
+      "LENSMODEL_PINHOLE", {283.0, 283.0, 159.5, 127.5}, 320, 256);
+  const calibration::CameraMount mount;
+  ASSERT_TRUE(calibration::WriteMrcalCameraModel(dir / "camera.cameramodel", camera).ok());
+  ASSERT_TRUE(calibration::WriteCameraMountYaml(mount, dir / "extrinsics.yaml").ok());
+  const calibration::FloorProjection projection(camera, mount);
+  cv::Mat image(256, 320, CV_8U);
+  for (int v = 0; v < 256; ++v) {
+    for (int u = 0; u < 320; ++u) {
+      double sum = 0.0;
+      for (int s = 0; s < 4; ++s) {
+        core::Result<Eigen::Vector2d> p =
+            projection.FloorPointOfPixel({u - 0.375 + 0.25 * s, v - 0.375 + 0.25 * (3 - s)});
+        sum += (p.ok() && std::abs(p->y() + 0.20) <= 0.0375) ? 190.0 : 70.0;
+      }
+      image.at<std::uint8_t>(v, u) = static_cast<std::uint8_t>(sum / 4.0);
+    }
+  }
+  ASSERT_TRUE(cv::imwrite((images / "frame0.png").string(), image));
+  // The version-2 homography of this camera (normalized image -> floor).
+  const Eigen::Matrix3d H = calibration::ImageToFloorHomography(calibration::FloorToImageHomography(
+      calibration::BaseFromCamera(mount), Eigen::Matrix3d::Identity()));
+  {
+    std::ofstream file(dir / "homography.yaml");
+    file.precision(17);
+    file << "version: '2'\nhomography:\n";
+    for (int r = 0; r < 3; ++r)
+      file << "- [" << H(r, 0) << ", " << H(r, 1) << ", " << H(r, 2) << "]\n";
+  }
+  const std::string base = "extract " + Quoted(images) + " --camera " +
+                           Quoted(dir / "camera.cameramodel") + " --png-every 0";
+  const auto one_line = [](const std::filesystem::path& result) {
+    std::ifstream jsonl(result / "lines.jsonl");
+    std::string text;
+    std::getline(jsonl, text);
+    const nlohmann::json frame = nlohmann::json::parse(text);
+    EXPECT_EQ(frame["lines"].size(), 1u) << text;
+    return frame["lines"].empty() ? nlohmann::json() : frame["lines"][0];
+  };
+  std::string out;
+  // Default: the footprint and 12 cm around it (the camera sees from 0.67 m
+  // ahead; at a quarter of the resolution it resolves the floor to 3 cm per
+  // pixel up to about 2 m).
+  ASSERT_EQ(RunGroundline(base + " --extrinsics " + Quoted(dir / "extrinsics.yaml") + " --out " +
+                              Quoted(dir / "footprint"),
+                          dir, &out),
+            0)
+      << out;
+  nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "footprint/summary.json"));
+  EXPECT_NEAR(summary["bev"]["x_m"][0].get<double>(), 0.67 - 0.12, 0.05) << summary.dump();
+  EXPECT_GT(summary["bev"]["x_m"][1].get<double>(), 1.9);
+  EXPECT_LT(summary["bev"]["x_m"][1].get<double>(), 2.45);
+  EXPECT_EQ(summary["mount"]["source"], (dir / "extrinsics.yaml").string());
+  const nlohmann::json by_footprint = one_line(dir / "footprint");
+  EXPECT_NEAR(by_footprint["rho_m"].get<double>(), 0.20, 0.004);
+  // Given: 1-2 m ahead, 0.5 m to each side, 2 cm cells.
+  ASSERT_EQ(RunGroundline(base + " --extrinsics " + Quoted(dir / "extrinsics.yaml") +
+                              " --bev-x 1 2 --bev-y -0.5 0.5 --bev-cell 0.02 --out " +
+                              Quoted(dir / "given"),
+                          dir, &out),
+            0)
+      << out;
+  summary = nlohmann::json::parse(std::ifstream(dir / "given/summary.json"));
+  EXPECT_EQ(summary["bev"]["rows"], 50);
+  EXPECT_EQ(summary["bev"]["cols"], 50);
+  const nlohmann::json by_given = one_line(dir / "given");
+  EXPECT_NEAR(by_given["rho_m"].get<double>(), 0.20, 0.006);
+  // The homography: the same mount, so the same line; the mount is written out.
+  ASSERT_EQ(RunGroundline(base + " --homography " + Quoted(dir / "homography.yaml") + " --out " +
+                              Quoted(dir / "homography"),
+                          dir, &out),
+            0)
+      << out;
+  const nlohmann::json by_homography = one_line(dir / "homography");
+  EXPECT_NEAR(by_homography["rho_m"].get<double>(), by_footprint["rho_m"].get<double>(), 1e-6);
+  EXPECT_NEAR(by_homography["alpha_rad"].get<double>(), by_footprint["alpha_rad"].get<double>(),
+              1e-6);
+  const core::Result<calibration::CameraMount> decomposed =
+      calibration::ReadCameraMountYaml(dir / "homography/mount.yaml");
+  ASSERT_TRUE(decomposed.ok()) << decomposed.message();
+  EXPECT_TRUE(calibration::SameMount(*decomposed, mount, 1e-6));
+
+  // Usage errors (exit 2) and a view of no floor (exit 1), each saying what.
+  EXPECT_EQ(RunGroundline(base + " --bev-x 2 1 --out " + Quoted(dir / "bad"), dir, &out), 2);
+  EXPECT_NE(out.find("x_m"), std::string::npos) << out;
+  EXPECT_EQ(RunGroundline(base + " --bev-x 1 --out " + Quoted(dir / "bad"), dir, &out), 2) << out;
+  EXPECT_EQ(
+      RunGroundline(base + " --extrinsics " + Quoted(dir / "extrinsics.yaml") + " --homography " +
+                        Quoted(dir / "homography.yaml") + " --out " + Quoted(dir / "bad"),
+                    dir, &out),
+      2)
+      << out;
+  EXPECT_EQ(
+      RunGroundline(base + " --bev-x -3 -2 --bev-y -1 1 --out " + Quoted(dir / "bad"), dir, &out),
+      1);
+  EXPECT_NE(out.find("sees none"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
+// A real robot's version-2 homography (Duckietown dd24, calibrated on a floor
+// board): its mount is decomposed (the board's left-handed frame mirrored) and
+// the image is extracted in that frame; the camera is about 0.1 m high.
+TEST(ExtractCli, RealDuckietownHomography) {
+  GROUNDLINE_REQUIRE_DATA("floor/duckietown/extrinsics/dd24/real-world/scenario0");
+  const std::filesystem::path data = ::groundline::testing::SharedDataDir() /
+                                     "floor/duckietown/extrinsics/dd24/real-world/scenario0";
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("extract_cli_dd24");
+  std::string out;
+  ASSERT_EQ(RunGroundline("extract " + Quoted(data / "image-0.png") + " --camera " +
+                              Quoted(data / "calibration-intrinsic-dd24.yaml") + " --homography " +
+                              Quoted(data / "homography.yaml") + " --png-every 1 --out " +
+                              Quoted(dir / "out"),
+                          dir, &out),
+            0)
+      << out;
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(dir / "out/summary.json"));
+  EXPECT_EQ(summary["frames"], 1);
+  EXPECT_GT(summary["mount"]["height_m"].get<double>(), 0.05) << summary.dump();
+  EXPECT_LT(summary["mount"]["height_m"].get<double>(), 0.20);
+  EXPECT_NE(summary["mount"]["source"].get<std::string>().find("mirrored"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/mount.yaml"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/overlay_image-0.png"));
 }
 
 }  // namespace

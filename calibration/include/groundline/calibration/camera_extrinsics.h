@@ -81,6 +81,21 @@ core::Result<CameraMount> MountFromBaseCamera(const Eigen::Isometry3d& T_base_ca
 Eigen::Matrix3d FloorToImageHomography(const Eigen::Isometry3d& T_base_cam,
                                        const Eigen::Matrix3d& K);
 
+// The mount of a floor homography (the inverse of FloorToImageHomography with
+// K = I): H_norm_floor maps floor points (x, y, 1) of base_link to normalized
+// image points (x/z, y/z, 1) of the camera, up to scale and sign. The scale is
+// fixed by the mean length of its first two columns (r1, r2 of R_cam_base), the
+// sign by a positive depth at `floor_point_in_view` (a floor point the camera
+// sees), the rotation [r1 r2 r1 x r2] is projected onto SO(3) (SVD), and the
+// third column is t_cam_base. A homography estimated from noisy points is thus
+// turned into the nearest rigid mount; an exact one is reproduced. Fails when
+// the matrix is not finite or singular, when its columns are not near a
+// rotation's (column lengths differ by more than a factor 1.5: not a
+// floor-to-normalized-image homography, e.g. one still in pixels), or as
+// MountFromBaseCamera fails.
+core::Result<CameraMount> MountFromFloorHomography(const Eigen::Matrix3d& H_norm_floor,
+                                                   const Eigen::Vector2d& floor_point_in_view);
+
 // H_floor_img = H_img_floor^-1, the back-projection of IPM. H_img_floor must come
 // from FloorToImageHomography (asserted invertible).
 Eigen::Matrix3d ImageToFloorHomography(const Eigen::Matrix3d& H_img_floor);

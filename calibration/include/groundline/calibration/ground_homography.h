@@ -52,6 +52,7 @@
 #include <filesystem>
 #include <string>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/camera_model.h"
 #include "groundline/core/status.h"
 
@@ -91,6 +92,23 @@ core::Result<Eigen::Vector2d> FloorPointOfPixel(const CameraModel& camera,
                                                 const Eigen::Matrix3d& H_floor_norm,
                                                 const Eigen::Vector2d& pixel,
                                                 Eigen::Matrix2d* J_floor_pixel = nullptr);
+
+// The camera mount a ground homography implies, with the homography's floor
+// frame as base_link: FloorFromNormalizedImage(homography, K_rectified)
+// inverted and decomposed by MountFromFloorHomography (camera_extrinsics.h).
+// A left-handed floor frame (floor_frame_right_handed false: the version-2
+// board frame, x to the right in the image, y towards the camera) is mirrored
+// in y first (mirrored_y), so that base_link is right-handed: the board's x,
+// and y away from the camera. Errors as MountFromFloorHomography's, prefixed
+// with "ground homography". A legacy file needs the P of its own camera_info:
+// with K instead, the mount comes out distorted (its columns are then about
+// 1.5 apart in length, at the limit MountFromFloorHomography accepts).
+struct GroundHomographyMount {
+  CameraMount mount;
+  bool mirrored_y = false;
+};
+core::Result<GroundHomographyMount> MountFromGroundHomography(const GroundHomography& homography,
+                                                              const Eigen::Matrix3d& K_rectified);
 
 }  // namespace groundline::calibration
 

@@ -22,10 +22,11 @@
 namespace groundline::localization {
 
 struct FloorFrontEndOptions {
+  // The BEV's sampling; its grid (remap.grid) is replaced by the one of `bev`.
   perception::BevRemap::Options remap = perception::BevRemap::Options::ForLineExtraction();
-  // The BEV covers the camera's floor footprint (perception::FloorFootprintGrid
-  // at remap.grid.cell_m); false: remap.grid as given.
-  bool grid_from_footprint = true;
+  // The BEV's extent (perception::ResolveBevGrid): by default the camera's
+  // floor footprint at 1 cm cells.
+  perception::BevExtent bev;
   perception::LineExtractorOptions extractor = perception::LineExtractorOptions::ForFusion();
   // A frame whose grey levels spread less than this (standard deviation over
   // a grid of samples) is blank: a covered lens, a blacked-out or saturated

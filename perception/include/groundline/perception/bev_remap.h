@@ -47,7 +47,9 @@
 #define GROUNDLINE_PERCEPTION_BEV_REMAP_H_
 
 #include <Eigen/Core>
+#include <array>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/camera_model.h"
@@ -187,17 +189,50 @@ class BevRemap {
 Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::CameraMount& mount,
                                      const Eigen::Matrix3d& K);
 
+// The grid (cell_m cells) over the floor the camera actually sees: the
+// bounding box, plus one probe cell and 10 cells (room for the ridge filter at
+// the edge), of the valid cells of a coarse 2 cm probe over
+// the square +-max_range_m around the camera's foot point (mount forward_m,
+// lateral_m), clipped to that square, where the camera resolves the floor: one
+// pixel covers at most max_cells_per_pixel cells (the larger axis of its
+// floor footprint). The reference camera resolves all it sees (9 mm per pixel
+// along the floor 2.2 m ahead); a low camera looking towards the horizon (a
+// Duckiebot's, 0.1 m high) sees the floor to the horizon, but a BEV beyond
+// the first metre would be smeared pixels. Nothing resolved: nullopt.
+std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel& camera,
+                                                 const calibration::CameraMount& mount,
+                                                 double cell_m = 0.01, double max_range_m = 6.0,
+                                                 double max_cells_per_pixel = 3.0);
+
+// The BEV's extent as a user states it (groundline extract's --bev-x, --bev-y
+// and --bev-cell; the service's localizer.bev): a range given replaces the
+// camera's floor footprint (FloorFootprintGrid) along its axis, one not given
+// takes the footprint's. The ridge filter's scale and the extractor's other
+// lengths in cells scale with cell_m (docs/perception.md).
+struct BevExtent {
+  std::optional<std::array<double, 2>> x_m;  // [near, far] along base_link x, metres
+  std::optional<std::array<double, 2>> y_m;  // [right, left] along base_link y, metres
+  double cell_m = 0.01;
+  // The footprint (FloorFootprintGrid): its probe's range and resolution.
+  double max_range_m = 6.0;
+  double max_cells_per_pixel = 3.0;
+
+  // Names the field: ranges finite with min < max, cell_m in (0, 1],
+  // max_range_m in (0, 100], max_cells_per_pixel > 0.
+  core::Status Validate() const;
+};
+
+// The grid of an extent on this camera and mount. Errors: an invalid extent; an
+// axis to be taken from the footprint when the camera sees no floor within
+// max_range_m; a grid of more than 4096 cells per side (the message gives the
+// size and asks for a coarser cell or a smaller range); a grid in which the
+// camera sees no floor cell.
+core::Result<BevGridOptions> ResolveBevGrid(const calibration::CameraModel& camera,
+                                            const calibration::CameraMount& mount,
+                                            const BevExtent& extent);
+
 // The pinhole baseline: cv::warpPerspective(image, bev, M_img_cell, grid size,
 // INTER_LINEAR | WARP_INVERSE_MAP, BORDER_CONSTANT 0). Lens distortion ignored.
-// The grid (cell_m cells) over the floor the camera actually sees: the
-// bounding box, plus one cell, of the valid cells of a coarse 2 cm probe over
-// 0..max_ahead_m ahead and +-max_side_m across. The default BevGridOptions
-// (+-1.0 m) cut off the far corners of the reference camera's footprint
-// (+-1.3 m). Nothing seen: the default extent.
-BevGridOptions FloorFootprintGrid(const calibration::CameraModel& camera,
-                                  const calibration::CameraMount& mount, double cell_m = 0.01,
-                                  double max_ahead_m = 6.0, double max_side_m = 4.0);
-
 void WarpToBevPinhole(const cv::Mat& image, const BevGrid& grid,
                       const calibration::CameraMount& mount, const Eigen::Matrix3d& K,
                       cv::Mat* bev);

@@ -12,6 +12,10 @@
 
 #include "groundline/core/status.h"
 
+namespace groundline::perception {
+struct BevExtent;
+}  // namespace groundline::perception
+
 namespace groundline::service {
 
 // A sensor fault injected into the replay (tests and the fault table; a
@@ -89,6 +93,14 @@ struct ServiceConfig {
   // lines while driving (docs/self_calibration.md); health.jsonl gets the
   // selfcal_* fields. Needs a preset that reads the camera (fusion, lines).
   bool self_calibration = false;
+  // localizer.bev: the camera's bird's-eye view (perception::BevExtent): x_m
+  // [near, far] ahead and y_m [right, left] in base_link, metres, each by
+  // default the camera's floor footprint; cell_m, the cell side.
+  std::optional<std::array<double, 2>> bev_x_m;
+  std::optional<std::array<double, 2>> bev_y_m;
+  double bev_cell_m = 0.01;
+  // The localizer.bev keys as the perception module takes them.
+  perception::BevExtent Bev() const;
   // localizer.mount_estimate: where the self-calibration keeps its estimate
   // across restarts (written after every update, read at the start);
   // empty: output.dir/mount_estimate.json.
