@@ -345,6 +345,14 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
                                     options.bar_max_width_m) < 0.5) {
     return std::nullopt;
   }
+  if (options.single_edge_min_roughness_ratio > 0.0) {
+    const internal::SideRoughness rough = internal::MeasureSideRoughness(
+        bev_float, grid, candidate, points, options.single_edge_roughness_near_m,
+        options.single_edge_roughness_far_m);
+    if (!(rough.dark >= options.single_edge_min_roughness_ratio * rough.bright)) {
+      return std::nullopt;
+    }
+  }
   // Each edge point comes from its own profile, unsmoothed along the line:
   // the points are independent. The rho floor stays: the steepest step sits
   // at a sub-cell phase that is the same all along a line running along the

@@ -1,5 +1,6 @@
 // Side contrast and wide-bar edge pairing (line_sides.h).
 #include "line_sides.h"
+#include "groundline/core/statistics.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -278,6 +279,37 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
     }
   }
   return static_cast<double>(open) / static_cast<double>(edge_points_m.size());
+}
+
+SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid,
+                                   const CandidateLine& candidate,
+                                   const std::vector<Eigen::Vector2d>& edge_points_m, double near_m,
+                                   double far_m) {
+  const Eigen::Vector2d toward_bright =
+      (candidate.contrast_plus > candidate.contrast_minus ? -1.0 : 1.0) *
+      candidate.line.line.Normal();
+  const Eigen::Vector2d along = grid.cell_m() * candidate.line.line.Direction();
+  auto sample = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
+    return SampleBilinear(bev_float, cell.x(), cell.y());
+  };
+  const auto side = [&](double sign) {
+    std::vector<double> steps, greys;
+    for (const Eigen::Vector2d& p : edge_points_m) {
+      for (double o = near_m; o <= far_m + 1e-9; o += grid.cell_m()) {
+        const Eigen::Vector2d q = p + sign * o * toward_bright;
+        const float a = sample(q), b = sample(q + along);
+        // 0: a cell the camera does not see.
+        if (a == 0.0f || b == 0.0f) continue;
+        steps.push_back(std::abs(a - b));
+        greys.push_back(a);
+      }
+    }
+    if (steps.empty()) return 0.0;
+    const double grey = core::Median(greys);
+    return grey > 0.0 ? core::Median(steps) / grey : 0.0;
+  };
+  return {side(1.0), side(-1.0)};
 }
 
 }  // namespace groundline::perception::internal

@@ -78,6 +78,21 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
                            const BevGrid& grid, const CandidateLine& candidate,
                            const std::vector<Eigen::Vector2d>& edge_points_m, double max_width_m);
 
+// Relative roughness of the floor on either side of a bar's edge: over bands
+// near_m..far_m from the edge points (base_link) into each side, the median
+// absolute difference between neighbouring cells along the edge, divided by
+// the side's median grey. Paint is smooth (its roughness is the sensor's
+// noise); concrete is textured, and stays so in a shadow, whose light scales
+// texture and grey alike. {bright side, dark side}; {0, 0} without samples.
+struct SideRoughness {
+  double bright = 0.0;
+  double dark = 0.0;
+};
+SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid,
+                                   const CandidateLine& candidate,
+                                   const std::vector<Eigen::Vector2d>& edge_points_m, double near_m,
+                                   double far_m);
+
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);
 

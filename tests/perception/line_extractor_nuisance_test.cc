@@ -39,13 +39,6 @@ Floor Streak(double half_width_m, bool arc, double concrete = 80.0) {
   };
 }
 
-void ExpectNoLines(const LineExtraction& out, const char* what) {
-  for (const ExtractedLine& l : out.lines) {
-    ADD_FAILURE() << "line from " << what << ": " << LineKindName(l.kind) << " rho " << l.line.rho_m
-                  << " alpha " << l.line.alpha_rad << " length " << l.LengthM();
-  }
-}
-
 // As narrow as a joint (1.5 cm at half depth), but curved: the straightness
 // test rejects it.
 TEST(LineExtractorNuisance, ScuffArcGivesNoLine) {

@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "groundline/perception/line_extractor.h"
 #include "test_units.h"
 
@@ -69,6 +71,16 @@ inline Floor Paint(std::vector<Tape> tapes, double concrete = 80.0) {
     }
     return concrete;
   };
+}
+
+// One failure per extracted line: `what` must give none.
+inline void ExpectNoLines(const LineExtraction& out, const char* what) {
+  for (const ExtractedLine& l : out.lines) {
+    ADD_FAILURE() << "line from " << what << ": " << LineKindName(l.kind) << " rho " << l.line.rho_m
+                  << " alpha " << l.line.alpha_rad << " length " << l.LengthM()
+                  << (l.single_bar_edge ? " (single bar edge)" : "")
+                  << (l.from_bar_edges ? " (bar)" : "");
+  }
 }
 
 }  // namespace groundline::perception

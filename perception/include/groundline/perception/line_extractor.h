@@ -134,6 +134,17 @@ struct LineExtractorOptions {
   // fraction of the bright grey is kept even where the frame's median floor
   // grey is that of the markings filling most of the view.
   double single_edge_min_relative_contrast = 0.5;
+  // A bar's bright side is paint, smoother than the floor beside it; the lit
+  // side of a shadow's edge is the same concrete as its dark side, as rough
+  // relative to its grey (internal::MeasureSideRoughness over bands
+  // single_edge_roughness_near_m..far_m from the edge). The dark side must be
+  // at least this many times rougher than the bright side. Paint beside
+  // textured concrete: several times; on a smooth floor, where noise alone
+  // makes the roughness, about the ratio of the greys (2 or more); a shadow's
+  // edge: 1 to 1.5 (its dark side's sensor noise is relatively larger).
+  double single_edge_min_roughness_ratio = 1.6;
+  double single_edge_roughness_near_m = 0.03;
+  double single_edge_roughness_far_m = 0.08;
   // Bright side lobes of dark lines (see line_sides.h, DropSideLobes).
   double side_lobe_distance_cells = 8.0;
   double side_lobe_angle_deg = 3.0;
