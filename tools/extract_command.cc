@@ -58,7 +58,8 @@ struct ExtractFlags {
 constexpr char kExtractHelp[] =
     R"(Extracts floor lines from camera images (docs/perception.md): each image is
 mapped to a metric bird's-eye view (BEV: by default the floor the camera sees,
-up to 6 m around its foot point, at 1 cm cells; --bev-x, --bev-y and --bev-cell
+up to 30 m around its foot point where a pixel spans at most 3 cells, at 1 cm
+cells; --bev-x, --bev-y and --bev-cell
 set it) through the lens model and the mount, ridges are found with a
 steerable filter, lines fitted by total least squares with sub-pixel ridge
 centres, classified (tape = bright, joint = dark; longitudinal / transverse /
@@ -473,7 +474,8 @@ CLI::App* AddExtractCommand(CLI::App& parent, CommandRunner* run) {
       ->excludes("--extrinsics");
   cmd->add_option("--bev-x", flags->bev_x_m,
                   "BEV extent along base_link x: NEAR FAR, metres ahead (default: the camera's "
-                  "floor footprint, up to 6 m around its foot point)")
+                  "floor footprint: up to 30 m around its foot point, where a pixel spans at most "
+                  "3 cells)")
       ->expected(2);
   cmd->add_option("--bev-y", flags->bev_y_m,
                   "BEV extent along base_link y: RIGHT LEFT, metres (default: the footprint's)")

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -187,34 +188,30 @@ Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::Cam
   return H_img_floor * grid.FloorFromCell();
 }
 
-std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel& camera,
-                                                 const calibration::CameraMount& mount,
-                                                 double cell_m, double max_range_m,
-                                                 double max_cells_per_pixel) {
-  // The probe's far-left corner on the 2 cm lattice through the origin, so that
-  // cameras near the origin get the same grid wherever the square is centred.
-  constexpr double kProbeCell = 0.02;
-  const auto on_lattice = [&](double v) { return kProbeCell * std::ceil(v / kProbeCell); };
-  BevRemap::Options coarse;
-  coarse.fill_unseen = false;
-  coarse.grid.cell_m = kProbeCell;
-  coarse.grid.x_max_m = on_lattice(mount.forward_m + max_range_m);
-  coarse.grid.y_max_m = on_lattice(mount.lateral_m + max_range_m);
-  coarse.grid.x_min_m = coarse.grid.x_max_m - 2.0 * max_range_m;
-  coarse.grid.y_min_m = coarse.grid.y_max_m - 2.0 * max_range_m;
-  const BevRemap probe(camera, mount, coarse);
-  // Seen, and seen finely enough: the floor one pixel covers (the larger axis
-  // of its footprint, 1 / the smaller singular value of d pixel / d floor,
-  // differenced between probe cells) spans at most max_cells_per_pixel cells.
+namespace {
+
+// The floor rectangle spanned by the centres of the probe cells (probe_cell_m
+// square cells over [x_min, x_max] x [y_min, y_max]) that the camera sees and
+// resolves: one pixel covers at most max_floor_per_px metres of floor (the
+// larger axis of its footprint, 1 / the smaller singular value of d pixel /
+// d floor, differenced between probe cells). Nothing: nullopt.
+std::optional<BevGridOptions> ResolvedCellCentres(const calibration::CameraModel& camera,
+                                                  const calibration::CameraMount& mount,
+                                                  const BevGridOptions& probe_grid,
+                                                  double max_floor_per_px) {
+  BevRemap::Options options;
+  options.fill_unseen = false;
+  options.grid = probe_grid;
+  const BevRemap probe(camera, mount, options);
   const cv::Mat& map = probe.pixel_map();
-  const double max_floor_per_px = max_cells_per_pixel * cell_m;
+  const double probe_cell_m = probe.grid().cell_m();
   const auto step = [&](int row, int col, int d_row, int d_col, Eigen::Vector2d* d) {
     for (const int sign : {1, -1}) {
       const int r = row + sign * d_row, c = col + sign * d_col;
       if (r < 0 || c < 0 || r >= map.rows || c >= map.cols) continue;
       const cv::Vec2f a = map.at<cv::Vec2f>(row, col), b = map.at<cv::Vec2f>(r, c);
       if (b[0] < 0.0f) continue;
-      *d = sign * Eigen::Vector2d(b[0] - a[0], b[1] - a[1]) / kProbeCell;
+      *d = sign * Eigen::Vector2d(b[0] - a[0], b[1] - a[1]) / probe_cell_m;
       return true;
     }
     return false;
@@ -241,16 +238,70 @@ std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel&
   const Eigen::Vector2d far_left = g.FloorPointOfCell(Eigen::Vector2d(box.x, box.y));
   const Eigen::Vector2d near_right =
       g.FloorPointOfCell(Eigen::Vector2d(box.x + box.width - 1, box.y + box.height - 1));
+  BevGridOptions centres;
+  centres.cell_m = probe_cell_m;
+  centres.x_min_m = near_right.x();
+  centres.x_max_m = far_left.x();
+  centres.y_min_m = near_right.y();
+  centres.y_max_m = far_left.y();
+  return centres;
+}
+
+// A probe grid of cell_m cells whose far-left corner lies on the lattice of
+// cell_m through the origin (so that one camera gets the same cells however
+// the probe's region is chosen), covering [x_min, x_max] x [y_min, y_max].
+BevGridOptions ProbeGrid(double x_min, double x_max, double y_min, double y_max, double cell_m) {
+  const auto on_lattice = [&](double v) { return cell_m * std::ceil(v / cell_m - 1e-9); };
+  BevGridOptions grid;
+  grid.cell_m = cell_m;
+  grid.x_max_m = on_lattice(x_max);
+  grid.y_max_m = on_lattice(y_max);
+  grid.x_min_m = grid.x_max_m - cell_m * std::ceil((grid.x_max_m - x_min) / cell_m - 1e-9);
+  grid.y_min_m = grid.y_max_m - cell_m * std::ceil((grid.y_max_m - y_min) / cell_m - 1e-9);
+  return grid;
+}
+
+}  // namespace
+
+std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel& camera,
+                                                 const calibration::CameraMount& mount,
+                                                 double cell_m, double max_range_m,
+                                                 double max_cells_per_pixel) {
+  // Two probes: the square at up to 600 cells a side (2 cm cells up to 6 m),
+  // then, where that was coarser, 2 cm cells over what it found plus three of
+  // its cells around (at most 1500 cells a side). The coarse probe's
+  // resolution test differences over its own cells, inwards at the corners:
+  // with one cell around, the simulator's camera lost 4 cm of its far corners.
+  constexpr double kProbeCell = 0.02;
+  const double max_floor_per_px = max_cells_per_pixel * cell_m;
+  const double square_cell = std::max(kProbeCell, 2.0 * max_range_m / 600.0);
+  const BevGridOptions square =
+      ProbeGrid(mount.forward_m - max_range_m, mount.forward_m + max_range_m,
+                mount.lateral_m - max_range_m, mount.lateral_m + max_range_m, square_cell);
+  std::optional<BevGridOptions> found =
+      ResolvedCellCentres(camera, mount, square, max_floor_per_px);
+  if (found && square_cell > kProbeCell) {
+    const double fine_cell = std::max(
+        kProbeCell,
+        std::max(found->x_max_m - found->x_min_m, found->y_max_m - found->y_min_m) / 1500.0);
+    const BevGridOptions fine =
+        ProbeGrid(std::max(found->x_min_m - 3.0 * square_cell, square.x_min_m),
+                  std::min(found->x_max_m + 3.0 * square_cell, square.x_max_m),
+                  std::max(found->y_min_m - 3.0 * square_cell, square.y_min_m),
+                  std::min(found->y_max_m + 3.0 * square_cell, square.y_max_m), fine_cell);
+    found = ResolvedCellCentres(camera, mount, fine, max_floor_per_px);
+  }
+  if (!found) return std::nullopt;
   // One probe cell, plus 10 cells of floor beyond the seen edge: the ridge
   // filter (sigma 3.5 cells) then sees the fill of unseen cells, not the
   // image border's reflection, within 3 sigma of a marking at the edge.
-  const double margin_m = g.cell_m() + 10.0 * cell_m;
+  const double margin_m = found->cell_m + 10.0 * cell_m;
   BevGridOptions grid;
   grid.cell_m = cell_m;
-  grid.x_max_m = std::min(far_left.x() + margin_m, g.options().x_max_m);
-  grid.y_max_m = std::min(far_left.y() + margin_m, g.options().y_max_m);
-  grid.x_min_m = std::max(near_right.x() - margin_m, g.options().x_min_m);
-  grid.y_min_m = std::max(near_right.y() - margin_m, g.options().y_min_m);
+  grid.x_max_m = std::min(found->x_max_m + margin_m, square.x_max_m);
+  grid.y_max_m = std::min(found->y_max_m + margin_m, square.y_max_m);
+  grid.x_min_m = std::max(found->x_min_m - margin_m, square.x_min_m);
+  grid.y_min_m = std::max(found->y_min_m - margin_m, square.y_min_m);
   return grid;
 }
 
@@ -289,11 +340,13 @@ core::Result<BevGridOptions> ResolveBevGrid(const calibration::CameraModel& came
     const std::optional<BevGridOptions> footprint = FloorFootprintGrid(
         camera, mount, extent.cell_m, extent.max_range_m, extent.max_cells_per_pixel);
     if (!footprint) {
-      return core::Status::Error(
-          "BEV extent: the camera sees no floor within " + std::to_string(extent.max_range_m) +
-          " m of its foot point at one pixel per " + std::to_string(extent.max_cells_per_pixel) +
-          " cells or finer (check the mount's height and pitch, choose a coarser cell, or give "
-          "both ranges, x and y, explicitly)");
+      std::ostringstream out;
+      out << "BEV extent: the camera sees no floor within " << extent.max_range_m
+          << " m of its foot point at one pixel per " << extent.max_cells_per_pixel << " cells of "
+          << extent.cell_m
+          << " m or finer (check the mount's height and pitch, choose a coarser cell, or give "
+             "both ranges, x and y, explicitly)";
+      return core::Status::Error(out.str());
     }
     grid = *footprint;
   }

@@ -413,9 +413,33 @@ TEST(FloorFootprintGridTest, HoldsWhatTheCameraSeesAndLittleElse) {
   ASSERT_TRUE(reference.has_value() && reference_all.has_value());
   EXPECT_NEAR(reference->x_min_m, 0.7 - 0.12, 0.1);
   EXPECT_NEAR(reference->x_max_m, 2.3 + 0.12, 0.1);
-  EXPECT_EQ(reference->x_max_m, reference_all->x_max_m);
-  EXPECT_EQ(reference->y_max_m, reference_all->y_max_m);
-  EXPECT_EQ(reference->y_min_m, reference_all->y_min_m);
+  EXPECT_NEAR(reference->x_max_m, reference_all->x_max_m, 1e-9);
+  // The default 30 m square, probed coarsely first, finds the same grid as a
+  // 2 cm probe of 6 m.
+  const std::optional<BevGridOptions> reference_6m =
+      FloorFootprintGrid(ReferenceCamera(), CameraMount{}, 0.01, 6.0);
+  ASSERT_TRUE(reference_6m.has_value());
+  EXPECT_NEAR(reference->x_min_m, reference_6m->x_min_m, 1e-9);
+  EXPECT_NEAR(reference->x_max_m, reference_6m->x_max_m, 1e-9);
+  EXPECT_NEAR(reference->y_min_m, reference_6m->y_min_m, 1e-9);
+  EXPECT_NEAR(reference->y_max_m, reference_6m->y_max_m, 1e-9);
+  // A car's camera, 1.6 m high and level (KITTI's): the road from about 6 m
+  // ahead, resolved at 3 cm cells (9 cm per pixel) to about 10 m.
+  CameraMount car;
+  car.height_m = 1.6;
+  car.pitch_rad = 0.0;
+  const core::Result<CameraModel> kitti =
+      CameraModel::Create("LENSMODEL_PINHOLE", {721.5, 721.5, 609.6, 172.9}, 1242, 375);
+  ASSERT_TRUE(kitti.ok());
+  const std::optional<BevGridOptions> road = FloorFootprintGrid(*kitti, car, 0.03);
+  ASSERT_TRUE(road.has_value());
+  EXPECT_NEAR(road->x_min_m, 0.42 + 5.7 - 0.32, 0.3);
+  EXPECT_NEAR(road->x_max_m, 0.42 + 10.3 + 0.32, 0.6);
+  // At 1 cm cells (3 cm per pixel): hardly any of it.
+  const std::optional<BevGridOptions> road_1cm = FloorFootprintGrid(*kitti, car, 0.01);
+  EXPECT_TRUE(!road_1cm.has_value() || road_1cm->x_max_m < road->x_max_m - 3.0);
+  EXPECT_NEAR(reference->y_max_m, reference_all->y_max_m, 1e-9);
+  EXPECT_NEAR(reference->y_min_m, reference_all->y_min_m, 1e-9);
   // A low camera looking towards the horizon sees floor to the probe's edge,
   // but resolves it (a pixel <= 3 cells) only over the first metre or so.
   CameraMount low;

@@ -191,17 +191,19 @@ Eigen::Matrix3d PinholeImageFromCell(const BevGrid& grid, const calibration::Cam
 
 // The grid (cell_m cells) over the floor the camera actually sees: the
 // bounding box, plus one probe cell and 10 cells (room for the ridge filter at
-// the edge), of the valid cells of a coarse 2 cm probe over
-// the square +-max_range_m around the camera's foot point (mount forward_m,
-// lateral_m), clipped to that square, where the camera resolves the floor: one
-// pixel covers at most max_cells_per_pixel cells (the larger axis of its
-// floor footprint). The reference camera resolves all it sees (9 mm per pixel
-// along the floor 2.2 m ahead); a low camera looking towards the horizon (a
-// Duckiebot's, 0.1 m high) sees the floor to the horizon, but a BEV beyond
-// the first metre would be smeared pixels. Nothing resolved: nullopt.
+// the edge), of the centres of the 2 cm probe cells it sees within the square
+// +-max_range_m around its foot point (mount forward_m, lateral_m), clipped to
+// that square, where it resolves the floor: one pixel covers at most
+// max_cells_per_pixel cells (the larger axis of its floor footprint). The
+// square is first probed at up to 600 cells a side, then what that found at
+// 2 cm. The reference camera resolves all it sees (9 mm per pixel along the
+// floor 2.2 m ahead); a low camera looking towards the horizon (a Duckiebot's,
+// 0.1 m high) sees floor to the horizon but resolves it over the first metre
+// only; a car's camera 1.6 m high sees the road from 6 m on, resolved at 3 cm
+// cells to about 10 m. Nothing resolved: nullopt.
 std::optional<BevGridOptions> FloorFootprintGrid(const calibration::CameraModel& camera,
                                                  const calibration::CameraMount& mount,
-                                                 double cell_m = 0.01, double max_range_m = 6.0,
+                                                 double cell_m = 0.01, double max_range_m = 30.0,
                                                  double max_cells_per_pixel = 3.0);
 
 // The BEV's extent as a user states it (groundline extract's --bev-x, --bev-y
@@ -214,7 +216,7 @@ struct BevExtent {
   std::optional<std::array<double, 2>> y_m;  // [right, left] along base_link y, metres
   double cell_m = 0.01;
   // The footprint (FloorFootprintGrid): its probe's range and resolution.
-  double max_range_m = 6.0;
+  double max_range_m = 30.0;
   double max_cells_per_pixel = 3.0;
 
   // Names the field: ranges finite with min < max, cell_m in (0, 1],
