@@ -25,6 +25,7 @@
 #include "groundline/core/statistics.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/io/frame_source.h"
+#include "groundline/perception/nuisance_truth.h"
 #include "png_file.h"
 #include "progress.h"
 
@@ -120,6 +121,8 @@ struct Input {
   std::vector<double> stamps_s;  // with a dataset
   core::Trajectory ground_truth;
   std::optional<core::FloorMap> floor_map;
+  // A simulated dataset's nuisance truth (nuisance_truth.json), when present.
+  std::optional<perception::NuisanceTruth> nuisance_truth;
   std::shared_ptr<const calibration::BevUncertaintyMap> bev_uncertainty;  // null: none
 };
 
@@ -158,6 +161,11 @@ core::Result<Input> LoadInput(const ExtractFlags& flags) {
     }
     input.ground_truth = std::move(dataset->ground_truth);
     input.floor_map = std::move(dataset->floor_map);
+    if (const fs::path truth = dir / "nuisance_truth.json"; fs::exists(truth)) {
+      core::Result<perception::NuisanceTruth> nuisances = perception::ReadNuisanceTruth(truth);
+      if (!nuisances.ok()) return nuisances.status();
+      input.nuisance_truth = std::move(nuisances).value();
+    }
   } else {
     input.images = ListImages(flags.input);
     if (input.images.empty()) return core::Status::Error(flags.input + ": no images found");
@@ -348,7 +356,11 @@ int RunExtract(const ExtractFlags& flags) {
         }
         const perception::LineMatches matches =
             perception::MatchLines(estimates, truths, {}, polarities);
-        evaluation.AddFrame(extraction.lines, truths, matches);
+        std::optional<std::vector<perception::NuisanceLine>> nuisances;
+        if (input->nuisance_truth) {
+          nuisances = input->nuisance_truth->InView(*pose, path.filename().string());
+        }
+        evaluation.AddFrame(extraction.lines, truths, matches, nuisances ? &*nuisances : nullptr);
         for (size_t j = 0; j < truths.size(); ++j) {
           if (truths[j].evaluated && matches.extracted_of_truth[j] < 0) {
             missed.push_back(truths[j].marking_id);
@@ -422,6 +434,7 @@ int RunExtract(const ExtractFlags& flags) {
     }
     summary["by_marking_kind"] = by_truth;
     summary["by_line_kind"] = by_extracted;
+    if (input->nuisance_truth) summary["by_nuisance"] = NuisanceSummaryToJson(evaluation);
   }
   if (ms.empty()) {
     std::fprintf(stderr, "groundline extract: no image readable; nothing written to %s\n",
@@ -446,6 +459,7 @@ int RunExtract(const ExtractFlags& flags) {
         "  NEES in 95%% band %.3f\n",
         o.Tpr(), o.FpShare(), 1e3 * o.MedianAbsRhoErrorM(),
         o.MedianAbsAlphaErrorRad() * 180.0 / M_PI, o.NeesInsideBandShare());
+    if (input->nuisance_truth) PrintNuisanceTable(evaluation);
   }
   return 0;
 }

@@ -3,7 +3,9 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "groundline/core/angles.h"
 #include "groundline/core/statistics.h"
@@ -107,6 +109,27 @@ nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& s)
   out["nees_inside_95_band_share"] = FiniteOrNull(s.NeesInsideBandShare());
   out["nees_median"] = FiniteOrNull(core::Median(s.nees));
   return out;
+}
+
+nlohmann::ordered_json NuisanceSummaryToJson(const perception::LineEvaluation& evaluation) {
+  nlohmann::ordered_json out;
+  for (const auto& [cls, s] : evaluation.by_nuisance()) {
+    out[cls] = {{"false_lines", s.false_detections},
+                {"false_share", FiniteOrNull(s.FpShare())},
+                {"truths_touched", s.evaluated_truths},
+                {"tpr_touched", FiniteOrNull(s.Tpr())}};
+  }
+  return out;
+}
+
+void PrintNuisanceTable(const perception::LineEvaluation& evaluation) {
+  std::printf("  %-22s %11s %11s %15s %11s\n", "nuisance class", "false lines", "false share",
+              "truths touched", "tpr there");
+  for (const auto& [cls, s] : evaluation.by_nuisance()) {
+    std::printf("  %-22s %11d %11.4f %15d %11s\n", cls.c_str(), s.false_detections,
+                s.detections > 0 ? s.FpShare() : 0.0, s.evaluated_truths,
+                s.evaluated_truths > 0 ? std::to_string(s.Tpr()).substr(0, 6).c_str() : "-");
+  }
 }
 
 cv::Mat DrawOverlay(const cv::Mat& bev, const perception::BevGrid& grid,

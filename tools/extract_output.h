@@ -40,6 +40,13 @@ nlohmann::ordered_json MountToJson(const calibration::CameraMount& mount,
 // The summary's rate fields of one breakdown.
 nlohmann::ordered_json ErrorSummaryToJson(const perception::LineErrorSummary& summary);
 
+// Per nuisance class (LineEvaluation::by_nuisance): {class: {false_lines,
+// false_share (of every detection of the frames), truths_touched,
+// tpr_touched}}; "none" holds the false lines along no nuisance.
+nlohmann::ordered_json NuisanceSummaryToJson(const perception::LineEvaluation& evaluation);
+// The same as a table on stdout.
+void PrintNuisanceTable(const perception::LineEvaluation& evaluation);
+
 // The overlay's colours (BGR), explained in its legend and docs/perception.md.
 inline const cv::Scalar kBrightColour(0, 220, 0);        // green
 inline const cv::Scalar kDarkColour(255, 0, 255);        // magenta

@@ -30,6 +30,7 @@ struct SimFlags {
   bool closed_loop = false;
   bool no_lidar = false;
   bool no_camera = false;
+  bool randomize_nuisances = false;
   double camera_rate_hz = 10.0;
   int threads = 2;
   // Which flags were given (they override the scenario file).
@@ -69,7 +70,16 @@ wear, scuffs, oil, glare, illumination gradients, motion blur and sensor noise,
 at --camera-rate (default 10 Hz; the sensor runs at 60 fps), with the intrinsics
 (OUT/calibration/camera.yaml, OpenCV) and extrinsics (calibration/extrinsics.yaml).
 Rendering costs a few frames per second per thread: --no-camera for quick runs.
-Also writes OUT/layout.png: the zone with the route in red.
+Also writes OUT/layout.png: the zone with the route in red, and
+OUT/nuisance_truth.json: the nuisances' parameters and the straight ones'
+geometry (shadow edges, glare rows, tire marks, patch seams), simulator truth
+that `groundline extract` uses to count false lines per nuisance class.
+
+--randomize-nuisances draws every photometric nuisance per scene from wide
+ranges (texture contrast, lux, gradient, shadows cast by racks, pallets and
+the vehicle, glare size and count and strip rows, tire marks along the lanes,
+patched concrete, wet areas, blur, noise), seeded by --seed: the randomized
+evaluation set of docs/perception.md.
 
 A scenario file (--scenario) sets everything else: the zone's layout, route
 speeds, sensor rates and noise, each photometric nuisance on/off with its
@@ -87,6 +97,7 @@ Examples:
   groundline sim --scenario samples/scenarios/zone_b_payload_knock.yaml --out b_knock
   groundline sim --scenario samples/scenarios/zone_d_shadows.yaml --seed 3 --out d_seed3
   groundline sim --zone D --length 300m --no-lidar --camera-rate 2 --out quick_d
+  groundline sim --zone B --length 200m --no-lidar --randomize-nuisances --seed 11 --out b_rand11
   groundline sim --zone A --length 600m --no-camera --out zone_a_no_camera)";
 
 // "1200", "1200m", "1.2km" -> metres.
@@ -140,6 +151,7 @@ std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenari
   if (flags.closed_loop) options.route.closed_loop = true;
   if (flags.no_lidar) options.with_lidar = false;
   if (flags.no_camera) options.with_camera = false;
+  if (flags.randomize_nuisances) options.randomize_nuisances = true;
   if (!from_file || flags.Given("--camera-rate")) options.camera_rate_hz = flags.camera_rate_hz;
   return std::nullopt;
 }
@@ -157,6 +169,10 @@ int WriteRun(const std::filesystem::path& out, const std::filesystem::path& show
     return 1;
   }
   progress.Update("writing", 0.0);
+  if (core::Status s = sim::WriteNuisanceTruth(out, run); !s.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
+    return 1;
+  }
   if (core::Status s = core::WriteDataset(out, run.dataset); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
@@ -273,6 +289,8 @@ CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_flag("--no-lidar", flags->no_lidar, "Skip the LiDAR stream (faster, smaller)");
   cmd->add_flag("--no-camera", flags->no_camera,
                 "Skip the floor camera (no images; much faster, much smaller)");
+  cmd->add_flag("--randomize-nuisances", flags->randomize_nuisances,
+                "Draw every photometric nuisance per scene from wide ranges (seeded by --seed)");
   flags->given.push_back(
       cmd->add_option("--camera-rate", flags->camera_rate_hz,
                       "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")

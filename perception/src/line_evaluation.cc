@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
+#include "groundline/core/segment_distance.h"
 #include "groundline/core/statistics.h"
 
 namespace groundline::perception {
@@ -19,7 +21,9 @@ double Ratio(int a, int b) {
 double LineErrorSummary::Tpr() const { return Ratio(detected_truths, evaluated_truths); }
 double LineErrorSummary::FpShare() const { return Ratio(false_detections, detections); }
 double LineErrorSummary::MedianAbsRhoErrorM() const { return core::Median(abs_rho_error_m); }
-double LineErrorSummary::MedianAbsAlphaErrorRad() const { return core::Median(abs_alpha_error_rad); }
+double LineErrorSummary::MedianAbsAlphaErrorRad() const {
+  return core::Median(abs_alpha_error_rad);
+}
 double LineErrorSummary::NeesInsideBandShare() const {
   const auto inside = std::count_if(nees.begin(), nees.end(), [](double e) {
     return e >= kChiSquare2Lower95 && e <= kChiSquare2Upper95;
@@ -27,10 +31,82 @@ double LineErrorSummary::NeesInsideBandShare() const {
   return Ratio(static_cast<int>(inside), static_cast<int>(nees.size()));
 }
 
+std::string NuisanceAlong(const ExtractedLine& line, std::span<const NuisanceLine> nuisances,
+                          const NuisanceGates& gates) {
+  const Eigen::Vector2d d = line.end_m - line.start_m;
+  const double length = d.norm();
+  if (length <= 0.0) return {};
+  const Eigen::Vector2d u = d / length;
+  std::string best;
+  double best_offset = gates.max_offset_m;
+  for (const NuisanceLine& n : nuisances) {
+    const Eigen::Vector2d e = n.b_m - n.a_m;
+    const double n_length = e.norm();
+    if (n_length <= 0.0) continue;
+    const Eigen::Vector2d v = e / n_length;
+    if (std::abs(u.x() * v.y() - u.y() * v.x()) > std::sin(gates.max_angle_rad)) continue;
+    const auto offset = [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector2d w = p - n.a_m;
+      return std::abs(v.x() * w.y() - v.y() * w.x());
+    };
+    const double mean_offset = 0.5 * (offset(line.start_m) + offset(line.end_m));
+    if (std::max(offset(line.start_m), offset(line.end_m)) > gates.max_offset_m ||
+        mean_offset > best_offset) {
+      continue;
+    }
+    // Overlap of the two extents along the nuisance.
+    const double s0 = (line.start_m - n.a_m).dot(v), s1 = (line.end_m - n.a_m).dot(v);
+    const double overlap = std::min(std::max(s0, s1), n_length) - std::max(std::min(s0, s1), 0.0);
+    if (overlap < gates.min_overlap_m) continue;
+    best = n.cls;
+    best_offset = mean_offset;
+  }
+  return best;
+}
+
+namespace {
+
+// The smallest distance between segments a0-a1 and b0-b1 (0 when they cross).
+double SegmentSegmentDistance(const Eigen::Vector2d& a0, const Eigen::Vector2d& a1,
+                              const Eigen::Vector2d& b0, const Eigen::Vector2d& b1) {
+  const auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return p.x() * q.y() - p.y() * q.x();
+  };
+  const double d1 = cross(a1 - a0, b0 - a0), d2 = cross(a1 - a0, b1 - a0);
+  const double d3 = cross(b1 - b0, a0 - b0), d4 = cross(b1 - b0, a1 - b0);
+  if (((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0))) return 0.0;
+  return std::min({core::DistanceToSegment(a0, b0, b1), core::DistanceToSegment(a1, b0, b1),
+                   core::DistanceToSegment(b0, a0, a1), core::DistanceToSegment(b1, a0, a1)});
+}
+
+}  // namespace
+
 void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
-                              std::span<const TrueLine> truths, const LineMatches& matches) {
+                              std::span<const TrueLine> truths, const LineMatches& matches,
+                              const std::vector<NuisanceLine>* nuisances) {
+  const NuisanceGates gates;
+  if (nuisances) {
+    nuisance_frame_detections_ += static_cast<int>(extracted.size());
+    by_nuisance_["none"];  // present whenever nuisances are known
+    for (auto& [cls, s] : by_nuisance_) s.detections = nuisance_frame_detections_;
+  }
   for (size_t j = 0; j < truths.size(); ++j) {
     if (!truths[j].evaluated) continue;
+    // The nuisance classes that touch this true line.
+    std::set<std::string> touching;
+    for (const NuisanceLine& n : nuisances ? *nuisances : std::vector<NuisanceLine>{}) {
+      if (SegmentSegmentDistance(truths[j].start_m, truths[j].end_m, n.a_m, n.b_m) <=
+          gates.touch_m) {
+        touching.insert(n.cls);
+      }
+    }
+    const bool touched_detected = matches.extracted_of_truth[j] >= 0;
+    for (const std::string& cls : touching) {
+      LineErrorSummary& s = by_nuisance_[cls];
+      s.detections = nuisance_frame_detections_;
+      ++s.evaluated_truths;
+      if (touched_detected) ++s.detected_truths;
+    }
     std::string key(core::MarkingKindName(truths[j].kind));
     if (truths[j].edge != 0) key += "_edge";
     LineErrorSummary& kind = by_truth_kind_[key];
@@ -55,6 +131,12 @@ void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
     for (LineErrorSummary* s : {&overall_, &kind}) {
       ++s->detections;
       if (false_detection) ++s->false_detections;
+    }
+    if (nuisances && false_detection) {
+      const std::string cls = NuisanceAlong(extracted[i], *nuisances, gates);
+      LineErrorSummary& s = by_nuisance_[cls.empty() ? "none" : cls];
+      s.detections = nuisance_frame_detections_;
+      ++s.false_detections;
     }
   }
 }

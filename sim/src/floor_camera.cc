@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "floor_camera_internal.h"
+#include "groundline/sim/floor_nuisances.h"
 #include "options_check.h"
 
 namespace groundline::sim {
@@ -32,6 +34,26 @@ core::Status FloorRenderOptions::Validate() const {
       CheckRange(o, "glare_sigma_m", glare_sigma_m, 0.005, 2.0),
       CheckRange(o, "luminaire_spacing_x_m", luminaire_spacing_x_m, 0.5, 100.0),
       CheckRange(o, "luminaire_spacing_y_m", luminaire_spacing_y_m, 0.5, 100.0),
+      CheckRange(o, "glare_row_pitch_m", glare_row_pitch_m, 0.0, 10.0),
+      // A row stays within its luminaire's cell and the two beside it.
+      CheckRange(o, "glare_row_length_m", glare_row_length_m, 0.0,
+                 glare_row_pitch_m > 0.0 ? luminaire_spacing_x_m : 1e6),
+      CheckRange(o, "cast_shadow_factor", cast_shadow_factor, 0.0, 1.0),
+      CheckRange(o, "cast_shadow_cover", cast_shadow_cover, 0.0, 1.0),
+      CheckRange(o, "shadow_penumbra_m", shadow_penumbra_m, 1e-4, 0.5),
+      CheckRange(o, "vehicle_shadow_factor", vehicle_shadow_factor, 0.0, 1.0),
+      CheckRange(o, "luminaire_height_m", luminaire_height_m, 0.5, 100.0),
+      CheckRange(o, "vehicle_front_m", vehicle_front_m, vehicle_back_m, 20.0),
+      CheckRange(o, "vehicle_back_m", vehicle_back_m, -20.0, vehicle_front_m),
+      CheckRange(o, "vehicle_half_width_m", vehicle_half_width_m, 0.0, 10.0),
+      CheckRange(o, "vehicle_height_m", vehicle_height_m, 0.0, luminaire_height_m),
+      CheckRange(o, "tire_mark_darkness", tire_mark_darkness, 0.0, 1.0),
+      CheckRange(o, "tire_mark_density", tire_mark_density, 0.0, 20.0),
+      CheckRange(o, "patch_contrast", patch_contrast, 0.0, 0.9),
+      CheckRange(o, "patch_cover", patch_cover, 0.0, 1.0),
+      CheckRange(o, "wet_darkness", wet_darkness, 0.0, 1.0),
+      CheckRange(o, "wet_glare_gain", wet_glare_gain, 0.0, 20.0),
+      CheckRange(o, "wet_cover", wet_cover, 0.0, 1.0),
       CheckRange(o, "exposure_s", exposure_s, 0.0, 0.1),
       CheckRange(o, "read_noise_dn", read_noise_dn, 0.0, 50.0),
       CheckRange(o, "electrons_per_dn", electrons_per_dn, 0.1, 1e6),
@@ -43,6 +65,7 @@ FloorRenderOptions FloorRenderOptions::Ideal() {
   o.texture = o.wear = o.scuffs = o.oil = false;
   o.illumination_gradient = o.shadows = o.glare = o.motion_blur = o.noise = false;
   o.occlusion = false;
+  o.cast_shadows = o.vehicle_shadow = o.tire_marks = o.patches = o.wet = false;
   return o;
 }
 
@@ -253,6 +276,7 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
   const int S = o.supersampling;
   const auto& strokes = im.grid.strokes();
   const CoarseGrid coarse = EvaluateCoarse(t, im.fields, R, tr);
+  const std::optional<std::vector<Vector2>> vehicle_shadow = VehicleShadowPolygon(o, T_map_base);
 
   std::vector<float> dn(static_cast<std::size_t>(w) * h, static_cast<float>(o.wall_dn));
   std::vector<int> cand;
@@ -311,7 +335,12 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
             }
             refl = sum / (S * S);
           }
-          dn[i] = static_cast<float>(gain * refl * im.fields.Light(cf) + cf.glare);
+          float light = im.fields.Light(p, cf);
+          if (vehicle_shadow) {
+            light *= internal::VehicleShadowLight(*vehicle_shadow, Vector2(t.x_m[i], t.y_m[i]),
+                                                  o.vehicle_shadow_factor, o.shadow_penumbra_m);
+          }
+          dn[i] = static_cast<float>(gain * refl * light + im.fields.GlareAt(cf));
         }
       }
     }

@@ -3,6 +3,8 @@
 #ifndef GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
 #define GROUNDLINE_SIM_SRC_FLOOR_CAMERA_INTERNAL_H_
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -107,7 +109,8 @@ struct CoarseFields {
   float gradient = 0.5f;    // illumination gradient field
   float shadow = 0.0f;      // shadow field before its threshold
   float glare = 0.0f;       // DN
-  static constexpr int kCount = 6;
+  float wet = 0.0f;         // wet field before its threshold
+  static constexpr int kCount = 7;
 };
 
 // Tire scuffs: curved dark streaks of random orientation (floor_camera.h).
@@ -147,21 +150,101 @@ class ScuffField {
   std::vector<std::vector<std::uint32_t>> cell_entries_;
 };
 
+// An oriented rectangle of the straight nuisances: centre, unit direction of
+// its length, half sizes, and two per-rectangle values (their meaning depends
+// on the field: a shadow's or patch's factor, a tire mark's strength and seed).
+struct TileRect {
+  Vector2 centre_m = Vector2::Zero();
+  Vector2 dir = Vector2::UnitX();
+  double half_length_m = 0.0;
+  double half_width_m = 0.0;
+  float value = 0.0f;
+  float value2 = 0.0f;
+};
+
+// Oriented rectangles on a periodic tile of kPeriodM (as ScuffField), indexed
+// by kCellM cells; a query at p visits every rectangle copy that may lie within
+// margin_m of p.
+class RectTile {
+ public:
+  RectTile() = default;
+  RectTile(std::vector<TileRect> rects, double margin_m);
+  bool empty() const { return rects_.empty(); }
+  const std::vector<TileRect>& rects() const { return rects_; }
+  // fn(rect, along, across): p in the frame of the rectangle copy (metres from
+  // its centre along dir and to its left).
+  template <typename Fn>
+  void ForEachNear(const Vector2& p_m, Fn&& fn) const {
+    if (rects_.empty()) return;
+    const Vector2 wrapped(p_m.x() - kPeriodM * std::floor(p_m.x() / kPeriodM),
+                          p_m.y() - kPeriodM * std::floor(p_m.y() / kPeriodM));
+    const int cx = std::clamp(static_cast<int>(wrapped.x() / kCellM), 0, kCells - 1);
+    const int cy = std::clamp(static_cast<int>(wrapped.y() / kCellM), 0, kCells - 1);
+    for (const std::uint32_t entry : cells_[static_cast<std::size_t>(cy) * kCells + cx]) {
+      const int shift = static_cast<int>(entry % 9);
+      const TileRect& r = rects_[entry / 9];
+      const Vector2 d = wrapped + kPeriodM * Vector2(shift % 3 - 1, shift / 3 - 1) - r.centre_m;
+      fn(r, d.dot(r.dir), r.dir.x() * d.y() - r.dir.y() * d.x());
+    }
+  }
+
+  static constexpr double kPeriodM = 64.0;
+  static constexpr double kCellM = 0.5;
+  static constexpr int kCells = 128;
+
+ private:
+  std::vector<TileRect> rects_;
+  std::vector<std::vector<std::uint32_t>> cells_;  // entries rect * 9 + shift
+};
+
+// The rectangles of each straight nuisance for these options (empty when off).
+RectTile MakeCastShadows(const FloorRenderOptions& o, std::uint32_t seed);
+RectTile MakeTireMarks(const FloorRenderOptions& o, std::uint32_t seed);
+RectTile MakePatches(const FloorRenderOptions& o, std::uint32_t seed);
+
+// The luminaire of grid cell (ix, iy): its position on the floor plane.
+Vector2 LuminaireAt(const FloorRenderOptions& o, std::uint32_t seed, std::int64_t ix,
+                    std::int64_t iy);
+
+// 1 inside, 0 outside, with a smoothstep over `penumbra_m` centred on the
+// boundary, for a signed distance (negative inside).
+inline float SoftInside(double signed_distance_m, double penumbra_m) {
+  const double t = std::clamp(0.5 - signed_distance_m / penumbra_m, 0.0, 1.0);
+  return static_cast<float>(t * t * (3.0 - 2.0 * t));
+}
+
+// Signed distance from (along, across) to a centred rectangle of these half sizes.
+inline double RectSignedDistance(double along, double across, double half_length,
+                                 double half_width) {
+  const double ex = std::abs(along) - half_length, ey = std::abs(across) - half_width;
+  if (ex <= 0.0 || ey <= 0.0) return std::max(ex, ey);
+  return std::hypot(ex, ey);
+}
+
+// Light multiplier (<= 1) of the vehicle's shadow (a convex polygon in
+// base_link, counter-clockwise) at the base_link point q.
+float VehicleShadowLight(const std::vector<Vector2>& polygon, const Vector2& q_m, double factor,
+                         double penumbra_m);
+
 struct FloorFields {
   explicit FloorFields(const FloorRenderOptions& options);
   CoarseFields Coarse(const Vector2& p_m) const;
-  // Concrete reflectance (texture, scuffs, oil) at p.
+  // Concrete reflectance (texture, scuffs, oil, tire marks, patches, wet) at p.
   float Concrete(const Vector2& p_m, const CoarseFields& c) const;
   // True when the tape of a marking with this wear fraction is worn away at p.
   bool Worn(const Vector2& p_m, double wear_fraction) const;
-  // Relative illumination (gradient and shadows), 1 = options.lux.
-  float Light(const CoarseFields& c) const;
+  // Relative illumination (gradient, shadow patches, cast shadows) at p, 1 = options.lux.
+  float Light(const Vector2& p_m, const CoarseFields& c) const;
+  // The glare added at p (DN): the luminaires' spots, stronger on wet floor.
+  float GlareAt(const CoarseFields& c) const;
 
   FloorRenderOptions options;
   std::uint32_t seed;
   std::vector<float> wear_quantiles;  // sorted samples of the wear field
   float shadow_threshold = 1.0f;
+  float wet_threshold = 1.0f;
   ScuffField scuff_field;
+  RectTile cast_shadows, tire_marks, patches;
 
  private:
   float Glare(const Vector2& p_m) const;

@@ -130,7 +130,7 @@ float Fbm(double x, double y, int octaves, std::uint32_t seed) {
 
 namespace {
 constexpr std::uint32_t kTexture = 11, kScuffMask = 14, kOil = 15, kWear = 16, kLight = 17,
-                        kShadow = 18, kGlare = 19;
+                        kShadow = 18, kWet = 20;
 float SmoothStepFloat(float lo, float hi, float x) {
   const float t = std::clamp((x - lo) / (hi - lo), 0.0f, 1.0f);
   return t * t * (3.0f - 2.0f * t);
@@ -140,19 +140,28 @@ float SmoothStepFloat(float lo, float hi, float x) {
 FloorFields::FloorFields(const FloorRenderOptions& o)
     : options(o),
       seed(static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32))),
-      scuff_field(seed, o.scuffs) {
-  // Empirical quantiles make wear_fraction and shadow_cover area fractions.
+      scuff_field(seed, o.scuffs),
+      cast_shadows(MakeCastShadows(o, seed)),
+      tire_marks(MakeTireMarks(o, seed)),
+      patches(MakePatches(o, seed)) {
+  // Empirical quantiles make wear_fraction, shadow_cover and wet_cover area
+  // fractions.
   constexpr int kN = 4096;
-  std::vector<float> shadow;
+  std::vector<float> shadow, wet;
   for (int i = 0; i < kN; ++i) {
     const Vector2 p(37.3 * (i % 64) + 0.123, 41.9 * (i / 64) + 0.456);
     wear_quantiles.push_back(Fbm(p.x() / 0.2, p.y() / 0.2, 2, seed + kWear));
     shadow.push_back(Fbm(p.x() / 3.0, p.y() / 3.0, 2, seed + kShadow));
+    wet.push_back(Fbm(p.x() / 2.5, p.y() / 2.5, 3, seed + kWet));
   }
   std::sort(wear_quantiles.begin(), wear_quantiles.end());
   std::sort(shadow.begin(), shadow.end());
-  const auto k = static_cast<std::size_t>(std::clamp(1.0 - o.shadow_cover, 0.0, 1.0) * (kN - 1));
-  shadow_threshold = shadow[k];
+  std::sort(wet.begin(), wet.end());
+  const auto quantile = [](const std::vector<float>& v, double cover) {
+    return v[static_cast<std::size_t>(std::clamp(1.0 - cover, 0.0, 1.0) * (v.size() - 1))];
+  };
+  shadow_threshold = quantile(shadow, o.shadow_cover);
+  wet_threshold = quantile(wet, o.wet_cover);
 }
 
 CoarseFields FloorFields::Coarse(const Vector2& p) const {
@@ -166,6 +175,7 @@ CoarseFields FloorFields::Coarse(const Vector2& p) const {
   if (options.illumination_gradient)
     c.gradient = ValueNoise(p.x() / 10.0, p.y() / 10.0, seed + kLight);
   if (options.shadows) c.shadow = Fbm(p.x() / 3.0, p.y() / 3.0, 2, seed + kShadow);
+  if (options.wet) c.wet = Fbm(p.x() / 2.5, p.y() / 2.5, 3, seed + kWet);
   c.glare = Glare(p);
   return c;
 }
@@ -185,6 +195,29 @@ float FloorFields::Concrete(const Vector2& p, const CoarseFields& c) const {
   if (options.oil) {
     r *= 1.0f - static_cast<float>(options.oil_darkness) * SmoothStepFloat(0.77f, 0.79f, c.oil);
   }
+  // Tire marks: value = strength, value2 = the seed of its variation along it.
+  float tire = 0.0f;
+  tire_marks.ForEachNear(p, [&](const TileRect& m, double along, double across) {
+    const double t = std::abs(along) / m.half_length_m;
+    const double a = std::abs(across) / m.half_width_m;
+    if (t >= 1.0 || a >= 1.0) return;
+    const float across_w = 1.0f - SmoothStepFloat(0.3f, 1.0f, static_cast<float>(a));
+    const float ends = 1.0f - SmoothStepFloat(0.85f, 1.0f, static_cast<float>(t));
+    const float along_w =
+        0.4f + 0.6f * ValueNoise(along / 0.7, 0.0, static_cast<std::uint32_t>(m.value2));
+    tire = std::max(tire, m.value * across_w * ends * along_w);
+  });
+  r *= 1.0f - static_cast<float>(options.tire_mark_darkness) * tire;
+  // Patches: value = the reflectance factor; sharp seams (1 mm).
+  patches.ForEachNear(p, [&](const TileRect& m, double along, double across) {
+    const float in =
+        SoftInside(RectSignedDistance(along, across, m.half_length_m, m.half_width_m), 0.001);
+    r *= 1.0f + (m.value - 1.0f) * in;
+  });
+  if (options.wet) {
+    r *= 1.0f - static_cast<float>(options.wet_darkness) *
+                    SmoothStepFloat(wet_threshold - 0.01f, wet_threshold + 0.01f, c.wet);
+  }
   return r;
 }
 
@@ -195,7 +228,7 @@ bool FloorFields::Worn(const Vector2& p, double wear_fraction) const {
   return Fbm(p.x() / 0.2, p.y() / 0.2, 2, seed + kWear) < wear_quantiles[k];
 }
 
-float FloorFields::Light(const CoarseFields& c) const {
+float FloorFields::Light(const Vector2& p, const CoarseFields& c) const {
   float l = 1.0f;
   if (options.illumination_gradient) {
     l *= 1.0f + static_cast<float>(options.gradient_fraction) * 2.0f * (c.gradient - 0.5f);
@@ -206,24 +239,49 @@ float FloorFields::Light(const CoarseFields& c) const {
         SmoothStepFloat(shadow_threshold - 0.0005f, shadow_threshold + 0.0005f, c.shadow);
     l *= 1.0f - (1.0f - static_cast<float>(options.shadow_factor)) * in;
   }
+  // Cast shadows from one light: overlapping shadows are no darker than one.
+  float shade = 0.0f;
+  cast_shadows.ForEachNear(p, [&](const TileRect& m, double along, double across) {
+    shade = std::max(shade,
+                     SoftInside(RectSignedDistance(along, across, m.half_length_m, m.half_width_m),
+                                options.shadow_penumbra_m));
+  });
+  l *= 1.0f - (1.0f - static_cast<float>(options.cast_shadow_factor)) * shade;
   return l;
+}
+
+float FloorFields::GlareAt(const CoarseFields& c) const {
+  if (!options.wet) return c.glare;
+  return c.glare *
+         (1.0f + static_cast<float>(options.wet_glare_gain) *
+                     SmoothStepFloat(wet_threshold - 0.01f, wet_threshold + 0.01f, c.wet));
 }
 
 float FloorFields::Glare(const Vector2& p) const {
   if (!options.glare) return 0.0f;
   const double sx = options.luminaire_spacing_x_m, sy = options.luminaire_spacing_y_m;
   const double cx = std::floor(p.x() / sx), cy = std::floor(p.y() / sy);
+  const double inv_s2 = 1.0 / (options.glare_sigma_m * options.glare_sigma_m);
+  const double pitch = options.glare_row_pitch_m;
+  // Spots of a row: k = -n..n at k * pitch from the luminaire along x.
+  const int n = pitch > 0.0 ? static_cast<int>(0.5 * options.glare_row_length_m / pitch) : 0;
   float sum = 0.0f;
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
-      const auto ix = static_cast<std::int64_t>(cx) + dx, iy = static_cast<std::int64_t>(cy) + dy;
-      const std::uint32_t h = HashU32(ix, iy, seed + kGlare);
-      const double jx = 0.2 + 0.6 * (h & 0xffff) / 65535.0;
-      const double jy = 0.2 + 0.6 * (h >> 16) / 65535.0;
-      const double ddx = p.x() - (static_cast<double>(ix) + jx) * sx;
-      const double ddy = p.y() - (static_cast<double>(iy) + jy) * sy;
-      const double r2 = (ddx * ddx + ddy * ddy) / (options.glare_sigma_m * options.glare_sigma_m);
-      if (r2 < 25.0) sum += static_cast<float>(options.glare_peak_dn * std::exp(-0.5 * r2));
+      const Vector2 lum = LuminaireAt(options, seed, static_cast<std::int64_t>(cx) + dx,
+                                      static_cast<std::int64_t>(cy) + dy);
+      const double ddy = p.y() - lum.y();
+      if (ddy * ddy * inv_s2 >= 25.0) continue;
+      // The nearest spots only: beyond 5 sigma a spot adds nothing.
+      const double rel = p.x() - lum.x();
+      const int k_near = n > 0 ? static_cast<int>(std::lround(rel / pitch)) : 0;
+      const int reach =
+          n > 0 ? static_cast<int>(std::ceil(5.0 * options.glare_sigma_m / pitch)) : 0;
+      for (int k = std::max(-n, k_near - reach); k <= std::min(n, k_near + reach); ++k) {
+        const double ddx = rel - k * pitch;
+        const double r2 = (ddx * ddx + ddy * ddy) * inv_s2;
+        if (r2 < 25.0) sum += static_cast<float>(options.glare_peak_dn * std::exp(-0.5 * r2));
+      }
     }
   }
   return sum;

@@ -137,9 +137,10 @@ std::vector<Field> LayoutFields(Zone zone, SimRunOptions* o) {
   return {};
 }
 
-void ReadNuisances(YamlFields& y, const YAML::Node& map, FloorRenderOptions* r) {
+void ReadNuisances(YamlFields& y, const YAML::Node& map, FloorRenderOptions* r, bool* randomized) {
   if (!map || !y.ExpectMap(map, "nuisances")) return;
   const std::vector<std::pair<const char*, std::vector<Field>>> sections = {
+      {"randomized", {{"enabled", randomized}}},
       {"texture", {{"enabled", &r->texture}, {"contrast", &r->texture_contrast}}},
       {"wear", {{"enabled", &r->wear}}},
       {"scuffs", {{"enabled", &r->scuffs}, {"darkness", &r->scuff_darkness}}},
@@ -156,7 +157,30 @@ void ReadNuisances(YamlFields& y, const YAML::Node& map, FloorRenderOptions* r) 
         {"peak_dn", &r->glare_peak_dn},
         {"sigma_m", &r->glare_sigma_m},
         {"luminaire_spacing_x_m", &r->luminaire_spacing_x_m},
-        {"luminaire_spacing_y_m", &r->luminaire_spacing_y_m}}},
+        {"luminaire_spacing_y_m", &r->luminaire_spacing_y_m},
+        {"row_pitch_m", &r->glare_row_pitch_m},
+        {"row_length_m", &r->glare_row_length_m}}},
+      {"cast_shadows",
+       {{"enabled", &r->cast_shadows},
+        {"factor", &r->cast_shadow_factor},
+        {"cover", &r->cast_shadow_cover},
+        {"penumbra_m", &r->shadow_penumbra_m}}},
+      {"vehicle_shadow",
+       {{"enabled", &r->vehicle_shadow},
+        {"factor", &r->vehicle_shadow_factor},
+        {"luminaire_height_m", &r->luminaire_height_m},
+        {"vehicle_height_m", &r->vehicle_height_m}}},
+      {"tire_marks",
+       {{"enabled", &r->tire_marks},
+        {"darkness", &r->tire_mark_darkness},
+        {"density_per_100m2", &r->tire_mark_density}}},
+      {"patches",
+       {{"enabled", &r->patches}, {"contrast", &r->patch_contrast}, {"cover", &r->patch_cover}}},
+      {"wet",
+       {{"enabled", &r->wet},
+        {"darkness", &r->wet_darkness},
+        {"cover", &r->wet_cover},
+        {"glare_gain", &r->wet_glare_gain}}},
       {"motion_blur", {{"enabled", &r->motion_blur}, {"exposure_s", &r->exposure_s}}},
       {"occlusion", {{"enabled", &r->occlusion}}},
       {"noise",
@@ -293,7 +317,7 @@ core::Result<Scenario> LoadScenarioUnguarded(const std::filesystem::path& path) 
                 {"forward_m", &m.forward_m},
                 {"lateral_m", &m.lateral_m}});
   }
-  ReadNuisances(y, root["nuisances"], &o.render);
+  ReadNuisances(y, root["nuisances"], &o.render, &o.randomize_nuisances);
   ReadPerturbations(y, root["perturbations"], &o.mount_perturbations);
   if (!y.ok()) return y.status();
   if (core::Status s = o.Validate(); !s.ok()) return s.WithContext(path.string());

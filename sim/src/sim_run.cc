@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "groundline/sim/floor_nuisances.h"
 #include "groundline/sim/wall_faces.h"
 #include "sim_run_internal.h"
 
@@ -259,6 +260,16 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
     if (!model.ok()) return model.status().WithContext("building the floor camera");
     FloorRenderOptions render = options.render;
     render.seed = StreamSeed(robot_seed, kCameraStream);
+    if (options.randomize_nuisances) {
+      FloorRenderOptions drawn = RandomizedRenderOptions(render.seed);
+      drawn.supersampling = render.supersampling;
+      drawn.max_floor_range_m = render.max_floor_range_m;
+      drawn.wall_dn = render.wall_dn;
+      drawn.concrete_reflectance = render.concrete_reflectance;
+      drawn.tape_reflectance_scale = render.tape_reflectance_scale;
+      drawn.occlusion = render.occlusion;
+      render = drawn;
+    }
     run.camera = SimCamera{std::move(model).value(), options.camera.mount, render};
     const core::Trajectory& truth = run.route.T_map_base;
     core::Result<std::vector<core::CameraExtrinsicsRecord>> mounts =

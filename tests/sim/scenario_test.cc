@@ -51,6 +51,13 @@ camera:
 nuisances:
   shadows: {enabled: true, cover: 0.5}
   noise: {enabled: false}
+  randomized: {enabled: true}
+  glare: {row_pitch_m: 0.3, row_length_m: 2}
+  cast_shadows: {enabled: true, factor: 0.45, penumbra_m: 0.02}
+  vehicle_shadow: {enabled: true, luminaire_height_m: 9}
+  tire_marks: {enabled: true, density_per_100m2: 2.5}
+  patches: {enabled: true, contrast: 0.2}
+  wet: {enabled: true, glare_gain: 1.5}
 perturbations:
   height_loss_mm_per_km: 3
   steps:
@@ -75,6 +82,20 @@ perturbations:
   EXPECT_EQ(o.render.shadow_cover, 0.5);
   EXPECT_FALSE(o.render.noise);
   EXPECT_TRUE(o.render.glare);  // untouched default
+  EXPECT_TRUE(o.randomize_nuisances);
+  EXPECT_EQ(o.render.glare_row_pitch_m, 0.3);
+  EXPECT_EQ(o.render.glare_row_length_m, 2.0);
+  EXPECT_TRUE(o.render.cast_shadows);
+  EXPECT_EQ(o.render.cast_shadow_factor, 0.45);
+  EXPECT_EQ(o.render.shadow_penumbra_m, 0.02);
+  EXPECT_TRUE(o.render.vehicle_shadow);
+  EXPECT_EQ(o.render.luminaire_height_m, 9.0);
+  EXPECT_TRUE(o.render.tire_marks);
+  EXPECT_EQ(o.render.tire_mark_density, 2.5);
+  EXPECT_TRUE(o.render.patches);
+  EXPECT_EQ(o.render.patch_contrast, 0.2);
+  EXPECT_TRUE(o.render.wet);
+  EXPECT_EQ(o.render.wet_glare_gain, 1.5);
   EXPECT_NEAR(o.mount_perturbations.height_loss_m_per_km, 0.003, 1e-15);
   ASSERT_EQ(o.mount_perturbations.steps.size(), 1u);
   EXPECT_EQ(o.mount_perturbations.steps[0].cause, "payload");

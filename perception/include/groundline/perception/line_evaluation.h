@@ -10,8 +10,10 @@
 // line's description and the normalized estimation error squared
 // NEES = r^T C^-1 r (C: the extracted line's covariance), which for a consistent covariance follows
 // chi-square with 2 degrees of freedom: 95 % of values inside [0.0506, 7.378]. Breakdowns: by the
-// true marking's kind (rates, errors, NEES) and by the extracted line's kind (false positives). Not
-// thread-safe (accumulates).
+// true marking's kind (rates, errors, NEES), by the extracted line's kind (false positives) and,
+// given the straight nuisances of the frame (a simulator's truth), by nuisance class: the false
+// lines that lie along a nuisance of the class, and the rates of the true lines that a nuisance of
+// the class crosses or touches. Not thread-safe (accumulates).
 #ifndef GROUNDLINE_PERCEPTION_LINE_EVALUATION_H_
 #define GROUNDLINE_PERCEPTION_LINE_EVALUATION_H_
 
@@ -44,10 +46,38 @@ struct LineErrorSummary {
   double NeesInsideBandShare() const;  // of nees inside [kChiSquare2Lower95, kChiSquare2Upper95]
 };
 
+// A straight thing on the floor that is not a marking (a shadow's edge, a
+// row of glare, a tire mark, a patch's seam) in base_link, from a simulator's
+// nuisance truth: for evaluation only.
+struct NuisanceLine {
+  std::string cls;
+  Eigen::Vector2d a_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d b_m = Eigen::Vector2d::Zero();
+};
+
+struct NuisanceGates {
+  // A line lies along a nuisance when both of its ends are within
+  // max_offset_m of the nuisance's line, the directions differ by at most
+  // max_angle_rad and their extents overlap by min_overlap_m.
+  double max_offset_m = 0.05;
+  double max_angle_rad = 0.0872665;  // 5 deg
+  double min_overlap_m = 0.05;
+  // A nuisance touches a true line when its segment comes within this of the
+  // true line's seen segment.
+  double touch_m = 0.03;
+};
+
+// The class of the nuisance that `line` lies along (the one with the smallest
+// mean offset of the line's ends), or "" when it lies along none.
+std::string NuisanceAlong(const ExtractedLine& line, std::span<const NuisanceLine> nuisances,
+                          const NuisanceGates& gates = {});
+
 class LineEvaluation {
  public:
+  // `nuisances`: the frame's straight nuisances when they are known (null:
+  // unknown; an empty list: none in view).
   void AddFrame(std::span<const ExtractedLine> extracted, std::span<const TrueLine> truths,
-                const LineMatches& matches);
+                const LineMatches& matches, const std::vector<NuisanceLine>* nuisances = nullptr);
 
   const LineErrorSummary& overall() const { return overall_; }
   // Keyed by core::MarkingKindName (truth; "<kind>_edge" for the single
@@ -57,13 +87,20 @@ class LineEvaluation {
   const std::map<std::string, LineErrorSummary>& by_extracted_kind() const {
     return by_extracted_kind_;
   }
+  // Keyed by nuisance class, over the frames whose nuisances are known:
+  // false_detections are the false lines along a nuisance of the class
+  // ("none": along no nuisance), evaluated and detected truths those that a
+  // nuisance of the class touches; detections are every extracted line of
+  // those frames (the denominator of each class's false share).
+  const std::map<std::string, LineErrorSummary>& by_nuisance() const { return by_nuisance_; }
 
  private:
   LineErrorSummary overall_;
   std::map<std::string, LineErrorSummary> by_truth_kind_;
   std::map<std::string, LineErrorSummary> by_extracted_kind_;
+  std::map<std::string, LineErrorSummary> by_nuisance_;
+  int nuisance_frame_detections_ = 0;
 };
-
 
 }  // namespace groundline::perception
 

@@ -127,6 +127,49 @@ struct FloorRenderOptions {
   double glare_sigma_m = 0.12;   // Gaussian radius of a blob
   double luminaire_spacing_x_m = 6.0;
   double luminaire_spacing_y_m = 4.0;
+  // Strip luminaires: with a pitch > 0 each luminaire of the grid is a row of
+  // spots along the map's x axis, glare_row_pitch_m apart over
+  // glare_row_length_m (the reflections of an LED strip line up).
+  double glare_row_pitch_m = 0.0;
+  double glare_row_length_m = 3.0;
+
+  // The straight nuisances (floor_nuisances.h lists their geometry); all off
+  // by default. Cast shadows: straight-edged shadows of racks and pallets,
+  // fixed on the floor (rectangles 0.8-10 m long, 0.3-1.5 m wide, 70 % along a
+  // map axis), light multiplied by cast_shadow_factor inside, a soft edge of
+  // shadow_penumbra_m.
+  bool cast_shadows = false;
+  double cast_shadow_factor = 0.5;
+  double cast_shadow_cover = 0.15;  // fraction of the floor (expected)
+  double shadow_penumbra_m = 0.01;
+  // The vehicle's own shadow: its top face (a box around base_link) projected
+  // onto the floor from the nearest luminaire of the grid, luminaire_height_m
+  // high; light multiplied by vehicle_shadow_factor inside. It moves with the
+  // vehicle and changes shape as the luminaire passes.
+  bool vehicle_shadow = false;
+  double vehicle_shadow_factor = 0.6;
+  double luminaire_height_m = 8.0;
+  double vehicle_front_m = 0.85, vehicle_back_m = -0.85, vehicle_half_width_m = 0.46;
+  double vehicle_height_m = 1.2;
+  // Tire marks: dark streaks along the lanes (85 % within 2 deg of a map
+  // axis), in pairs 0.5-0.7 m apart, 3-20 m long, 4-10 cm wide with soft
+  // edges, their strength varying along them; tire_mark_density pairs per
+  // 100 m^2, darkening up to tire_mark_darkness.
+  bool tire_marks = false;
+  double tire_mark_darkness = 0.15;
+  double tire_mark_density = 1.0;
+  // Patches of repaired concrete: rectangles 0.5-3 m a side (80 % along the
+  // map axes) whose reflectance differs by a factor 1 +- (0.3-1) x
+  // patch_contrast, with sharp straight seams; patch_cover of the floor.
+  bool patches = false;
+  double patch_contrast = 0.15;
+  double patch_cover = 0.08;
+  // Wet areas: smooth-edged blobs (~2-4 m) darker by wet_darkness, where the
+  // glare is (1 + wet_glare_gain) times stronger; wet_cover of the floor.
+  bool wet = false;
+  double wet_darkness = 0.3;
+  double wet_glare_gain = 1.0;
+  double wet_cover = 0.1;
 
   bool motion_blur = true;
   double exposure_s = 0.004;

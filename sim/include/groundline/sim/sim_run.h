@@ -72,6 +72,11 @@ struct SimRunOptions {
   double camera_rate_hz = 10.0;
   FloorCameraOptions camera;
   FloorRenderOptions render;
+  // Every photometric nuisance drawn per scene from wide ranges
+  // (RandomizedRenderOptions, floor_nuisances.h, seeded by the camera's
+  // stream seed): render's nuisance fields are replaced; its supersampling,
+  // floor range, wall tone, reflectances and occlusion switch are kept.
+  bool randomize_nuisances = false;
   // Changes of the camera mount during the run (payload, tire wear, knocks):
   // frames are rendered through the true mount of their moment, the dataset's
   // extrinsics file keeps camera.mount (nominal) and its
@@ -141,6 +146,14 @@ core::Result<std::vector<SimRun>> SimulateFleet(const SimRunOptions& options,
 // without a camera writes nothing. Errors name the file that failed.
 core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun& run,
                                   const SimProgress& progress = {}, int threads = 1);
+
+// Writes DIR/nuisance_truth.json (atomically): the simulator's truth about
+// the floor's nuisances, for evaluation only (floor_nuisances.h). It holds the
+// render options' nuisance parameters, the straight nuisances fixed on the
+// floor within the world (map frame) and, per camera frame, the vehicle's
+// shadow polygon (base_link). Format in docs/perception.md. A run without a
+// camera writes nothing.
+core::Status WriteNuisanceTruth(const std::filesystem::path& dir, const SimRun& run);
 
 // The world's markings as the dataset's floor map (ids in world order).
 core::FloorMap ToFloorMap(const World& world);
