@@ -339,6 +339,7 @@ int RunExtract(const ExtractFlags& flags) {
     std::vector<std::int64_t> missed;
     nlohmann::ordered_json missed_lines = nlohmann::ordered_json::array();
     std::vector<nlohmann::ordered_json> line_truths(extraction.lines.size());
+    std::vector<std::string> line_nuisances(extraction.lines.size());
     if (evaluate) {
       const std::optional<core::SE2> pose = PoseAt(input->ground_truth, input->stamps_s[i]);
       if (pose) {
@@ -369,7 +370,13 @@ int RunExtract(const ExtractFlags& flags) {
         }
         for (size_t k = 0; k < extraction.lines.size(); ++k) {
           const int j = matches.truth_of_extracted[k];
-          if (j >= 0) line_truths[k] = TruthToJson(extraction.lines[k], truths[j]);
+          if (j >= 0) {
+            line_truths[k] = TruthToJson(extraction.lines[k], truths[j]);
+          } else if (nuisances) {
+            // A false line: the nuisance it lies along ("none" for none).
+            const std::string along = perception::NuisanceAlong(extraction.lines[k], *nuisances);
+            line_nuisances[k] = along.empty() ? "none" : along;
+          }
         }
       }
     }
@@ -377,6 +384,7 @@ int RunExtract(const ExtractFlags& flags) {
     if (evaluate) {
       for (size_t k = 0; k < line_truths.size(); ++k) {
         frame["lines"][k]["truth"] = line_truths[k];
+        if (!line_nuisances[k].empty()) frame["lines"][k]["false_along"] = line_nuisances[k];
       }
       frame["missed_marking_ids"] = missed;
       frame["missed"] = missed_lines;

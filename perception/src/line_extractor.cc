@@ -412,8 +412,9 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       candidates.push_back(std::move(*candidate));
     }
     std::vector<internal::CandidateLine> unpaired_edges;
-    internal::SelectLines(std::move(candidates), polarity, floor_median_grey, options_,
-                          &result.lines, options_.single_bar_edges ? &unpaired_edges : nullptr);
+    internal::SelectLines(std::move(candidates), polarity, floor_median_grey, bev_float, grid_,
+                          options_, &result.lines,
+                          options_.single_bar_edges ? &unpaired_edges : nullptr);
     for (const internal::CandidateLine& edge : unpaired_edges) {
       if (std::max(edge.contrast_plus, edge.contrast_minus) < options_.single_edge_min_contrast) {
         continue;

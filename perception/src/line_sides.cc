@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "groundline/perception/ridge_refinement.h"
 
@@ -117,8 +118,9 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
 }
 
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
-                 double floor_median_grey, const LineExtractorOptions& options,
-                 std::vector<ExtractedLine>* out, std::vector<CandidateLine>* unpaired_edges) {
+                 double floor_median_grey, const cv::Mat& bev_float, const BevGrid& grid,
+                 const LineExtractorOptions& options, std::vector<ExtractedLine>* out,
+                 std::vector<CandidateLine>* unpaired_edges) {
   const double sign = polarity == LinePolarity::kBright ? 1.0 : -1.0;
   const double min_contrast = polarity == LinePolarity::kBright ? options.min_side_contrast
                                                                 : options.min_dark_side_contrast;
@@ -140,9 +142,17 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
          candidates[i].sagitta_m > options.max_dark_sagitta_m)) {
       continue;
     }
+    const auto sharp = [&](bool both_sides) {
+      if (polarity != LinePolarity::kBright || options.min_flank_sharpness <= 0.0) return true;
+      const double s = MeasureFlankSharpness(bev_float, grid, candidates[i], both_sides,
+                                             options.flank_max_cells, 0.5 * min_contrast);
+      return !(s < options.min_flank_sharpness);  // NaN (not measured): kept
+    };
     if (std::min(plus, minus) >= min_contrast) {
+      if (!sharp(true)) continue;
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {
+      if (!sharp(false)) continue;
       edges.push_back(static_cast<int>(i));
     }
   }
@@ -170,6 +180,27 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
         continue;
       }
       if (Overlap(a.line, b.line) < 0.5 * std::max(a.line.LengthM(), b.line.LengthM())) continue;
+      if (options.bar_min_roughness_ratio > 0.0) {
+        // Inside (the bright sides) against outside, over both edges; the
+        // inner band stops short of the other edge.
+        const double near = options.single_edge_roughness_near_m;
+        const double far = std::min(options.single_edge_roughness_far_m, separation - near);
+        if (far > near) {
+          // From the steps themselves (the ridge centres lie on the bar's
+          // inner flanks); a pair whose steps are not found keeps the bar.
+          const std::vector<Eigen::Vector2d> pa =
+              LocateBarEdge(bev_float, grid, a, options.single_edge_min_contrast);
+          const std::vector<Eigen::Vector2d> pb =
+              LocateBarEdge(bev_float, grid, b, options.single_edge_min_contrast);
+          if (pa.size() >= 3 && pb.size() >= 3) {
+            const SideRoughness ra = MeasureSideRoughness(bev_float, grid, a, pa, near, far);
+            const SideRoughness rb = MeasureSideRoughness(bev_float, grid, b, pb, near, far);
+            const double inside = 0.5 * (ra.bright_dn + rb.bright_dn);
+            const double outside = 0.5 * (ra.dark_dn + rb.dark_dn);
+            if (!(outside >= options.bar_min_roughness_ratio * inside)) continue;
+          }
+        }
+      }
       best = edges[y];
       best_separation = separation;
     }
@@ -305,11 +336,59 @@ SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid
         greys.push_back(a);
       }
     }
-    if (steps.empty()) return 0.0;
+    if (steps.empty()) return std::pair<double, double>(0.0, 0.0);
     const double grey = core::Median(greys);
-    return grey > 0.0 ? core::Median(steps) / grey : 0.0;
+    const double step = core::Median(steps);
+    return std::pair<double, double>(grey > 0.0 ? step / grey : 0.0, step);
   };
-  return {side(1.0), side(-1.0)};
+  const auto [bright, bright_dn] = side(1.0);
+  const auto [dark, dark_dn] = side(-1.0);
+  return {bright, dark, bright_dn, dark_dn};
+}
+
+double MeasureFlankSharpness(const cv::Mat& bev_float, const BevGrid& grid,
+                             const CandidateLine& candidate, bool both_sides, int max_cells,
+                             double min_fall_dn) {
+  const Eigen::Vector2d n = grid.cell_m() * candidate.line.line.Normal();
+  // +n is darker when its contrast (centre minus side) is the larger.
+  const double dark_sign = candidate.contrast_plus > candidate.contrast_minus ? 1.0 : -1.0;
+  std::vector<double> ratios;
+  std::vector<float> profile(static_cast<std::size_t>(max_cells) + 2);
+  for (const Eigen::Vector2d& p : candidate.centres_m) {
+    double ratio = std::numeric_limits<double>::infinity();
+    bool measured = false, seen = true, falls = true;
+    for (const double sign : {dark_sign, -dark_sign}) {
+      if (sign != dark_sign && !both_sides) break;
+      // profile[k]: k cells from the centre toward this side, k = 0..max + 1.
+      for (int k = 0; k <= max_cells + 1 && seen; ++k) {
+        const Eigen::Vector2d cell = grid.CellOfFloorPoint(p + sign * k * n);
+        profile[static_cast<std::size_t>(k)] = SampleBilinear(bev_float, cell.x(), cell.y());
+        seen = profile[static_cast<std::size_t>(k)] != 0.0f;
+      }
+      if (!seen) break;
+      // The top: the brightest of the centre's cell and its two neighbours;
+      // the bottom: the mean of the outer half (a joint or tape nearby moves
+      // it little).
+      float top = profile[0], steepest = 0.0f;
+      double outer = 0.0;
+      int outer_count = 0;
+      for (int k = 1; k <= max_cells; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        if (k <= 2) top = std::max(top, profile[i]);
+        if (2 * k >= max_cells) {
+          outer += profile[i];
+          ++outer_count;
+        }
+        steepest = std::max(steepest, 0.5f * (profile[i - 1] - profile[i + 1]));
+      }
+      const double fall = top - outer / outer_count;
+      if (fall < min_fall_dn) falls = false;
+      ratio = std::min(ratio, steepest / fall);
+      measured = true;
+    }
+    if (seen && measured && falls) ratios.push_back(ratio);
+  }
+  return ratios.empty() ? std::numeric_limits<double>::quiet_NaN() : core::Median(ratios);
 }
 
 }  // namespace groundline::perception::internal

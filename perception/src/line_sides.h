@@ -46,14 +46,20 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
 
 // The kept lines of one polarity: lines brighter (bright) or darker (dark)
 // than both sides by min_contrast; for bright, also the centre lines of
-// facing edge pairs (see line_extractor.h). Bright lines must also be
+// facing edge pairs (see line_extractor.h). Bright lines and the edges of a
+// bar must have sharp flanks (MeasureFlankSharpness >=
+// options.min_flank_sharpness): a glare band's are Gaussian. Bright lines must also be
 // brighter than the frame's median floor grey level by min_side_contrast
 // (concrete between two dark scuffs or oil stains is a ridge, but no tape).
+// A pair of facing edges is a bar only when the floor between them is not
+// rougher, in grey levels, than the floor outside (paint;
+// options.bar_min_roughness_ratio, MeasureSideRoughness on the BEV,
+// CV_32FC1): lit concrete between two shadows is no bar.
 // Appends to *out; bright edges without a facing partner go to
 // *unpaired_edges if not null.
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
-                 double floor_median_grey, const LineExtractorOptions& options,
-                 std::vector<ExtractedLine>* out,
+                 double floor_median_grey, const cv::Mat& bev_float, const BevGrid& grid,
+                 const LineExtractorOptions& options, std::vector<ExtractedLine>* out,
                  std::vector<CandidateLine>* unpaired_edges = nullptr);
 
 // The step edge next to a one-sided bright ridge (the inner flank of a wide
@@ -84,14 +90,31 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
 // the side's median grey. Paint is smooth (its roughness is the sensor's
 // noise); concrete is textured, and stays so in a shadow, whose light scales
 // texture and grey alike. {bright side, dark side}; {0, 0} without samples.
+// The same medians in grey levels (not divided by the grey): *_dn.
 struct SideRoughness {
   double bright = 0.0;
   double dark = 0.0;
+  double bright_dn = 0.0;
+  double dark_dn = 0.0;
 };
 SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid,
                                    const CandidateLine& candidate,
                                    const std::vector<Eigen::Vector2d>& edge_points_m, double near_m,
                                    double far_m);
+
+// How sharp a bright line's flanks are: per centre, the BEV (CV_32FC1) is
+// sampled every cell along the normal out to max_cells (>= 2) on each darker
+// side (both sides for a ridge, the side of the larger contrast for an
+// edge); the steepest fall over two cells (a central difference, per cell)
+// divided by the whole fall, from the brightest of the centre's cell and its
+// neighbours to the mean of the side's outer half.
+// A paint edge falls within a cell or two (about 0.35-0.5 per cell, less with
+// motion blur across it); the Gaussian flank of a glare band of sigma s cells
+// about 0.6 / s. The median over the centres whose every measured side falls
+// by at least min_fall_dn; NaN when none.
+double MeasureFlankSharpness(const cv::Mat& bev_float, const BevGrid& grid,
+                             const CandidateLine& candidate, bool both_sides, int max_cells,
+                             double min_fall_dn);
 
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);

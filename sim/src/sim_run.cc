@@ -261,7 +261,10 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
     FloorRenderOptions render = options.render;
     render.seed = StreamSeed(robot_seed, kCameraStream);
     if (options.randomize_nuisances) {
-      FloorRenderOptions drawn = RandomizedRenderOptions(render.seed);
+      // Each zone of a seed is its own scene.
+      FloorRenderOptions drawn = RandomizedRenderOptions(
+          render.seed + 0x9E3779B9ULL * (static_cast<std::uint64_t>(options.zone) + 1));
+      drawn.seed = render.seed;
       drawn.supersampling = render.supersampling;
       drawn.max_floor_range_m = render.max_floor_range_m;
       drawn.wall_dn = render.wall_dn;

@@ -1,11 +1,13 @@
 // Line extraction on floors the extractor was not tuned on, one nuisance at a
 // time, on rendered BEV images of textured concrete: a straight hard shadow
 // edge (a rack's, a pallet's, the vehicle's) is no line, while the one
-// visible edge of a painted stripe on the same concrete is; a row of
-// luminaire glare spots lined up along the aisle is no line.
+// visible edge of a painted stripe on the same concrete is; lit concrete
+// between two shadows is no bar, while paint bars are; a row of luminaire
+// glare spots lined up along the aisle, even merged into a band, is no line.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "groundline/perception/line_extractor.h"
@@ -84,14 +86,59 @@ TEST(LineExtractorGeneralization, StripeEdgeOnTexturedConcreteIsFound) {
   }
 }
 
-// Glare: isotropic spots (sigma 4-6 cm, +100 grey levels, or +250 and
+// Lit concrete between two straight shadows (the gap between two racks'
+// shadows) is bright between two dark sides, as a wide bar: its floor is as
+// rough as the shadowed floor, relative to its grey, where paint is smooth.
+TEST(LineExtractorGeneralization, LitGapBetweenTwoShadowsGivesNoLine) {
+  const BevGrid grid(BevGridOptions{});
+  for (const double width_m : {0.3, 0.5}) {
+    for (const double alpha_deg : {0.0, 90.0}) {
+      const Eigen::Vector2d d(std::cos(alpha_deg * kPi / 180), std::sin(alpha_deg * kPi / 180));
+      const Eigen::Vector2d n(-d.y(), d.x());
+      const Eigen::Vector2d centre(1.5, 0.1);
+      const Floor floor = [&](const Eigen::Vector2d& p) {
+        const bool lit = std::abs(n.dot(p - centre)) < 0.5 * width_m;
+        return 90.0 * Texture(p, 7) * (lit ? 1.0 : 0.45);
+      };
+      const cv::Mat bev = RenderBev(grid, floor);
+      const std::string what =
+          "a lit gap " + std::to_string(width_m) + " m wide at " + std::to_string(alpha_deg);
+      ExpectNoLines(MakeExtractor(grid).Extract(bev), what.c_str());
+      if (width_m == 0.3 && alpha_deg == 0.0) {
+        // It is the bar roughness test that rejects it: a bar otherwise.
+        LineExtractorOptions options;
+        options.bar_min_roughness_ratio = 0.0;
+        const LineExtraction out = MakeExtractor(grid, options).Extract(bev);
+        ASSERT_EQ(out.lines.size(), 1u);
+        EXPECT_TRUE(out.lines[0].from_bar_edges);
+      }
+    }
+  }
+}
+
+// The control: smooth paint bars (a 30 cm stop bar, a 10 cm and a 5 cm tape)
+// on the same textured concrete are still found, at their centre lines.
+TEST(LineExtractorGeneralization, PaintBarsOnTexturedConcreteAreFound) {
+  const BevGrid grid(BevGridOptions{});
+  for (const double width_m : {0.05, 0.1, 0.3}) {
+    const Eigen::Vector2d centre(1.5, -0.2);
+    const Floor floor = [&](const Eigen::Vector2d& p) {
+      return std::abs(p.x() - centre.x()) < 0.5 * width_m ? 170.0 : 90.0 * Texture(p, 7);
+    };
+    const LineExtraction out = MakeExtractor(grid).Extract(RenderBev(grid, floor));
+    ASSERT_EQ(out.lines.size(), 1u) << "bar " << width_m << " m";
+    EXPECT_NEAR(std::abs(SignedDistance(out.lines[0].line, centre)), 0.0, 0.003);
+  }
+}
+
+// Glare: isotropic spots (sigma 4-8 cm, +100 grey levels, or +250 and
 // saturated) of a row of luminaires reflected in a polished floor, lined up
-// along the aisle 25-40 cm apart. (Rows so dense that the spots merge into a
-// band, 20 cm apart at sigma 6-8 cm, are still taken for tape.)
+// along the aisle 10-40 cm apart; the densest rows merge into a continuous
+// band, whose flanks are Gaussian where paint's fall within a cell or two.
 TEST(LineExtractorGeneralization, RowOfGlareSpotsGivesNoLine) {
   const BevGrid grid(BevGridOptions{});
-  for (const double spacing_m : {0.25, 0.4}) {
-    for (const double sigma_m : {0.04, 0.06}) {
+  for (const double spacing_m : {0.1, 0.2, 0.4}) {
+    for (const double sigma_m : {0.04, 0.08}) {
       for (const double peak : {100.0, 250.0}) {
         const Floor floor = [&](const Eigen::Vector2d& p) {
           double glare = 0.0;
@@ -103,7 +150,14 @@ TEST(LineExtractorGeneralization, RowOfGlareSpotsGivesNoLine) {
         };
         SCOPED_TRACE("spacing " + std::to_string(spacing_m) + " sigma " + std::to_string(sigma_m) +
                      " peak " + std::to_string(peak));
-        ExpectNoLines(MakeExtractor(grid).Extract(RenderBev(grid, floor)), "a row of glare");
+        const cv::Mat bev = RenderBev(grid, floor);
+        ExpectNoLines(MakeExtractor(grid).Extract(bev), "a row of glare");
+        if (spacing_m == 0.2 && sigma_m == 0.08 && peak == 250.0) {
+          // It is the flank test that rejects this band: a line otherwise.
+          LineExtractorOptions options;
+          options.min_flank_sharpness = 0.0;
+          EXPECT_GE(MakeExtractor(grid, options).Extract(bev).lines.size(), 1u);
+        }
       }
     }
   }

@@ -145,6 +145,22 @@ struct LineExtractorOptions {
   double single_edge_min_roughness_ratio = 1.6;
   double single_edge_roughness_near_m = 0.03;
   double single_edge_roughness_far_m = 0.08;
+  // For two facing edges (a bar's centre line) the roughness in grey levels,
+  // not relative to the grey: the floor outside must be at least this many
+  // times as rough as the floor between them (the same bands, the inner one
+  // cut short of the other edge). Paint is smoother than concrete in grey
+  // levels too (a ratio of 1.5 or more on textured concrete); lit concrete
+  // between two shadows is rougher than the shadowed (about the shadow's
+  // light factor, 0.7 for a factor of 0.45). 0 turns the test off.
+  double bar_min_roughness_ratio = 0.9;
+  // A bright line's flanks (both sides of a ridge, the dark side of an edge)
+  // fall within a cell or two: the steepest fall per cell over the whole fall
+  // (internal::MeasureFlankSharpness, out to flank_max_cells) must be at
+  // least this. Paint: 0.35-0.5 per cell (1 cm cells; motion blur across a
+  // line lowers it); a glare band of sigma s cells: about 0.6 / s (3 cm:
+  // 0.2). 0 turns the test off.
+  double min_flank_sharpness = 0.25;
+  int flank_max_cells = 15;
   // Bright side lobes of dark lines (see line_sides.h, DropSideLobes).
   double side_lobe_distance_cells = 8.0;
   double side_lobe_angle_deg = 3.0;

@@ -74,7 +74,7 @@ struct SimRunOptions {
   FloorRenderOptions render;
   // Every photometric nuisance drawn per scene from wide ranges
   // (RandomizedRenderOptions, floor_nuisances.h, seeded by the camera's
-  // stream seed): render's nuisance fields are replaced; its supersampling,
+  // stream seed and the zone): render's nuisance fields are replaced; its supersampling,
   // floor range, wall tone, reflectances and occlusion switch are kept.
   bool randomize_nuisances = false;
   // Changes of the camera mount during the run (payload, tire wear, knocks):
