@@ -113,6 +113,16 @@ struct CoarseFields {
   static constexpr int kCount = 7;
 };
 
+// Registers item `a` in the cells of a periodic tile (`cells` per side) onto
+// which the grid cells [x0, x1] x [y0, y1] fold (floor division), as the entry
+// a * 9 + (sx + 1) + 3 (sy + 1), (sx, sy) the tile copy the grid cell lies in;
+// cells of copies beyond the neighbouring ones are skipped, and an entry equal
+// to its cell's last one is not repeated. A point p of a cell then meets the
+// item at p + (sx, sy) * period.
+void RegisterOnTile(std::uint32_t a, std::int64_t x0, std::int64_t x1, std::int64_t y0,
+                    std::int64_t y1, int cells,
+                    std::vector<std::vector<std::uint32_t>>* cell_entries);
+
 // Tire scuffs: curved dark streaks of random orientation (floor_camera.h).
 // Arcs of radius 1-4 m (either turn), 0.8-3 m long, 2-4 cm wide with soft
 // edges, tapering at both ends, of strength 0.6-1; their density makes the

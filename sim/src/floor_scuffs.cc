@@ -1,6 +1,7 @@
 // Curved tire scuffs on a periodic tile (ScuffField, floor_camera_internal.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 
 #include "floor_camera_internal.h"
@@ -77,18 +78,24 @@ ScuffField::ScuffField(std::uint32_t seed, bool enabled) {
       const auto x1 = static_cast<std::int64_t>(std::floor((q.x() + margin) / kCellM));
       const auto y0 = static_cast<std::int64_t>(std::floor((q.y() - margin) / kCellM));
       const auto y1 = static_cast<std::int64_t>(std::floor((q.y() + margin) / kCellM));
-      for (std::int64_t y = y0; y <= y1; ++y) {
-        for (std::int64_t x = x0; x <= x1; ++x) {
-          // Floor division: the tile copy (shift) and the wrapped cell.
-          const std::int64_t sx = x >= 0 ? x / cells_ : -((-x + cells_ - 1) / cells_);
-          const std::int64_t sy = y >= 0 ? y / cells_ : -((-y + cells_ - 1) / cells_);
-          const std::size_t cell =
-              static_cast<std::size_t>((y - sy * cells_) * cells_ + (x - sx * cells_));
-          const auto entry = static_cast<std::uint32_t>(a * 9 + (sx + 1) + 3 * (sy + 1));
-          std::vector<std::uint32_t>& list = cell_entries_[cell];
-          if (list.empty() || list.back() != entry) list.push_back(entry);
-        }
-      }
+      RegisterOnTile(a, x0, x1, y0, y1, cells_, &cell_entries_);
+    }
+  }
+}
+
+void RegisterOnTile(std::uint32_t a, std::int64_t x0, std::int64_t x1, std::int64_t y0,
+                    std::int64_t y1, int cells,
+                    std::vector<std::vector<std::uint32_t>>* cell_entries) {
+  for (std::int64_t y = y0; y <= y1; ++y) {
+    for (std::int64_t x = x0; x <= x1; ++x) {
+      const std::int64_t sx = x >= 0 ? x / cells : -((-x + cells - 1) / cells);
+      const std::int64_t sy = y >= 0 ? y / cells : -((-y + cells - 1) / cells);
+      if (std::abs(sx) > 1 || std::abs(sy) > 1) continue;
+      const std::size_t cell =
+          static_cast<std::size_t>((y - sy * cells) * cells + (x - sx * cells));
+      const auto entry = static_cast<std::uint32_t>(a * 9 + (sx + 1) + 3 * (sy + 1));
+      std::vector<std::uint32_t>& list = (*cell_entries)[cell];
+      if (list.empty() || list.back() != entry) list.push_back(entry);
     }
   }
 }

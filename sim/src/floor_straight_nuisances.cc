@@ -69,20 +69,8 @@ RectTile::RectTile(std::vector<TileRect> rects, double margin_m) : rects_(std::m
     const auto x1 = static_cast<std::int64_t>(std::floor((hi.x() + margin_m) / kCellM));
     const auto y0 = static_cast<std::int64_t>(std::floor((lo.y() - margin_m) / kCellM));
     const auto y1 = static_cast<std::int64_t>(std::floor((hi.y() + margin_m) / kCellM));
-    for (std::int64_t y = y0; y <= y1; ++y) {
-      for (std::int64_t x = x0; x <= x1; ++x) {
-        // Floor division: the tile copy (shift) and the wrapped cell. A
-        // rectangle is at most 10 m, so one copy either way is enough.
-        const std::int64_t sx = x >= 0 ? x / kCells : -((-x + kCells - 1) / kCells);
-        const std::int64_t sy = y >= 0 ? y / kCells : -((-y + kCells - 1) / kCells);
-        if (std::abs(sx) > 1 || std::abs(sy) > 1) continue;
-        const std::size_t cell =
-            static_cast<std::size_t>((y - sy * kCells) * kCells + (x - sx * kCells));
-        // A point of this cell, moved by (sx, sy) periods, meets the rectangle.
-        const auto entry = static_cast<std::uint32_t>(a * 9 + (sx + 1) + 3 * (sy + 1));
-        cells_[cell].push_back(entry);
-      }
-    }
+    // A rectangle is at most 10 m: one tile copy either way is enough.
+    RegisterOnTile(static_cast<std::uint32_t>(a), x0, x1, y0, y1, kCells, &cells_);
   }
 }
 
