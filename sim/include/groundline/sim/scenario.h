@@ -12,7 +12,8 @@
 //   lidar: {enabled: true, rate_hz: 15, range_noise_sigma_m: 0.015, ...}
 //   camera: {enabled: true, rate_hz: 10, width_px: 1280, mount: {pitch_deg: 42.4, ...}}
 //   nuisances:               # each with enabled and its intensity
-//     randomized: {enabled: true}  # every nuisance drawn per scene (floor_nuisances.h)
+//     randomized: {enabled: true}  # every nuisance drawn per scene (floor_nuisances.h);
+//                                  # it replaces the other sections' values
 //     texture: {enabled: true, contrast: 0.25}
 //     scuffs: {enabled: true, darkness: 0.15}
 //     shadows: {enabled: true, factor: 0.4, cover: 0.3}
