@@ -50,8 +50,10 @@ core::Status MountSelfCalibrationOptions::Validate() const {
   if (!PositiveFinite(max_accel_mps2)) return OptionError("max_accel_mps2", "an acceleration > 0");
   if (!(std::isfinite(min_speed_mps) && min_speed_mps >= 0.0))
     return OptionError("min_speed_mps", "a speed >= 0");
-  if (!PositiveFinite(min_segment_length_m)) return OptionError("min_segment_length_m", "a length > 0");
-  if (!PositiveFinite(min_segment_sigma_m)) return OptionError("min_segment_sigma_m", "a sigma > 0");
+  if (!PositiveFinite(min_segment_length_m))
+    return OptionError("min_segment_length_m", "a length > 0");
+  if (!PositiveFinite(min_segment_sigma_m))
+    return OptionError("min_segment_sigma_m", "a sigma > 0");
   if (!PositiveFinite(associate_max_angle_rad))
     return OptionError("associate_max_angle_rad", "an angle > 0");
   if (!PositiveFinite(associate_max_distance_m))
@@ -72,7 +74,8 @@ core::Status MountSelfCalibrationOptions::Validate() const {
   if (!PositiveFinite(loss_scale)) return OptionError("loss_scale", "a scale > 0");
   for (int i = 0; i < 4; ++i) {
     const std::string c = kComponentNames[i];
-    if (!PositiveFinite(window_prior_sigma(i))) return OptionError("window_prior_sigma." + c, "> 0");
+    if (!PositiveFinite(window_prior_sigma(i)))
+      return OptionError("window_prior_sigma." + c, "> 0");
     if (!PositiveFinite(initial_sigma(i))) return OptionError("initial_sigma." + c, "> 0");
     if (!(std::isfinite(random_walk_per_sqrt_s(i)) && random_walk_per_sqrt_s(i) >= 0.0))
       return OptionError("random_walk_per_sqrt_s." + c, ">= 0");
@@ -106,8 +109,7 @@ core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
   }
   if (core::Status s = saved.mount.Validate(); !s.ok()) return s.WithContext("saved estimate");
   if (!core::IsCovariance(saved.covariance)) {
-    return core::Status::Error(
-        "saved estimate: the covariance is not symmetric positive definite");
+    return core::Status::Error("saved estimate: the covariance is not symmetric positive definite");
   }
   mean_ = MountComponents(saved.mount) - MountComponents(commissioned_);
   covariance_ = saved.covariance;
@@ -138,8 +140,7 @@ bool MountSelfCalibrator::FrameQualifies(const MountFrame& frame) const {
     const MountFrame& prev2 = recent_[recent_.size() - 2];
     const double dt0 = prev.stamp_s - prev2.stamp_s;
     if (dt0 > 0.0) {
-      const double speed0 =
-          prev2.T_odom_base.Between(prev.T_odom_base).translation().norm() / dt0;
+      const double speed0 = prev2.T_odom_base.Between(prev.T_odom_base).translation().norm() / dt0;
       if (std::abs(speed - speed0) / (0.5 * (dt + dt0)) > options_.max_accel_mps2) return false;
     }
   }
@@ -154,7 +155,8 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
   bool changed = false;
   const bool qualifies = FrameQualifies(frame);
   if (!qualifies) ++estimate_.frames_gated;
-  const bool gap = !window_.empty() && frame.stamp_s - window_.back().stamp_s > options_.max_frame_gap_s;
+  const bool gap =
+      !window_.empty() && frame.stamp_s - window_.back().stamp_s > options_.max_frame_gap_s;
   if ((!qualifies || gap) && !window_.empty()) changed = CloseWindow();
   if (qualifies) {
     // A window starts with the frame before its first qualifying one: the
@@ -213,10 +215,11 @@ bool MountSelfCalibrator::CloseWindow() {
   }
   const Eigen::VectorXd z = (U.transpose() * w.information_vector).cwiseQuotient(values);
   const Eigen::VectorXd y = z - U.transpose() * mean_;
-  const Eigen::MatrixXd S = U.transpose() * covariance_ * U +
-                            Eigen::MatrixXd(values.cwiseInverse().asDiagonal());
+  const Eigen::MatrixXd S =
+      U.transpose() * covariance_ * U + Eigen::MatrixXd(values.cwiseInverse().asDiagonal());
   const double nis = core::SquaredMahalanobis<Eigen::Dynamic>(y, S);
-  const double gate = core::ChiSquareQuantile(static_cast<int>(U.cols()), options_.step_probability);
+  const double gate =
+      core::ChiSquareQuantile(static_cast<int>(U.cols()), options_.step_probability);
   if (nis > gate) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) return false;
@@ -260,11 +263,13 @@ void MountSelfCalibrator::UpdateEstimate() {
   for (int i = 0; i < 4; ++i) {
     const double change = mean_(i);
     const double sigma = std::sqrt(covariance_(i, i));
-    if (std::abs(change) > options_.alarm_threshold(i) &&
-        std::abs(change) > options_.alarm_sigmas * sigma) {
+    // Confidently beyond the limit: an estimate near it with the uncertainty
+    // of a few windows is no knock.
+    if (std::abs(change) - options_.alarm_threshold(i) > options_.alarm_sigmas * sigma) {
       char text[160];
       std::snprintf(text, sizeof text, "%s changed by %+.2f %s (+-%.2f, limit %.2f)",
-                    kComponentNames[i], MountComponentInUnit(i, change), MountComponentUnit(i), MountComponentInUnit(i, sigma),
+                    kComponentNames[i], MountComponentInUnit(i, change), MountComponentUnit(i),
+                    MountComponentInUnit(i, sigma),
                     MountComponentInUnit(i, options_.alarm_threshold(i)));
       what << (alarm ? "; " : "") << text;
       alarm = true;
@@ -275,10 +280,9 @@ void MountSelfCalibrator::UpdateEstimate() {
   alarm_streak_ = alarm ? alarm_streak_ + 1 : 0;
   alarm = alarm_streak_ >= options_.alarm_windows;
   estimate_.alarm = alarm;
-  estimate_.alarm_message =
-      alarm ? "camera mount moved from its commissioning: " + what.str() +
-                  "; recommission the camera (groundline calibrate floor)"
-            : "";
+  estimate_.alarm_message = alarm ? "camera mount moved from its commissioning: " + what.str() +
+                                        "; recommission the camera (groundline calibrate floor)"
+                                  : "";
 }
 
 }  // namespace groundline::calibration

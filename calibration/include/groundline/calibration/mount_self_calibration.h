@@ -41,7 +41,7 @@
 // marking that is not straight).
 //
 // The alarm (a knocked camera): the estimate differs from the commissioned
-// mount by more than a component's threshold, beyond 3 sigma, after two
+// mount by more than a component's threshold, and by 2 sigma more, after two
 // window updates in a row. The
 // thresholds separate a bent bracket (roll, yaw) from the load a vehicle
 // carries (pitch, height within a payload's range).
@@ -157,17 +157,16 @@ struct MountSelfCalibrationOptions {
   MountVector initial_sigma = (MountVector() << 0.02, 0.02, 0.02, 0.02).finished();
   // Random walk of the true mount (per sqrt(s) of driving time): lets the
   // estimate follow tire wear and a slowly settling load.
-  MountVector random_walk_per_sqrt_s =
-      (MountVector() << 2e-5, 2e-5, 2e-5, 2e-5).finished();
+  MountVector random_walk_per_sqrt_s = (MountVector() << 2e-5, 2e-5, 2e-5, 2e-5).finished();
   // Step detection: normalized innovation squared of a window over the
   // chi-square quantile step_probability for step_windows windows in a row.
   double step_probability = 0.9999;
   int step_windows = 2;
   // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
-  // height_m, yaw_rad) and above alarm_sigmas sigma.
+  // height_m, yaw_rad) by more than alarm_sigmas sigma.
   MountVector alarm_threshold =
       (MountVector() << 0.026, 0.0044, 0.015, 0.0087).finished();  // 1.5, 0.25 deg, 15 mm, 0.5 deg
-  double alarm_sigmas = 3.0;
+  double alarm_sigmas = 2.0;
   // ... after this many window updates in a row (a lone window can be off).
   int alarm_windows = 2;
   int max_solver_iterations = 30;
@@ -185,15 +184,15 @@ struct MountEstimate {
   int frames = 0;
   int frames_gated = 0;  // not straight or steady
   int windows_used = 0;
-  int windows_rejected = 0;  // too few frames or evidence, or the solve failed
-  int steps = 0;             // steps detected
+  int windows_rejected = 0;    // too few frames or evidence, or the solve failed
+  int steps = 0;               // steps detected
   double last_update_s = 0.0;  // stamp of the last window fused (0: none)
 };
 
 // The result of solving one window (exposed for the tests and diagnostics).
 struct MountWindowSolution {
   bool ok = false;
-  std::string message;          // why not ok
+  std::string message;                           // why not ok
   MountVector correction = MountVector::Zero();  // to the reference mount, at the solve
   // The window's own information about the correction and its information
   // vector (Lambda c), the regularizing prior taken out again.
@@ -250,9 +249,9 @@ class MountSelfCalibrator {
   MountMatrix covariance_ = MountMatrix::Zero();
   double last_fused_stamp_s_ = -1.0;
   double last_windowed_stamp_s_ = -1e300;  // the last frame of the last window
-  int alarm_streak_ = 0;  // updates in a row with the alarm's condition
+  int alarm_streak_ = 0;                   // updates in a row with the alarm's condition
   std::vector<MountFrame> window_;
-  std::deque<MountFrame> recent_;  // the last frames, for the motion gates
+  std::deque<MountFrame> recent_;            // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
   MountEstimate estimate_;
 };
