@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
@@ -308,6 +309,57 @@ TEST(ExtractCli, RealDuckietownHomography) {
   EXPECT_NE(summary["mount"]["source"].get<std::string>().find("mirrored"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / "out/mount.yaml"));
   EXPECT_TRUE(std::filesystem::exists(dir / "out/overlay_image-0.png"));
+}
+
+}  // namespace
+}  // namespace groundline
+
+namespace groundline {
+namespace {
+
+// A randomized simulated scene through `sim --randomize-nuisances` and
+// `extract --dataset`: the simulator writes its nuisance truth, and extract
+// accounts for every false line once, by the nuisance it lies along.
+TEST(ExtractCli, FalseLinesPerNuisanceClass) {
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("extract_cli_nuisances");
+  std::string out;
+  ASSERT_EQ(RunGroundline("sim --zone B --length 25m --seed 11 --no-lidar --camera-rate 2 "
+                          "--randomize-nuisances --threads 2 --out " +
+                              Quoted(dir / "scene"),
+                          dir, &out),
+            0)
+      << out;
+  std::ifstream truth_file(dir / "scene" / "nuisance_truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  EXPECT_EQ(truth["format"], "groundline-nuisance-truth");
+  EXPECT_TRUE(truth["render"]["cast_shadows"].get<bool>());  // every scene has them
+  EXPECT_FALSE(truth["segments_map"].empty());
+
+  ASSERT_EQ(RunGroundline("extract --dataset " + Quoted(dir / "scene") + " --png-every 0 --out " +
+                              Quoted(dir / "lines"),
+                          dir, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("nuisance class"), std::string::npos) << out;
+  std::ifstream summary_file(dir / "lines" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  ASSERT_TRUE(summary["by_nuisance"].contains("none")) << summary.dump(2);
+  int false_lines = 0;
+  for (const auto& [cls, s] : summary["by_nuisance"].items()) {
+    false_lines += s["false_lines"].get<int>();
+  }
+  EXPECT_EQ(false_lines, summary["false_detections"].get<int>()) << summary.dump(2);
+  // Each false line of lines.jsonl names its class; the counts agree.
+  std::map<std::string, int> counted;
+  std::ifstream lines(dir / "lines" / "lines.jsonl");
+  for (std::string line; std::getline(lines, line);) {
+    for (const nlohmann::json& l : nlohmann::json::parse(line)["lines"]) {
+      if (l.contains("false_along")) ++counted[l["false_along"].get<std::string>()];
+    }
+  }
+  for (const auto& [cls, n] : counted) {
+    EXPECT_EQ(n, summary["by_nuisance"][cls]["false_lines"].get<int>()) << cls;
+  }
 }
 
 }  // namespace
