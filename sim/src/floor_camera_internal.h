@@ -113,6 +113,11 @@ struct CoarseFields {
   static constexpr int kCount = 7;
 };
 
+// The seed of the floor's procedural fields for these options.
+inline std::uint32_t FieldSeed(const FloorRenderOptions& o) {
+  return static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32));
+}
+
 // Registers item `a` in the cells of a periodic tile (`cells` per side) onto
 // which the grid cells [x0, x1] x [y0, y1] fold (floor division), as the entry
 // a * 9 + (sx + 1) + 3 (sy + 1), (sx, sy) the tile copy the grid cell lies in;

@@ -139,7 +139,7 @@ float SmoothStepFloat(float lo, float hi, float x) {
 
 FloorFields::FloorFields(const FloorRenderOptions& o)
     : options(o),
-      seed(static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32))),
+      seed(FieldSeed(o)),
       scuff_field(seed, o.scuffs),
       cast_shadows(MakeCastShadows(o, seed)),
       tire_marks(MakeTireMarks(o, seed)),

@@ -179,10 +179,6 @@ std::string_view NuisanceClassName(NuisanceClass c) {
 
 namespace {
 
-std::uint32_t FieldSeed(const FloorRenderOptions& o) {
-  return static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32));
-}
-
 bool SegmentTouchesBox(const Vector2& a, const Vector2& b, const Vector2& lo, const Vector2& hi) {
   // Conservative: the segment's bounding box meets the box.
   return std::max(a.x(), b.x()) >= lo.x() && std::min(a.x(), b.x()) <= hi.x() &&
@@ -215,10 +211,7 @@ void ForEachCopy(const internal::RectTile& tile, const Vector2& lo, const Vector
 
 void AddEdges(NuisanceClass cls, const internal::TileRect& r, const Vector2& lo, const Vector2& hi,
               std::vector<NuisanceSegment>* out) {
-  const Vector2 along = r.half_length_m * r.dir;
-  const Vector2 left = r.half_width_m * Vector2(-r.dir.y(), r.dir.x());
-  const std::array<Vector2, 4> c = {r.centre_m - along - left, r.centre_m + along - left,
-                                    r.centre_m + along + left, r.centre_m - along + left};
+  const std::array<Vector2, 4> c = internal::Corners(r);
   for (int k = 0; k < 4; ++k) {
     const Vector2& a = c[static_cast<std::size_t>(k)];
     const Vector2& b = c[static_cast<std::size_t>((k + 1) % 4)];
@@ -231,7 +224,7 @@ void AddEdges(NuisanceClass cls, const internal::TileRect& r, const Vector2& lo,
 std::vector<NuisanceSegment> FloorNuisanceSegments(const FloorRenderOptions& o, const Vector2& lo,
                                                    const Vector2& hi) {
   std::vector<NuisanceSegment> out;
-  const std::uint32_t seed = FieldSeed(o);
+  const std::uint32_t seed = internal::FieldSeed(o);
   ForEachCopy(internal::MakeCastShadows(o, seed), lo, hi, [&](const internal::TileRect& r) {
     AddEdges(NuisanceClass::kCastShadowEdge, r, lo, hi, &out);
   });
@@ -264,7 +257,7 @@ std::vector<NuisanceSegment> FloorNuisanceSegments(const FloorRenderOptions& o, 
 std::optional<std::vector<Vector2>> VehicleShadowPolygon(const FloorRenderOptions& o,
                                                          const core::SE2& T_map_base) {
   if (!o.vehicle_shadow || o.luminaire_height_m <= o.vehicle_height_m) return std::nullopt;
-  const std::uint32_t seed = FieldSeed(o);
+  const std::uint32_t seed = internal::FieldSeed(o);
   const Vector2 origin = T_map_base.translation();
   const auto cx = static_cast<std::int64_t>(std::floor(origin.x() / o.luminaire_spacing_x_m));
   const auto cy = static_cast<std::int64_t>(std::floor(origin.y() / o.luminaire_spacing_y_m));

@@ -139,7 +139,7 @@ TEST(FloorStraightNuisances, VehicleShadowIsCastFromTheNearestLuminaire) {
   o.luminaire_height_m = 8.0;
   o.vehicle_height_m = 1.2;
   o.vehicle_front_m = 0.45;
-  const std::uint32_t seed = static_cast<std::uint32_t>(o.seed ^ (o.seed >> 32));
+  const std::uint32_t seed = internal::FieldSeed(o);
   const Vector2 light = internal::LuminaireAt(o, seed, 3, 2);
   const double scale = 8.0 / (8.0 - 1.2);
   const auto front = [](const std::vector<Vector2>& polygon) {
