@@ -353,12 +353,14 @@ TEST(ExtractCli, FalseLinesPerNuisanceClass) {
   std::map<std::string, int> counted;
   std::ifstream lines(dir / "lines" / "lines.jsonl");
   for (std::string line; std::getline(lines, line);) {
-    for (const nlohmann::json& l : nlohmann::json::parse(line)["lines"]) {
+    const nlohmann::json frame = nlohmann::json::parse(line);
+    for (const nlohmann::json& l : frame.at("lines")) {
       if (l.contains("false_along")) ++counted[l["false_along"].get<std::string>()];
     }
   }
   for (const auto& [cls, n] : counted) {
-    EXPECT_EQ(n, summary["by_nuisance"][cls]["false_lines"].get<int>()) << cls;
+    ASSERT_TRUE(summary["by_nuisance"].contains(cls)) << cls;
+    EXPECT_EQ(n, summary["by_nuisance"].at(cls).at("false_lines").get<int>()) << cls;
   }
 }
 
