@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/core/covariance.h"
 #include "groundline/perception/line_covariance.h"
 #include "line_sides.h"
@@ -54,6 +55,9 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(single_edge_max_gap_m > 0.0)) return bad("single_edge_max_gap_m", "a number > 0");
   if (!(single_edge_min_length_m > 0.0)) return bad("single_edge_min_length_m", "a number > 0");
   if (!(single_edge_extension_m >= 0.0)) return bad("single_edge_extension_m", "a number >= 0");
+  if (!(single_edge_max_radial_deg >= 0.0 && single_edge_max_radial_deg <= 45.0)) {
+    return bad("single_edge_max_radial_deg", "a number in [0, 45]");
+  }
   if (!(single_edge_min_relative_contrast > 0.0 && single_edge_min_relative_contrast <= 1.0)) {
     return bad("single_edge_min_relative_contrast", "a number in (0, 1]");
   }
@@ -113,14 +117,16 @@ LineExtractor::LineExtractor(const BevRemap& remap, const LineExtractorOptions& 
           remap.grid(), remap.valid_mask(),
           FloorFromPixelJacobians(remap.grid(), remap.valid_mask(),
                                   calibration::FloorProjection(remap.camera(), remap.mount())),
-          options) {}
+          options, calibration::BaseFromCamera(remap.mount()).translation().head<2>()) {}
 
 LineExtractor::LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask,
-                             cv::Mat floor_from_pixel, const LineExtractorOptions& options)
+                             cv::Mat floor_from_pixel, const LineExtractorOptions& options,
+                             std::optional<Eigen::Vector2d> camera_foot_m)
     : grid_(grid),
       options_(options),
       filter_(options.ridge),
-      floor_from_pixel_(std::move(floor_from_pixel)) {
+      floor_from_pixel_(std::move(floor_from_pixel)),
+      camera_foot_m_(std::move(camera_foot_m)) {
   assert(options.Validate().ok());
   assert(valid_mask.rows == grid.rows() && valid_mask.cols == grid.cols());
   assert(floor_from_pixel_.type() == CV_64FC4 && floor_from_pixel_.size() == valid_mask.size());
@@ -369,6 +375,16 @@ std::optional<ExtractedLine> FitSingleBarEdge(const cv::Mat& bev_float, const cv
   return line;
 }
 
+// The angle between the line and the ray from `foot_m` to its midpoint, in
+// [0, pi/2]; pi/2 when the midpoint is at the foot point.
+double RayAngleRad(const ExtractedLine& line, const Eigen::Vector2d& foot_m) {
+  const Eigen::Vector2d ray = 0.5 * (line.start_m + line.end_m) - foot_m;
+  const Eigen::Vector2d along = line.end_m - line.start_m;
+  if (ray.norm() < 1e-9 || along.norm() < 1e-9) return std::numbers::pi / 2.0;
+  const double cross = std::abs(ray.x() * along.y() - ray.y() * along.x());
+  return std::atan2(cross, std::abs(ray.dot(along)));
+}
+
 }  // namespace
 
 LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
@@ -421,7 +437,13 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       }
       std::optional<ExtractedLine> line = FitSingleBarEdge(
           bev_float, search_mask_, edge, floor_from_pixel_, grid_, options_, noise_);
-      if (line) result.lines.push_back(*line);
+      if (!line) continue;
+      if (camera_foot_m_ && options_.single_edge_max_radial_deg > 0.0 &&
+          RayAngleRad(*line, *camera_foot_m_) <=
+              options_.single_edge_max_radial_deg * std::numbers::pi / 180.0) {
+        continue;  // the vertical edge of a thing standing on the floor
+      }
+      result.lines.push_back(*line);
     }
   }
   internal::DropSideLobes(options_.side_lobe_distance_cells * grid_.cell_m(),

@@ -57,6 +57,18 @@ core::Result<NuisanceTruth> ReadNuisanceTruth(const std::filesystem::path& path)
                          ReadPoint(polygon[(k + 1) % polygon.size()])});
       }
     }
+    field = "standing_objects_per_frame";  // optional: older files lack it
+    if (j.contains("standing_objects_per_frame")) {
+      for (const nlohmann::json& f : j.at("standing_objects_per_frame")) {
+        std::vector<NuisanceLine>& lines = truth.frame_segments[f.at("file").get<std::string>()];
+        for (const nlohmann::json& s : f.at("segments_base")) {
+          if (!s.is_array() || s.size() != 4) throw std::runtime_error("expected [ax, ay, bx, by]");
+          lines.push_back({"standing_object",
+                           {s[0].get<double>(), s[1].get<double>()},
+                           {s[2].get<double>(), s[3].get<double>()}});
+        }
+      }
+    }
     return truth;
   } catch (const std::exception& e) {
     return core::Status::Error(path.string() + ": field '" + field + "': " + e.what());

@@ -54,6 +54,7 @@ core::Status FloorRenderOptions::Validate() const {
       CheckRange(o, "wet_darkness", wet_darkness, 0.0, 1.0),
       CheckRange(o, "wet_glare_gain", wet_glare_gain, 0.0, 20.0),
       CheckRange(o, "wet_cover", wet_cover, 0.0, 1.0),
+      CheckRange(o, "clutter_per_100m", clutter_per_100m, 0.0, 1000.0),
       CheckRange(o, "exposure_s", exposure_s, 0.0, 0.1),
       CheckRange(o, "read_noise_dn", read_noise_dn, 0.0, 50.0),
       CheckRange(o, "electrons_per_dn", electrons_per_dn, 0.1, 1e6),

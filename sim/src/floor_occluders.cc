@@ -23,7 +23,11 @@ std::vector<Occluder> OccludersAt(const World& world, double stamp_s) {
 namespace internal {
 namespace {
 
-constexpr int kFaceDivisions = 16;
+// Faces are drawn as a grid of quads, at least 16 a side and at most 0.2 m
+// apart (a long wall keeps its quads small enough to be projected whole).
+constexpr int kMinFaceDivisions = 16;
+constexpr int kMaxFaceDivisions = 512;
+constexpr double kMaxQuadM = 0.2;
 // Corners farther off the optical axis than this (tan of ~72 deg) are not
 // projected: the lens polynomial is not meant for them.
 constexpr double kMaxTanOffAxis = 3.0;
@@ -79,25 +83,38 @@ void DrawOccluders(const calibration::CameraModel& camera, const calibration::Ca
 
   cv::Mat image(h, w, CV_32FC1, dn->data());
   constexpr int kShift = 4;  // sub-pixel vertices for cv::fillConvexPoly
+  const auto divisions = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::clamp(static_cast<int>(std::ceil((b - a).norm() / kMaxQuadM)), kMinFaceDivisions,
+                      kMaxFaceDivisions);
+  };
   for (const Occluder* o : order) {
     // Cull boxes far outside the view (the camera sees a few metres ahead).
     if (distance(o) > 30.0 + o->footprint_m.BoundingRadius()) continue;
-    for (const Face& face : BoxFaces(*o)) {
+    const std::vector<Face> faces = BoxFaces(*o);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const Face& face = faces[f];
       if (face.normal.dot(camera_map - face.corners[0]) <= 0.0) continue;  // faces away
-      const float value = static_cast<float>(gain * o->reflectance * face.shade);
+      const double value = gain * o->reflectance * face.shade;
+      const int na = divisions(face.corners[0], face.corners[1]);
+      const int nb = divisions(face.corners[0], face.corners[3]);
+      // The texture's patches are seeded by the box's centre, so that a box
+      // looks the same in every frame whatever the drawing order.
+      const auto patch_seed = static_cast<std::uint32_t>(HashU32(
+          std::llround(o->footprint_m.center_m.x() * 1000.0),
+          std::llround(o->footprint_m.center_m.y() * 1000.0), static_cast<std::uint32_t>(f)));
       const auto point = [&](double a, double b) {
         const Eigen::Vector3d bottom = face.corners[0] + a * (face.corners[1] - face.corners[0]);
         const Eigen::Vector3d top = face.corners[3] + a * (face.corners[2] - face.corners[3]);
         return Eigen::Vector3d(T_cam_map * (bottom + b * (top - bottom)));
       };
-      for (int i = 0; i < kFaceDivisions; ++i) {
-        for (int j = 0; j < kFaceDivisions; ++j) {
+      for (int i = 0; i < na; ++i) {
+        for (int j = 0; j < nb; ++j) {
           std::array<cv::Point, 4> quad;
           bool ok = true;
           const double a[4] = {i + 0.0, i + 1.0, i + 1.0, i + 0.0};
           const double b[4] = {j + 0.0, j + 0.0, j + 1.0, j + 1.0};
           for (int k = 0; k < 4 && ok; ++k) {
-            const Eigen::Vector3d p_cam = point(a[k] / kFaceDivisions, b[k] / kFaceDivisions);
+            const Eigen::Vector3d p_cam = point(a[k] / na, b[k] / nb);
             if (p_cam.z() < kNearCamM ||
                 std::max(std::abs(p_cam.x()), std::abs(p_cam.y())) > kMaxTanOffAxis * p_cam.z()) {
               ok = false;
@@ -111,7 +128,11 @@ void DrawOccluders(const calibration::CameraModel& camera, const calibration::Ca
             quad[k] = cv::Point(static_cast<int>(std::lround(px->x() * (1 << kShift))),
                                 static_cast<int>(std::lround(px->y() * (1 << kShift))));
           }
-          if (ok) cv::fillConvexPoly(image, quad.data(), 4, cv::Scalar(value), cv::LINE_8, kShift);
+          if (!ok) continue;
+          const double patch =
+              o->texture > 0.0 ? 1.0 + o->texture * (HashU32(i, j, patch_seed) / 2147483648.0 - 1.0)
+                               : 1.0;
+          cv::fillConvexPoly(image, quad.data(), 4, cv::Scalar(value * patch), cv::LINE_8, kShift);
         }
       }
     }

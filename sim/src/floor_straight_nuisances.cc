@@ -173,6 +173,8 @@ std::string_view NuisanceClassName(NuisanceClass c) {
       return "tire_mark";
     case NuisanceClass::kPatchSeam:
       return "patch_seam";
+    case NuisanceClass::kStandingObject:
+      return "standing_object";
   }
   return "unknown";
 }
@@ -353,6 +355,8 @@ FloorRenderOptions RandomizedRenderOptions(std::uint64_t seed) {
   o.noise = true;
   o.read_noise_dn = u(1.0, 4.0);
   o.electrons_per_dn = u(15.0, 60.0);
+  o.standing_objects = true;
+  o.clutter_per_100m = u(2.0, 12.0);
   return o;
 }
 

@@ -2,8 +2,10 @@
 // (sim_run.h), for evaluation only.
 #include <nlohmann/json.hpp>
 
+#include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/sim/floor_nuisances.h"
+#include "groundline/sim/mount_perturbation.h"
 #include "groundline/sim/sim_run.h"
 
 namespace groundline::sim {
@@ -49,6 +51,8 @@ core::Status WriteNuisanceTruth(const std::filesystem::path& dir, const SimRun& 
       {"wet", o.wet},
       {"wet_darkness", o.wet_darkness},
       {"wet_cover", o.wet_cover},
+      {"standing_objects", o.occlusion && o.standing_objects},
+      {"clutter_per_100m", o.clutter_per_100m},
       {"motion_blur_exposure_s", o.motion_blur ? o.exposure_s : 0.0},
       {"read_noise_dn", o.noise ? o.read_noise_dn : 0.0},
   };
@@ -72,6 +76,29 @@ core::Status WriteNuisanceTruth(const std::filesystem::path& dir, const SimRun& 
     }
   }
   j["vehicle_shadow_per_frame"] = std::move(shadows);
+  // The floor images of the edges of the things standing there, per frame
+  // (the camera's position comes from the mount the frame was rendered with).
+  nlohmann::ordered_json standing = nlohmann::ordered_json::array();
+  if (o.occlusion && o.standing_objects) {
+    const std::vector<core::CameraExtrinsicsRecord>& mounts = run.dataset.ground_truth_extrinsics;
+    for (const core::ImageRecord& frame : run.dataset.images) {
+      const core::SE2 T_map_base = InterpolatePose(run.route.T_map_base, frame.stamp_s);
+      const calibration::CameraMount mount =
+          mounts.empty() ? run.camera->mount : ToMount(mounts[RecordAt(mounts, frame.stamp_s)]);
+      const Eigen::Vector3d camera_base = calibration::BaseFromCamera(mount).translation();
+      const Vector2 foot = T_map_base * Vector2(camera_base.x(), camera_base.y());
+      const Eigen::Vector3d camera_map(foot.x(), foot.y(), camera_base.z());
+      nlohmann::ordered_json segments_base = nlohmann::ordered_json::array();
+      for (const NuisanceSegment& s : StandingObjectSegments(
+               StandingOccluders(run.world, T_map_base.translation(), kStandingObjectRadiusM),
+               camera_map, T_map_base)) {
+        segments_base.push_back({s.a_m.x(), s.a_m.y(), s.b_m.x(), s.b_m.y()});
+      }
+      if (segments_base.empty()) continue;
+      standing.push_back({{"file", frame.file}, {"segments_base", std::move(segments_base)}});
+    }
+  }
+  j["standing_objects_per_frame"] = std::move(standing);
   return core::WriteFileAtomically(dir / "nuisance_truth.json", j.dump(1) + "\n");
 }
 

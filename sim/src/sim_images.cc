@@ -14,6 +14,7 @@
 #include "groundline/calibration/camera_mount_yaml.h"
 #include "groundline/calibration/opencv_calibration_io.h"
 #include "groundline/core/atomic_file.h"
+#include "groundline/sim/floor_nuisances.h"
 #include "groundline/sim/lidar.h"
 #include "groundline/sim/sim_run.h"
 
@@ -43,10 +44,11 @@ core::Status WritePng(const std::filesystem::path& path, const GreyImage& image)
 }
 
 // Renders frames [begin, end) on `threads` threads (with the world's moving
-// obstacles as occluders when `occlusion`) and writes them into
-// image_dir; progress(n) after every 20 frames written.
+// obstacles as occluders when `occlusion`, and its static ones near the
+// vehicle when `standing` too) and writes them into image_dir; progress(n)
+// after every 20 frames written.
 core::Status RenderFrames(const FloorRenderer& renderer, const World& world, bool occlusion,
-                          const core::Trajectory& truth,
+                          bool standing, const core::Trajectory& truth,
                           const std::vector<core::ImageRecord>& frames, std::size_t begin,
                           std::size_t end, const std::filesystem::path& image_dir, int threads,
                           const std::function<void(std::size_t)>& progress) {
@@ -58,9 +60,16 @@ core::Status RenderFrames(const FloorRenderer& renderer, const World& world, boo
     for (std::size_t k = next++; k < end; k = next++) {
       const core::ImageRecord& frame = frames[k];
       const core::SE2 pose = InterpolatePose(truth, frame.stamp_s);
-      const GreyImage image =
-          renderer.Render(pose, VelocityAt(truth, frame.stamp_s), k,
-                          occlusion ? OccludersAt(world, frame.stamp_s) : std::vector<Occluder>{});
+      std::vector<Occluder> occluders;
+      if (occlusion) {
+        occluders = OccludersAt(world, frame.stamp_s);
+        if (standing) {
+          const std::vector<Occluder> near =
+              StandingOccluders(world, pose.translation(), kStandingObjectRadiusM);
+          occluders.insert(occluders.end(), near.begin(), near.end());
+        }
+      }
+      const GreyImage image = renderer.Render(pose, VelocityAt(truth, frame.stamp_s), k, occluders);
       core::Status s = WritePng(image_dir / frame.file, image);
       std::lock_guard<std::mutex> lock(mutex);
       if (!s.ok() && first_error.ok()) first_error = s;
@@ -109,8 +118,8 @@ core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun
         FloorRenderer::Create(run.world, cam.model, mount, cam.render);
     if (!renderer.ok()) return renderer.status().WithContext("floor camera");
     if (core::Status s =
-            RenderFrames(*renderer, run.world, cam.render.occlusion, run.route.T_map_base, frames,
-                         begin, end, image_dir, threads,
+            RenderFrames(*renderer, run.world, cam.render.occlusion, cam.render.standing_objects,
+                         run.route.T_map_base, frames, begin, end, image_dir, threads,
                          [&](std::size_t n) {
                            const std::size_t total = done += n;
                            report(static_cast<double>(total) / static_cast<double>(frames.size()));

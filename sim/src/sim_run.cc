@@ -28,6 +28,7 @@ constexpr std::uint64_t kRouteStream = 1;
 constexpr std::uint64_t kEncoderStream = 2;
 constexpr std::uint64_t kLidarStream = 3;
 constexpr std::uint64_t kCameraStream = 4;
+constexpr std::uint64_t kClutterStream = 5;
 
 const char* ZoneLetter(Zone zone) {
   switch (zone) {
@@ -209,6 +210,29 @@ core::Result<Route> PlanRobotRoute(const World& world, const SimRunOptions& opti
   return route;
 }
 
+namespace {
+
+// The floor camera's render options: the run's, or with
+// randomize_nuisances a scene drawn per seed and zone.
+FloorRenderOptions CameraRenderOptions(const SimRunOptions& options, std::uint64_t robot_seed) {
+  FloorRenderOptions render = options.render;
+  render.seed = StreamSeed(robot_seed, kCameraStream);
+  if (!options.randomize_nuisances) return render;
+  // Each zone of a seed is its own scene.
+  FloorRenderOptions drawn = RandomizedRenderOptions(
+      render.seed + 0x9E3779B9ULL * (static_cast<std::uint64_t>(options.zone) + 1));
+  drawn.seed = render.seed;
+  drawn.supersampling = render.supersampling;
+  drawn.max_floor_range_m = render.max_floor_range_m;
+  drawn.wall_dn = render.wall_dn;
+  drawn.concrete_reflectance = render.concrete_reflectance;
+  drawn.tape_reflectance_scale = render.tape_reflectance_scale;
+  drawn.occlusion = render.occlusion;
+  return drawn;
+}
+
+}  // namespace
+
 core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions& options,
                                    std::uint64_t robot_seed, const SimProgress& progress) {
   const auto report = [&progress](std::string_view stage, double fraction) {
@@ -217,6 +241,12 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
   SimRun run;
   run.world = std::move(world);
   run.route = std::move(route);
+  const FloorRenderOptions render = CameraRenderOptions(options, robot_seed);
+  if (options.with_camera && render.occlusion && render.standing_objects) {
+    // Before the LiDAR, which sees the clutter too.
+    AddRouteClutter(&run.world, run.route.T_map_base, render.clutter_per_100m, render,
+                    StreamSeed(robot_seed, kClutterStream));
+  }
 
   report("encoders", 0.0);
   WheelEncoderOptions encoder_options = options.encoders;
@@ -258,21 +288,6 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
   if (options.with_camera) {
     core::Result<calibration::CameraModel> model = options.camera.MakeCameraModel();
     if (!model.ok()) return model.status().WithContext("building the floor camera");
-    FloorRenderOptions render = options.render;
-    render.seed = StreamSeed(robot_seed, kCameraStream);
-    if (options.randomize_nuisances) {
-      // Each zone of a seed is its own scene.
-      FloorRenderOptions drawn = RandomizedRenderOptions(
-          render.seed + 0x9E3779B9ULL * (static_cast<std::uint64_t>(options.zone) + 1));
-      drawn.seed = render.seed;
-      drawn.supersampling = render.supersampling;
-      drawn.max_floor_range_m = render.max_floor_range_m;
-      drawn.wall_dn = render.wall_dn;
-      drawn.concrete_reflectance = render.concrete_reflectance;
-      drawn.tape_reflectance_scale = render.tape_reflectance_scale;
-      drawn.occlusion = render.occlusion;
-      render = drawn;
-    }
     run.camera = SimCamera{std::move(model).value(), options.camera.mount, render};
     const core::Trajectory& truth = run.route.T_map_base;
     core::Result<std::vector<core::CameraExtrinsicsRecord>> mounts =

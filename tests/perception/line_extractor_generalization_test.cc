@@ -86,6 +86,33 @@ TEST(LineExtractorGeneralization, StripeEdgeOnTexturedConcreteIsFound) {
   }
 }
 
+// A box standing beside the path, its smooth bright side facing the camera:
+// the bird's-eye view smears its vertical edge along the ray from the
+// camera's foot point, and a step from textured concrete to a smooth bright
+// face is what a stripe's edge looks like. Only the ray tells them apart.
+TEST(LineExtractorGeneralization, VerticalEdgeOfAStandingBoxGivesNoLine) {
+  const BevGrid grid(BevGridOptions{});
+  const Eigen::Vector2d foot(0.1, 0.0);     // the camera's foot point
+  const Eigen::Vector2d corner(0.5, 0.12);  // the near corner, short of the view
+  const Eigen::Vector2d ray = (corner - foot).normalized();
+  const Floor floor = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d q = p - foot;
+    const bool box = ray.x() * q.y() - ray.y() * q.x() > 0.0 && q.dot(ray) > (corner - foot).norm();
+    return box ? 170.0 : 90.0 * Texture(p, 5);
+  };
+  const cv::Mat bev = RenderBev(grid, floor);
+  ExpectNoLines(MakeExtractor(grid, {}, foot).Extract(bev), "box edge along the ray");
+  // The control: seen from another foot point the same edge is no ray, and
+  // it passes as a bar's edge; the ray test is what rejects it.
+  const LineExtraction off = MakeExtractor(grid, {}, Eigen::Vector2d(0.1, -0.6)).Extract(bev);
+  ASSERT_EQ(off.lines.size(), 1u);
+  EXPECT_TRUE(off.lines[0].single_bar_edge);
+  EXPECT_NEAR(std::abs(SignedDistance(off.lines[0].line, corner + 0.5 * ray)), 0.0, 0.005);
+  LineExtractorOptions no_ray_test;
+  no_ray_test.single_edge_max_radial_deg = 0.0;
+  EXPECT_EQ(MakeExtractor(grid, no_ray_test, foot).Extract(bev).lines.size(), 1u);
+}
+
 // Lit concrete between two straight shadows (the gap between two racks'
 // shadows) is bright between two dark sides, as a wide bar: its floor is as
 // rough as the shadowed floor, relative to its grey, where paint is smooth.

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -51,11 +52,13 @@ inline cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_d
   return bev;
 }
 
+// camera_foot_m: the camera's foot point (base_link), when a test needs it.
 inline LineExtractor MakeExtractor(const BevGrid& grid,
-                                   const LineExtractorOptions& options = LineExtractorOptions{}) {
+                                   const LineExtractorOptions& options = LineExtractorOptions{},
+                                   std::optional<Eigen::Vector2d> camera_foot_m = std::nullopt) {
   const cv::Mat valid(grid.rows(), grid.cols(), CV_8U, cv::Scalar(255));
   const cv::Mat J(grid.rows(), grid.cols(), CV_64FC4, cv::Scalar(0.002, 0.0, 0.0, 0.002));
-  return LineExtractor(grid, valid, J, options);
+  return LineExtractor(grid, valid, J, options, camera_foot_m);
 }
 
 struct Tape {

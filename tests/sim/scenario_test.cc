@@ -58,6 +58,7 @@ nuisances:
   tire_marks: {enabled: true, density_per_100m2: 2.5}
   patches: {enabled: true, contrast: 0.2}
   wet: {enabled: true, glare_gain: 1.5}
+  standing_objects: {enabled: true, clutter_per_100m: 6}
 perturbations:
   height_loss_mm_per_km: 3
   steps:
@@ -96,6 +97,8 @@ perturbations:
   EXPECT_EQ(o.render.patch_contrast, 0.2);
   EXPECT_TRUE(o.render.wet);
   EXPECT_EQ(o.render.wet_glare_gain, 1.5);
+  EXPECT_TRUE(o.render.standing_objects);
+  EXPECT_EQ(o.render.clutter_per_100m, 6.0);
   EXPECT_NEAR(o.mount_perturbations.height_loss_m_per_km, 0.003, 1e-15);
   ASSERT_EQ(o.mount_perturbations.steps.size(), 1u);
   EXPECT_EQ(o.mount_perturbations.steps[0].cause, "payload");

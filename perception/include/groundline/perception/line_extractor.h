@@ -37,6 +37,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "groundline/calibration/bev_uncertainty.h"
@@ -143,6 +144,14 @@ struct LineExtractorOptions {
   // makes the roughness, about the ratio of the greys (2 or more); a shadow's
   // edge: 1 to 1.5 (its dark side's sensor noise is relatively larger).
   double single_edge_min_roughness_ratio = 1.6;
+  // A single edge that runs along a ray from the camera's foot point (the
+  // angle between the edge and the ray to its midpoint at most this) is the
+  // vertical edge of a thing standing on the floor (a box, a pallet, a wall,
+  // a rack upright): the bird's-eye view smears such an edge along that ray.
+  // A bar's edge lies on a ray only when the vehicle drives exactly along it
+  // with the camera above it. Needs the camera's foot point (given by the
+  // remap's mount). 0 turns the test off.
+  double single_edge_max_radial_deg = 2.0;
   double single_edge_roughness_near_m = 0.03;
   double single_edge_roughness_far_m = 0.08;
   // For two facing edges (a bar's centre line) the roughness in grey levels,
@@ -257,9 +266,11 @@ class LineExtractor {
   // must be valid (asserted).
   LineExtractor(const BevRemap& remap, const LineExtractorOptions& options);
   // General form: grid, valid mask (CV_8U), Jacobians as from
-  // FloorFromPixelJacobians.
+  // FloorFromPixelJacobians, and the camera's foot point (the floor point
+  // below its centre, base_link) when known (the radial test needs it).
   LineExtractor(const BevGrid& grid, const cv::Mat& valid_mask, cv::Mat floor_from_pixel,
-                const LineExtractorOptions& options);
+                const LineExtractorOptions& options,
+                std::optional<Eigen::Vector2d> camera_foot_m = std::nullopt);
 
   // The lines of one BEV (CV_8UC1, grid-sized; asserted).
   LineExtraction Extract(const cv::Mat& bev) const;
@@ -275,6 +286,7 @@ class LineExtractor {
   SteerableRidgeFilter filter_;
   cv::Mat search_mask_;
   cv::Mat floor_from_pixel_;  // CV_64FC4
+  std::optional<Eigen::Vector2d> camera_foot_m_;
   LineNoiseModel noise_;
 };
 

@@ -176,6 +176,16 @@ struct FloorRenderOptions {
 
   bool occlusion = true;  // draw the occluders passed to Render
 
+  // Things standing on the floor (floor_nuisances.h), drawn as occluders (so
+  // only with occlusion): the world's static obstacles (racks, pallets,
+  // columns, walls, doors) where the camera sees them, and, with
+  // clutter_per_100m > 0, boxes, pallets and posts placed beside the
+  // vehicle's route, that many per 100 m of it, never in its way nor on a
+  // marking. Their vertical edges smear along rays from the camera in the
+  // bird's-eye view. Off by default.
+  bool standing_objects = false;
+  double clutter_per_100m = 0.0;
+
   bool noise = true;
   double read_noise_dn = 1.5;
   double electrons_per_dn = 40.0;  // shot noise: variance DN / electrons_per_dn
@@ -195,12 +205,14 @@ struct GreyImage {
 };
 
 // A solid object in front of the floor: its footprint in the map frame,
-// extruded from z_min_m to z_max_m above the floor, with a diffuse reflectance.
+// extruded from z_min_m to z_max_m above the floor, with a diffuse reflectance
+// that varies by up to +-texture (relative) in patches of ~0.2 m on its faces.
 struct Occluder {
   OrientedBox footprint_m;
   double z_min_m = 0.0;
   double z_max_m = 2.0;
   double reflectance = 0.12;
+  double texture = 0.0;
 };
 
 // The occluders of the world's moving obstacles at a stamp (circles become

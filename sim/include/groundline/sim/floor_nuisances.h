@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "groundline/core/se2.h"
+#include "groundline/core/trajectory.h"
 #include "groundline/sim/floor_camera.h"
 
 namespace groundline::sim {
@@ -28,9 +29,11 @@ enum class NuisanceClass {
   kGlareRow,           // the centre line of a row of glare spots (map frame)
   kTireMark,           // the centre line of a tire mark (map frame)
   kPatchSeam,          // the edge of a patch of repaired concrete (map frame)
+  kStandingObject,     // the floor image of an object's edge (base_link, per frame)
 };
-inline constexpr int kNuisanceClassCount = 5;
-// "cast_shadow_edge", "vehicle_shadow_edge", "glare_row", "tire_mark", "patch_seam".
+inline constexpr int kNuisanceClassCount = 6;
+// "cast_shadow_edge", "vehicle_shadow_edge", "glare_row", "tire_mark", "patch_seam",
+// "standing_object".
 std::string_view NuisanceClassName(NuisanceClass c);
 
 struct NuisanceSegment {
@@ -53,6 +56,34 @@ std::vector<NuisanceSegment> FloorNuisanceSegments(const FloorRenderOptions& opt
 // vehicle's top.
 std::optional<std::vector<Vector2>> VehicleShadowPolygon(const FloorRenderOptions& options,
                                                          const core::SE2& T_map_base);
+
+// The simulator draws the static obstacles within this of the vehicle (the
+// camera sees a few metres ahead; tall ones far to the side still matter).
+inline constexpr double kStandingObjectRadiusM = 10.0;
+
+// The world's static obstacles whose footprint comes within radius_m of
+// near_m, as occluders with a camera reflectance per kind (steel uprights
+// darker than pallets and walls), varied per obstacle.
+std::vector<Occluder> StandingOccluders(const World& world, const Vector2& near_m, double radius_m);
+
+// Where the camera at camera_map (map frame, above the floor) sees the edges
+// of the occluders on the floor, in base_link (T_map_base): the footprint's
+// edges, each vertical edge as the segment from its foot to the floor point
+// seen through its top (along the ray from the camera's foot point; clipped
+// at reach_m from it, and unbounded there when the top is at or above the
+// camera), and each top edge below the camera projected onto the floor.
+std::vector<NuisanceSegment> StandingObjectSegments(const std::vector<Occluder>& occluders,
+                                                    const Eigen::Vector3d& camera_map,
+                                                    const core::SE2& T_map_base,
+                                                    double reach_m = 8.0);
+
+// Adds clutter to world->obstacles beside the route (kPallet obstacles:
+// pallets, boxes and posts), per_100m per 100 m of route on average, seeded.
+// None overlaps the vehicle (vehicle_front_m, vehicle_back_m,
+// vehicle_half_width_m of `vehicle`, plus a margin) at any pose of the route
+// or comes within 0.1 m of a marking. Returns the number added.
+int AddRouteClutter(World* world, const core::Trajectory& route, double per_100m,
+                    const FloorRenderOptions& vehicle, std::uint64_t seed);
 
 // A scene's nuisances drawn from wide ranges (every nuisance on; texture scale
 // and contrast, lux and gradient, shadows, glare size, count and rows, tire

@@ -18,6 +18,7 @@
 //     scuffs: {enabled: true, darkness: 0.15}
 //     shadows: {enabled: true, factor: 0.4, cover: 0.3}
 //     occlusion: {enabled: true}   # forklifts, pedestrians, robots in view
+//     standing_objects: {enabled: true, clutter_per_100m: 5}  # racks, pallets, boxes, posts
 //     ...
 //   perturbations:           # the camera mount during the run (mount_perturbation.h)
 //     height_loss_mm_per_km: 2

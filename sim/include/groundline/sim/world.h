@@ -68,6 +68,9 @@ struct Obstacle {
   double z_max_m = 10.0;
   // Diffuse reflectivity in [0, 1] for the LiDAR intensity.
   double reflectivity = 0.5;
+  // Diffuse reflectance seen by the floor camera; < 0: one per kind
+  // (floor_nuisances.h, StandingOccluders).
+  double camera_reflectance = -1.0;
 
   bool IntersectsPlane(double height_m) const { return z_min_m <= height_m && height_m <= z_max_m; }
 };
