@@ -58,6 +58,14 @@ core::Status LineExtractorOptions::Validate() const {
   if (!(single_edge_max_radial_deg >= 0.0 && single_edge_max_radial_deg <= 45.0)) {
     return bad("single_edge_max_radial_deg", "a number in [0, 45]");
   }
+  if (!(ray_line_max_angle_deg >= 0.0 && ray_line_max_angle_deg <= 45.0)) {
+    return bad("ray_line_max_angle_deg", "a number in [0, 45]");
+  }
+  if (!(ray_line_max_width_growth >= 0.0)) return bad("ray_line_max_width_growth", "a number >= 0");
+  if (!(ray_line_half_width_m > 0.0)) return bad("ray_line_half_width_m", "a number > 0");
+  if (!(ray_line_min_width_increase_m >= 0.0)) {
+    return bad("ray_line_min_width_increase_m", "a number >= 0");
+  }
   if (!(single_edge_min_relative_contrast > 0.0 && single_edge_min_relative_contrast <= 1.0)) {
     return bad("single_edge_min_relative_contrast", "a number in (0, 1]");
   }
@@ -445,6 +453,22 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
       }
       result.lines.push_back(*line);
     }
+  }
+  if (camera_foot_m_ && options_.ray_line_max_width_growth > 0.0) {
+    const double max_angle = options_.ray_line_max_angle_deg * std::numbers::pi / 180.0;
+    std::erase_if(result.lines, [&](const ExtractedLine& line) {
+      // Bright only: a dark post wider than a joint already fails the dark
+      // lines' narrowness test, and joints along a ray must not be risked.
+      if (line.kind.polarity != LinePolarity::kBright || line.single_bar_edge ||
+          RayAngleRad(line, *camera_foot_m_) > max_angle) {
+        return false;
+      }
+      // NaN (not measured) keeps the line.
+      const internal::WidthGrowth growth = internal::WidthGrowthWithRange(
+          bev_float, grid_, line, *camera_foot_m_, options_.ray_line_half_width_m);
+      return growth.relative > options_.ray_line_max_width_growth &&
+             growth.increase_m >= options_.ray_line_min_width_increase_m;
+    });
   }
   internal::DropSideLobes(options_.side_lobe_distance_cells * grid_.cell_m(),
                           options_.side_lobe_angle_deg * std::numbers::pi / 180.0, &result.lines);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "groundline/perception/ridge_refinement.h"
 
@@ -389,6 +390,75 @@ double MeasureFlankSharpness(const cv::Mat& bev_float, const BevGrid& grid,
     if (seen && measured && falls) ratios.push_back(ratio);
   }
   return ratios.empty() ? std::numeric_limits<double>::quiet_NaN() : core::Median(ratios);
+}
+
+WidthGrowth WidthGrowthWithRange(const cv::Mat& bev_float, const BevGrid& grid,
+                                 const ExtractedLine& line, const Eigen::Vector2d& foot_m,
+                                 double max_half_width_m) {
+  constexpr double kStepM = 0.02;
+  constexpr std::size_t kMinPositions = 8;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double length = line.LengthM();
+  const int cells = static_cast<int>(std::ceil(max_half_width_m / grid.cell_m()));
+  if (length < kStepM || cells < 3) return {};
+  const Eigen::Vector2d d = (line.end_m - line.start_m) / length;
+  const Eigen::Vector2d n(-d.y(), d.x());
+  // Brighter than the sides for a bright line: +1; darker: -1.
+  const double sign = line.kind.polarity == LinePolarity::kDark ? -1.0 : 1.0;
+  std::vector<double> ranges, widths;
+  std::vector<double> profile(static_cast<std::size_t>(cells) + 1);
+  for (double s = 0.0; s <= length; s += kStepM) {
+    const Eigen::Vector2d p = line.start_m + s * d;
+    double centre = -std::numeric_limits<double>::infinity();
+    for (int k = -1; k <= 1; ++k) {
+      const Eigen::Vector2d c = grid.CellOfFloorPoint(p + k * grid.cell_m() * n);
+      centre = std::max(centre, sign * SampleBilinear(bev_float, c.x(), c.y()));
+    }
+    double half_width[2] = {nan, nan};
+    bool seen = true;
+    for (int side = 0; side < 2 && seen; ++side) {
+      const double dir = side == 0 ? 1.0 : -1.0;
+      for (int k = 0; k <= cells && seen; ++k) {
+        const Eigen::Vector2d c = grid.CellOfFloorPoint(p + dir * k * grid.cell_m() * n);
+        const float v = SampleBilinear(bev_float, c.x(), c.y());
+        seen = v != 0.0f;  // unseen cells are 0 (BevRemap)
+        profile[static_cast<std::size_t>(k)] = sign * v;
+      }
+      if (!seen) break;
+      std::vector<double> outer(profile.begin() + 2 * cells / 3, profile.end());
+      const double level = 0.5 * (centre + core::Median(outer));
+      if (!(centre - level > 2.0)) continue;  // no band on this side
+      for (int k = 1; k <= cells; ++k) {
+        const double a = profile[static_cast<std::size_t>(k - 1)];
+        const double b = profile[static_cast<std::size_t>(k)];
+        if (b < level) {
+          const double t = a > b ? (a - level) / (a - b) : 0.0;
+          half_width[side] = (k - 1 + std::clamp(t, 0.0, 1.0)) * grid.cell_m();
+          break;
+        }
+      }
+    }
+    if (!seen || !std::isfinite(half_width[0]) || !std::isfinite(half_width[1])) continue;
+    ranges.push_back((p - foot_m).norm());
+    widths.push_back(half_width[0] + half_width[1]);
+  }
+  if (ranges.size() < kMinPositions) return {};
+  // Medians of the nearer and the farther half of the positions: a stain or
+  // a crossing line that widens the band at a few positions moves them little.
+  std::vector<std::size_t> order(ranges.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return ranges[a] < ranges[b]; });
+  const std::size_t half = order.size() / 2;
+  std::vector<double> r_near, w_near, r_far, w_far;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    (k < half ? r_near : r_far).push_back(ranges[order[k]]);
+    (k < half ? w_near : w_far).push_back(widths[order[k]]);
+  }
+  const double rn = core::Median(r_near), rf = core::Median(r_far);
+  const double wn = core::Median(w_near), wf = core::Median(w_far);
+  if (rf - rn < 0.1 * rn || !(wn > 0.0)) return {};
+  return {(wf / wn - 1.0) / (rf / rn - 1.0), wf - wn};
 }
 
 }  // namespace groundline::perception::internal

@@ -5,6 +5,7 @@
 #define GROUNDLINE_PERCEPTION_SRC_LINE_SIDES_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <span>
 #include <vector>
@@ -115,6 +116,26 @@ SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid
 double MeasureFlankSharpness(const cv::Mat& bev_float, const BevGrid& grid,
                              const CandidateLine& candidate, bool both_sides, int max_cells,
                              double min_fall_dn);
+
+// How a line's band widens with its range from the camera's foot point
+// foot_m (base_link): every 2 cm along the line (start_m to end_m) the BEV
+// (CV_32FC1) is sampled across it, every cell out to max_half_width_m on each
+// side; the band's edges are where the profile first crosses halfway from the
+// centre (the brightest, for a dark line the darkest, of the centre's cell
+// and its neighbours) to that side's level (the median of its outer third),
+// and the width is the distance between them. With the median range and
+// width of the nearer (rn, wn) and the farther half (rf, wf) of the positions
+// measured: relative = (wf / wn - 1) / (rf / rn - 1), about 1 for a wedge with
+// its apex at the foot point (a post's two vertical edges, both on rays),
+// about 0 for a band of constant width (tape); increase_m = wf - wn. NaN when
+// fewer than 8 positions are measured or rf - rn < 0.1 rn.
+struct WidthGrowth {
+  double relative = std::numeric_limits<double>::quiet_NaN();
+  double increase_m = std::numeric_limits<double>::quiet_NaN();
+};
+WidthGrowth WidthGrowthWithRange(const cv::Mat& bev_float, const BevGrid& grid,
+                                 const ExtractedLine& line, const Eigen::Vector2d& foot_m,
+                                 double max_half_width_m);
 
 // The median grey level of the BEV (CV_8U) over mask.
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask);

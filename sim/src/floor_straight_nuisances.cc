@@ -356,7 +356,7 @@ FloorRenderOptions RandomizedRenderOptions(std::uint64_t seed) {
   o.read_noise_dn = u(1.0, 4.0);
   o.electrons_per_dn = u(15.0, 60.0);
   o.standing_objects = true;
-  o.clutter_per_100m = u(2.0, 12.0);
+  o.clutter_per_100m = u(20.0, 60.0);
   return o;
 }
 

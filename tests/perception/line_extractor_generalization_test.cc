@@ -86,6 +86,14 @@ TEST(LineExtractorGeneralization, StripeEdgeOnTexturedConcreteIsFound) {
   }
 }
 
+// The angle between a line and the ray from `foot` to its midpoint.
+double RayAngleDeg(const ExtractedLine& line, const Eigen::Vector2d& foot) {
+  const Eigen::Vector2d ray = 0.5 * (line.start_m + line.end_m) - foot;
+  const Eigen::Vector2d along = line.end_m - line.start_m;
+  return std::atan2(std::abs(ray.x() * along.y() - ray.y() * along.x()), std::abs(ray.dot(along))) *
+         180.0 / kPi;
+}
+
 // A box standing beside the path, its smooth bright side facing the camera:
 // the bird's-eye view smears its vertical edge along the ray from the
 // camera's foot point, and a step from textured concrete to a smooth bright
@@ -111,6 +119,42 @@ TEST(LineExtractorGeneralization, VerticalEdgeOfAStandingBoxGivesNoLine) {
   LineExtractorOptions no_ray_test;
   no_ray_test.single_edge_max_radial_deg = 0.0;
   EXPECT_EQ(MakeExtractor(grid, no_ray_test, foot).Extract(bev).lines.size(), 1u);
+}
+
+// A thin post beside the path (a rack leg, a bollard): both its vertical
+// edges lie on rays from the camera's foot point, so its streak in the
+// bird's-eye view is a wedge that widens with the range. A tape on the same
+// ray keeps its width and stays a line.
+TEST(LineExtractorGeneralization, StreakOfAPostGivesNoLineButATapeOnTheSameRayIsFound) {
+  const BevGrid grid(BevGridOptions{});
+  const Eigen::Vector2d foot(0.1, 0.0);
+  const Eigen::Vector2d base(1.0, 0.08);  // the post's foot on the floor
+  const Eigen::Vector2d ray = (base - foot).normalized();
+  const Eigen::Vector2d across(-ray.y(), ray.x());
+  const double half_angle = 0.0125 / (base - foot).norm();  // 2.5 cm wide at its base
+  const Floor post = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d q = p - foot;
+    const double r = q.dot(ray);
+    const bool on = r > (base - foot).norm() && std::abs(q.dot(across)) < half_angle * r;
+    return on ? 175.0 : 90.0 * Texture(p, 7);
+  };
+  const cv::Mat bev = RenderBev(grid, post);
+  ExpectNoLines(MakeExtractor(grid, {}, foot).Extract(bev), "post on a ray");
+  // With the width test off the streak is a line: the test is what acts.
+  LineExtractorOptions off;
+  off.ray_line_max_width_growth = 0.0;
+  const LineExtraction without = MakeExtractor(grid, off, foot).Extract(bev);
+  ASSERT_EQ(without.lines.size(), 1u);
+  EXPECT_LT(RayAngleDeg(without.lines[0], foot), 1.0);
+
+  // A 5 cm tape along the same ray, from the near edge of the view out.
+  const Floor tape = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d q = p - foot;
+    return std::abs(q.dot(across)) < 0.025 ? 175.0 : 90.0 * Texture(p, 7);
+  };
+  const LineExtraction found = MakeExtractor(grid, {}, foot).Extract(RenderBev(grid, tape));
+  ASSERT_EQ(found.lines.size(), 1u);
+  EXPECT_NEAR(std::abs(SignedDistance(found.lines[0].line, base)), 0.0, 0.005);
 }
 
 // Lit concrete between two straight shadows (the gap between two racks'

@@ -152,6 +152,23 @@ struct LineExtractorOptions {
   // with the camera above it. Needs the camera's foot point (given by the
   // remap's mount). 0 turns the test off.
   double single_edge_max_radial_deg = 2.0;
+  // A bright line near a ray from the camera's foot point (within
+  // ray_line_max_angle_deg, as for single edges) whose band widens in
+  // proportion to its range from the foot point (internal::
+  // WidthGrowthWithRange above ray_line_max_width_growth, the band measured
+  // out to ray_line_half_width_m to each side) is a thin thing standing on
+  // the floor (a post, a leg, an upright): its two vertical edges both lie on
+  // rays, a wedge with its apex at the foot point, where a tape keeps its
+  // width. (A dark post wider than a joint fails the dark lines' narrowness
+  // test already.) The band must also gain at least ray_line_min_width_increase_m
+  // from its nearer half to its farther half: the bird's-eye view blurs with
+  // the range (each pixel covers more floor), which widens a joint or a tape
+  // by a few millimetres, in proportion too. A wider angle than for single edges: the width
+  // decides, and a mount from a homography puts the foot point a little off. 0 turns it off.
+  double ray_line_max_angle_deg = 5.0;
+  double ray_line_max_width_growth = 0.5;
+  double ray_line_min_width_increase_m = 0.015;
+  double ray_line_half_width_m = 0.2;
   double single_edge_roughness_near_m = 0.03;
   double single_edge_roughness_far_m = 0.08;
   // For two facing edges (a bar's centre line) the roughness in grey levels,
