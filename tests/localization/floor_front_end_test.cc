@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "groundline/calibration/floor_projection.h"
 
 namespace groundline::localization {
 namespace {
@@ -31,11 +35,23 @@ TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {
   }
   EXPECT_FALSE(front_end.Observe(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), 1.0).ok());
 
-  // Concrete-like noise with a bright tape running straight ahead.
+  // Concrete-like noise with a bright 5 cm tape running straight ahead on the
+  // floor (drawn through the camera: its image narrows with the range; a band
+  // of constant image width would be a post standing on the floor).
   cv::Mat floor(1024, 1280, CV_8UC1);
   cv::RNG rng(7);
   rng.fill(floor, cv::RNG::NORMAL, 110, 6);
-  cv::line(floor, cv::Point(640, 1023), cv::Point(640, 0), cv::Scalar(230), 40);
+  const calibration::FloorProjection projection(front_end.remap().camera(),
+                                                front_end.remap().mount());
+  std::vector<cv::Point> tape;
+  for (const Eigen::Vector2d& corner : {Eigen::Vector2d(0.5, -0.025), Eigen::Vector2d(4.0, -0.025),
+                                        Eigen::Vector2d(4.0, 0.025), Eigen::Vector2d(0.5, 0.025)}) {
+    const core::Result<Eigen::Vector2d> px = projection.PixelOfFloorPoint(corner);
+    ASSERT_TRUE(px.ok()) << px.message();
+    tape.emplace_back(static_cast<int>(std::lround(px->x())),
+                      static_cast<int>(std::lround(px->y())));
+  }
+  cv::fillConvexPoly(floor, tape, cv::Scalar(230));
   const core::Result<ConvertedObservations> seen = front_end.Observe(floor, 2.0);
   ASSERT_TRUE(seen.ok()) << seen.message();
   EXPECT_GE(seen->observations.lines.size(), 1u);
