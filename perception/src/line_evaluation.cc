@@ -64,23 +64,6 @@ std::string NuisanceAlong(const ExtractedLine& line, std::span<const NuisanceLin
   return best;
 }
 
-namespace {
-
-// The smallest distance between segments a0-a1 and b0-b1 (0 when they cross).
-double SegmentSegmentDistance(const Eigen::Vector2d& a0, const Eigen::Vector2d& a1,
-                              const Eigen::Vector2d& b0, const Eigen::Vector2d& b1) {
-  const auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-    return p.x() * q.y() - p.y() * q.x();
-  };
-  const double d1 = cross(a1 - a0, b0 - a0), d2 = cross(a1 - a0, b1 - a0);
-  const double d3 = cross(b1 - b0, a0 - b0), d4 = cross(b1 - b0, a1 - b0);
-  if (((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0))) return 0.0;
-  return std::min({core::DistanceToSegment(a0, b0, b1), core::DistanceToSegment(a1, b0, b1),
-                   core::DistanceToSegment(b0, a0, a1), core::DistanceToSegment(b1, a0, a1)});
-}
-
-}  // namespace
-
 void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
                               std::span<const TrueLine> truths, const LineMatches& matches,
                               const std::vector<NuisanceLine>* nuisances) {
@@ -95,7 +78,7 @@ void LineEvaluation::AddFrame(std::span<const ExtractedLine> extracted,
     // The nuisance classes that touch this true line.
     std::set<std::string> touching;
     for (const NuisanceLine& n : nuisances ? *nuisances : std::vector<NuisanceLine>{}) {
-      if (SegmentSegmentDistance(truths[j].start_m, truths[j].end_m, n.a_m, n.b_m) <=
+      if (core::SegmentSegmentDistance(truths[j].start_m, truths[j].end_m, n.a_m, n.b_m) <=
           gates.touch_m) {
         touching.insert(n.cls);
       }

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "groundline/core/segment_distance.h"
 #include "groundline/perception/line_extractor.h"
 #include "test_units.h"
 
@@ -23,14 +24,6 @@ using ::groundline::testing::kPi;
 
 // A floor painter: reflectance (grey level) at a floor point in base_link.
 using Floor = std::function<double(const Eigen::Vector2d&)>;
-
-// Distance of p from the segment a-b.
-inline double SegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                              const Eigen::Vector2d& b) {
-  const Eigen::Vector2d d = b - a;
-  const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-  return (p - (a + t * d)).norm();
-}
 
 // The BEV of a floor, 3x3 supersampled per cell, plus Gaussian noise.
 inline cv::Mat RenderBev(const BevGrid& grid, const Floor& floor, double noise_dn = 1.5,
@@ -70,7 +63,7 @@ struct Tape {
 inline Floor Paint(std::vector<Tape> tapes, double concrete = 80.0) {
   return [tapes, concrete](const Eigen::Vector2d& p) {
     for (const Tape& t : tapes) {
-      if (SegmentDistance(p, t.a, t.b) <= 0.5 * t.width_m) return t.grey;
+      if (core::DistanceToSegment(p, t.a, t.b) <= 0.5 * t.width_m) return t.grey;
     }
     return concrete;
   };
