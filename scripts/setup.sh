@@ -6,7 +6,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config ninja-build
+  build-essential cmake pkg-config ninja-build lld
   libeigen3-dev libceres-dev
   libopencv-dev libmrcal-dev libapriltag-dev
   libv4l-dev libcamera-dev

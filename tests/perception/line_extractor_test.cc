@@ -9,10 +9,10 @@
 #include "rendered_bev.h"
 
 #include <Eigen/Eigenvalues>
-#include <cstdio>
-#include <memory>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <random>
 
 namespace groundline::perception {
@@ -132,10 +132,6 @@ TEST(LineExtractor, HalfVisibleStripeYieldsItsEdge) {
 // correlation length (the synthetic BEV has no camera blur before it), the
 // NEES follows chi-square(2).
 TEST(LineExtractor, CovarianceIsConsistentOverMonteCarlo) {
-#ifdef __SANITIZE_ADDRESS__
-  // CI time: a 40-run Monte Carlo of full BEV extractions (~50 s under ASan).
-  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
   const BevGrid grid(BevGridOptions{});
   LineExtractorOptions options;
   options.rho_floor_m = 0.0;
@@ -211,10 +207,9 @@ TEST(LineExtractor, CalibrationFloorBoundsTheLineCovarianceFromBelow) {
     const ExtractedLine& a = plain.lines[i];
     const ExtractedLine& b = floored.lines[i];
     EXPECT_EQ(a.line.rho_m, b.line.rho_m);  // the estimate itself does not change
-    const LineEstimate calib =
-        LineFromEndpoints(b.start_m, 2.5e-5 * Eigen::Matrix2d::Identity(), b.end_m,
-                          2.5e-5 * Eigen::Matrix2d::Identity())
-            .value();
+    const LineEstimate calib = LineFromEndpoints(b.start_m, 2.5e-5 * Eigen::Matrix2d::Identity(),
+                                                 b.end_m, 2.5e-5 * Eigen::Matrix2d::Identity())
+                                   .value();
     const Eigen::Matrix2d floor = CovarianceInDescriptionOf(calib.line, b.line, calib.covariance);
     EXPECT_GE(MinEigen(b.covariance - floor), -1e-12) << i;
     EXPECT_GE(MinEigen(b.covariance - a.covariance), -1e-12) << i;

@@ -381,7 +381,7 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
                   "release build";
 #endif
   const auto dir = ::groundline::testing::ScratchDir("service_selfcal");
-  ASSERT_TRUE(testing::SimulatedZoneBDrive(40.0, 12, dir / "drive", 5.0).has_value());
+  ASSERT_TRUE(testing::SimulatedZoneBDrive(40.0, 12, dir / "drive", 2.0).has_value());
   ServiceConfig config;
   config.replay_dataset = (dir / "drive").string();
   config.replay_speed = 0.0;

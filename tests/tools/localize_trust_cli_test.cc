@@ -41,7 +41,7 @@ bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
   return false;
 }
 
-// One simulated zone A drive with the camera (60 m, 5 Hz): zone A's floor is
+// One simulated zone A drive with the camera (60 m, 2.5 Hz): zone A's floor is
 // distinctive enough to relocalize on. Simulated once and shared by the
 // tests, also across processes (ctest runs each test in its own, two at a
 // time): the first takes a lock and simulates, the others wait and reuse it.
@@ -51,7 +51,7 @@ class LocalizeTrust : public ::testing::Test {
  protected:
   void SetUp() override {
 #ifdef __SANITIZE_ADDRESS__
-    // The camera drive (300 rendered frames) and its relocalizations take
+    // The camera drive (150 rendered frames) and its relocalizations take
     // many minutes of a Debug executable under ASan; ~2 min in release.
     GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
 #endif
@@ -77,9 +77,10 @@ class LocalizeTrust : public ::testing::Test {
       }
       fs::remove_all(dataset_);
       std::string out;
-      const int code = RunGroundline(
-          "sim --zone A --length 60m --seed 3 --camera-rate 5 --no-lidar --out " + Quoted(dataset_),
-          shared, &out);
+      const int code =
+          RunGroundline("sim --zone A --length 60m --seed 3 --camera-rate 2.5 --no-lidar --out " +
+                            Quoted(dataset_),
+                        shared, &out);
       if (code == 0) std::ofstream(shared / "done") << "ok\n";
       EXPECT_EQ(code, 0) << out;
     }
