@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -12,8 +13,10 @@
 #include "groundline/core/atomic_file.h"
 #include "groundline/core/metric_fields.h"
 #include "groundline/core/relation_metrics.h"
+#include "groundline/core/text_parse.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/io/carmen.h"
+#include "groundline/io/carmen_order.h"
 #include "groundline/io/relations.h"
 #include "groundline/localization/lidar/lidar_slam.h"
 #include "progress.h"
@@ -24,6 +27,12 @@ namespace groundline::tools {
 namespace {
 
 namespace lidar = localization::lidar;
+
+std::string Milliseconds(double seconds) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.0f", seconds * 1e3);
+  return text;
+}
 
 nlohmann::ordered_json HealthLine(const lidar::ScanReport& r, const core::SE2& T_map_base) {
   nlohmann::ordered_json line;
@@ -76,9 +85,33 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
                                       read.skipped_lines.front().reason +
                                       "); 'groundline convert carmen --strict' stops at each");
   }
-  std::vector<const io::CarmenLaserScan*> scans;
+  std::vector<const io::CarmenLaserScan*> read_scans;
   for (const io::CarmenLaserScan& s : log->scans) {
-    if (s.laser_id == 1 && s.robot_pose && s.laser_pose) scans.push_back(&s);
+    if (s.laser_id == 1 && s.robot_pose && s.laser_pose) read_scans.push_back(&s);
+  }
+  // The SLAM takes scans in stamp order; a log that wrote some out of order
+  // is put in order within a window, and what cannot be is dropped, counted
+  // and said.
+  const io::CarmenScanOrderOptions order_options;
+  core::Result<io::CarmenScanOrder> ordered = io::OrderLaserScans(read_scans, order_options);
+  if (!ordered.ok()) return LocalizeFail(flags.log_path + ": " + ordered.message());
+  const std::vector<const io::CarmenLaserScan*>& scans = ordered->scans;
+  if (ordered->reordered > 0) {
+    warnings.Add("scans_reordered",
+                 flags.log_path + ": " + std::to_string(ordered->reordered) +
+                     " front-laser scans were written after newer ones (first: line " +
+                     std::to_string(ordered->first_reordered_line) + ", up to " +
+                     Milliseconds(ordered->max_delay_s) +
+                     " ms late); each was put in its place by its stamp");
+  }
+  if (ordered->dropped_late + ordered->dropped_duplicate > 0) {
+    warnings.Add("scans_dropped", flags.log_path + ": dropped " +
+                                      std::to_string(ordered->dropped_late) +
+                                      " front-laser scans more than " +
+                                      core::FormatShortestDouble(order_options.window_s) +
+                                      " s late and " + std::to_string(ordered->dropped_duplicate) +
+                                      " with the stamp of the scan before (first: line " +
+                                      std::to_string(ordered->first_dropped_line) + ")");
   }
   if (scans.empty()) {
     return LocalizeFail(
@@ -151,6 +184,9 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["n_optimizations"] = slam.num_optimizations();
   summary["log_duration_s"] = log_duration_s;
   summary["lines_skipped"] = read.skipped_line_count;
+  summary["scans_reordered"] = ordered->reordered;
+  summary["scans_dropped_late"] = ordered->dropped_late;
+  summary["scans_dropped_duplicate"] = ordered->dropped_duplicate;
   std::printf(
       "%s: %zu scans over %.1f s, %d matched, %d degenerate, %d nodes, %d submaps, "
       "%d of %d loop closures kept (%d more contradicted free space)\n",

@@ -87,7 +87,9 @@ Modes:
   --carmen LOG  2D LiDAR + odometry SLAM (submaps, scan-to-submap matching,
             pose graph with loop closures) on a CARMEN log; writes trajectory.tum
             (one pose per front-laser scan, at its ipc_timestamp), health.jsonl and
-            summary.json; with --relations FILE also the relation errors.
+            summary.json; with --relations FILE also the relation errors. Scans
+            written out of order take their place by stamp if at most 1 s late;
+            later ones and repeated stamps are dropped (counted and said).
 
 Start pose: --initial-pose x_m y_m yaw_deg, else the manifest's start_pose (the
 dock the vehicle starts from), else the map origin (with a warning).
@@ -115,7 +117,8 @@ sibling folder and moved into --out at the end, so a run that fails leaves
                                mapping run whose atlas has < 4 floor lines is not
                                written and exits 1), stream_spans (streams that end or
                                start > 1 s apart), nees_out_of_band (mean NEES against
-                               ground truth outside [0.3, 30]), skipped_lines (--carmen)
+                               ground truth outside [0.3, 30]), skipped_lines,
+                               scans_reordered and scans_dropped (--carmen)
 With ground truth in the dataset it also prints the accuracy, in a block headed
 'diagnostics (ground truth, not available on a vehicle)'; the full table:
 groundline eval --est OUT/trajectory.tum --ref ...
@@ -299,8 +302,8 @@ int RunLocalize(const LocalizeFlags& flags) {
         if (core::Status s = localizer.SetCameraMount(update->mount, update->covariance); !s.ok())
           std::fprintf(stderr, "warning: self-calibration: %s\n", s.message().c_str());
       }
-      line.update(loc::MountEstimateJson(self_calibration->estimate(),
-                                         &self_calibration->applied()));
+      line.update(
+          loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied()));
     }
     if (diagnostics) {
       line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
@@ -387,11 +390,12 @@ int RunLocalize(const LocalizeFlags& flags) {
     j["windows_rejected"] = e.windows_rejected;
     j["mount_updates"] = self_calibration->mount_updates();
     summary["self_calibration"] = j;
-    std::printf("self-calibration: pitch %.3f deg, roll %.3f deg, height %.1f mm, yaw %.3f deg "
-                "(%d windows of %d frames, %d steps)%s%s\n",
-                e.mount.pitch_rad * core::kRadToDeg, e.mount.roll_rad * core::kRadToDeg,
-                e.mount.height_m * 1e3, e.mount.yaw_rad * core::kRadToDeg, e.windows_used,
-                e.frames, e.steps, e.alarm ? "; ALARM: " : "", e.alarm_message.c_str());
+    std::printf(
+        "self-calibration: pitch %.3f deg, roll %.3f deg, height %.1f mm, yaw %.3f deg "
+        "(%d windows of %d frames, %d steps)%s%s\n",
+        e.mount.pitch_rad * core::kRadToDeg, e.mount.roll_rad * core::kRadToDeg,
+        e.mount.height_m * 1e3, e.mount.yaw_rad * core::kRadToDeg, e.windows_used, e.frames,
+        e.steps, e.alarm ? "; ALARM: " : "", e.alarm_message.c_str());
   }
   if (const std::optional<loc::PoseEstimate>& r = localizer.relocalized()) {
     summary["relocalized"] = RelocalizedJson(*r, localizer.relocalizer_status());
@@ -503,12 +507,13 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "With --relocalize: x_m y_m [radius_m] where the drive starts (default radius "
                   "2 m); needed where the floor repeats (identical aisle mouths)")
       ->expected(2, 3);
-  CLI::Option* self_calibrate = cmd->add_flag("--self-calibrate", flags->self_calibrate,
-                "--mode lines/mapping: estimate the camera's pitch, roll, height and yaw from "
-                "the floor lines while driving (parallel and perpendicular markings, the "
-                "markings' motion against the wheel odometry); health.jsonl gets selfcal_* "
-                "fields per keyframe, summary.json the final estimate and any alarm; the "
-                "bird's-eye view follows the estimate in bounded steps");
+  CLI::Option* self_calibrate =
+      cmd->add_flag("--self-calibrate", flags->self_calibrate,
+                    "--mode lines/mapping: estimate the camera's pitch, roll, height and yaw from "
+                    "the floor lines while driving (parallel and perpendicular markings, the "
+                    "markings' motion against the wheel odometry); health.jsonl gets selfcal_* "
+                    "fields per keyframe, summary.json the final estimate and any alarm; the "
+                    "bird's-eye view follows the estimate in bounded steps");
   cmd->add_flag("--self-calibrate-report-only", flags->self_calibrate_report_only,
                 "With --self-calibrate: estimate and report, but keep the bird's-eye view on "
                 "the commissioned mount (to compare)")
