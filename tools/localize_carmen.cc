@@ -97,19 +97,18 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   if (!ordered.ok()) return LocalizeFail(flags.log_path + ": " + ordered.message());
   const std::vector<const io::CarmenLaserScan*>& scans = ordered->scans;
   if (ordered->reordered > 0) {
-    warnings.Add("scans_reordered",
-                 flags.log_path + ": " + std::to_string(ordered->reordered) +
-                     " front-laser scans were written after newer ones (first: line " +
-                     std::to_string(ordered->first_reordered_line) + ", up to " +
-                     Milliseconds(ordered->max_delay_s) +
-                     " ms late); each was put in its place by its stamp");
+    warnings.Add("scans_reordered", flags.log_path +
+                                        ": front-laser scans written after newer ones: " +
+                                        std::to_string(ordered->reordered) + " (first: line " +
+                                        std::to_string(ordered->first_reordered_line) + ", up to " +
+                                        Milliseconds(ordered->max_delay_s) +
+                                        " ms late); each was put in its place by its stamp");
   }
   if (ordered->dropped_late + ordered->dropped_duplicate > 0) {
-    warnings.Add("scans_dropped", flags.log_path + ": dropped " +
-                                      std::to_string(ordered->dropped_late) +
-                                      " front-laser scans more than " +
+    warnings.Add("scans_dropped", flags.log_path + ": dropped front-laser scans: " +
+                                      std::to_string(ordered->dropped_late) + " more than " +
                                       core::FormatShortestDouble(order_options.window_s) +
-                                      " s late and " + std::to_string(ordered->dropped_duplicate) +
+                                      " s late, " + std::to_string(ordered->dropped_duplicate) +
                                       " with the stamp of the scan before (first: line " +
                                       std::to_string(ordered->first_dropped_line) + ")");
   }
