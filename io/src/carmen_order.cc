@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <queue>
 #include <string>
 
@@ -33,20 +34,20 @@ core::Result<CarmenScanOrder> OrderLaserScans(std::span<const CarmenLaserScan* c
   std::priority_queue<Held, std::vector<Held>, std::greater<>> held;
   CarmenScanOrder order;
   order.scans.reserve(scans.size());
-  bool released_any = false;
-  double last_released_s = 0.0;
-  bool read_any = false;
-  double newest_s = 0.0;
+  // Stamps are finite (checked below): -inf stands for "none yet".
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  double last_released_s = kNone;
+  double newest_s = kNone;
   const auto drop = [&](const CarmenLaserScan& s, std::int64_t& counter) {
     ++counter;
     if (order.first_dropped_line == 0) order.first_dropped_line = s.line;
   };
-  const auto release_until = [&](double before_s, bool all) {
-    while (!held.empty() && (all || held.top().stamp_s < before_s)) {
+  const auto release_before = [&](double before_s) {
+    while (!held.empty() && held.top().stamp_s < before_s) {
       const Held h = held.top();
       held.pop();
       const CarmenLaserScan& s = *scans[h.index];
-      if (released_any && s.stamp_s <= last_released_s) {
+      if (s.stamp_s <= last_released_s) {
         drop(s, order.dropped_duplicate);  // equal: held scans are released in order
         continue;
       }
@@ -58,7 +59,6 @@ core::Result<CarmenScanOrder> OrderLaserScans(std::span<const CarmenLaserScan* c
         }
       }
       order.scans.push_back(&s);
-      released_any = true;
       last_released_s = s.stamp_s;
     }
   };
@@ -71,16 +71,15 @@ core::Result<CarmenScanOrder> OrderLaserScans(std::span<const CarmenLaserScan* c
       return core::Status::Error("OrderLaserScans: line " + std::to_string(s.line) +
                                  ": the laser's ipc_timestamp is not finite");
     }
-    if (released_any && s.stamp_s <= last_released_s) {
+    if (s.stamp_s <= last_released_s) {
       drop(s, s.stamp_s == last_released_s ? order.dropped_duplicate : order.dropped_late);
       continue;
     }
-    held.push({s.stamp_s, i, read_any && s.stamp_s < newest_s ? newest_s - s.stamp_s : 0.0});
-    if (!read_any || s.stamp_s > newest_s) newest_s = s.stamp_s;
-    read_any = true;
-    release_until(newest_s - options.window_s, false);
+    held.push({s.stamp_s, i, s.stamp_s < newest_s ? newest_s - s.stamp_s : 0.0});
+    newest_s = std::max(newest_s, s.stamp_s);
+    release_before(newest_s - options.window_s);
   }
-  release_until(0.0, true);
+  release_before(std::numeric_limits<double>::infinity());
   return order;
 }
 
