@@ -29,24 +29,27 @@ function(groundline_add_library module)
   groundline_set_warnings(${target})
 endfunction()
 
-# groundline_add_test(<name> [HEAVY_TEST_CODE] [LONG] SOURCES ... [DEPS ...])
+# groundline_add_test(<name> [LONG] SOURCES ... [DEPS ...])
 # One GoogleTest executable; each TEST becomes its own ctest entry.
 # Test code compiles at -O0 in every build: what the tests time and exercise
 # is the libraries (built -O2 in release, -O1 under the sanitizers), and
 # optimizing the gtest and Eigen templates of the test code itself took over
-# half of the release build's compile time. HEAVY_TEST_CODE: the tests compute
-# much in their own code (header-only fixtures), which keeps the build's
-# optimization level.
+# half of the release build's compile time. A fixture that computes much
+# (a rendered floor, a synthetic drive) goes in a small library of its own,
+# which keeps the build's optimization level.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "HEAVY_TEST_CODE;LONG" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "LONG" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
-  if(NOT ARG_HEAVY_TEST_CODE)
-    # Half the compile time (a unity batch of core tests under the
-    # sanitizers: 32 s at -O0 against 60 s at -O1 of CPU).
-    target_compile_options(${name} PRIVATE -O0)
-  endif()
+  # Half the compile time (a unity batch of core tests under the
+  # sanitizers: 32 s at -O0 against 60 s at -O1 of CPU).
+  target_compile_options(${name} PRIVATE -O0)
+  # Unoptimized code has no cost that grows faster than the batch, while
+  # every batch parses GoogleTest, Eigen and OpenCV again: test sources
+  # compile in batches twice the libraries'.
+  math(EXPR batch "2 * ${GROUNDLINE_UNITY_BATCH}")
+  set_target_properties(${name} PROPERTIES UNITY_BUILD_BATCH_SIZE ${batch})
   # LONG: the executable holds tests of a minute or more (end-to-end runs).
   # ctest starts tests of a higher COST first; without it a fresh build
   # directory (CI's) has no timings yet and runs them in declaration order,

@@ -16,10 +16,10 @@ namespace {
 
 TEST(DatasetStreams, MergeEveryEventInTimeOrderScansThenFramesThenReadingsAtOneInstant) {
   const auto dir = ::groundline::testing::ScratchDir("dataset_streams");
-  Dataset d = testing::MakeSyntheticDataset(dir);
+  Dataset d = ::groundline::testing::MakeSyntheticDataset(dir);
   // A frame and a scan at exactly a reading's instant.
   d.images.push_back({d.wheel_encoders[60].stamp_s, "000099.png"});
-  testing::WriteText(dir / "images" / "000099.png", "fixture\n");
+  ::groundline::testing::WriteText(dir / "images" / "000099.png", "fixture\n");
   LaserScan scan = d.scans.back();
   scan.stamp_s = d.wheel_encoders[60].stamp_s;
   d.scans.push_back(scan);
@@ -66,7 +66,7 @@ TEST(DatasetStreams, MergeEveryEventInTimeOrderScansThenFramesThenReadingsAtOneI
 
 TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
   const auto dir = ::groundline::testing::ScratchDir("manifest_12");
-  Dataset d = testing::MakeSyntheticDataset(dir);
+  Dataset d = ::groundline::testing::MakeSyntheticDataset(dir);
   d.manifest.lidar->stamp = LidarStamp::kFirstRay;
   d.manifest.start_pose =
       StartPose{d.ground_truth.front().stamp_s, SE2(1.5, -2.0, 0.3), 0.01, 0.002};
@@ -80,10 +80,10 @@ TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
   EXPECT_EQ(read->start_pose->sigma_xy_m, 0.01);
 
   // A bad convention is refused with its key and line.
-  std::string text = testing::ReadText(dir / "manifest.yaml");
+  std::string text = ::groundline::testing::ReadText(dir / "manifest.yaml");
   const std::string bad =
       std::regex_replace(text, std::regex("stamp: \"first_ray\""), "stamp: \"end\"");
-  testing::WriteText(dir / "manifest.yaml", bad);
+  ::groundline::testing::WriteText(dir / "manifest.yaml", bad);
   Result<DatasetManifest> refused = ReadDatasetManifest(dir / "manifest.yaml");
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.message().find("sensors.lidar.stamp"), std::string::npos) << refused.message();
@@ -95,14 +95,14 @@ TEST(DatasetManifest, TheLidarStampAndTheStartPoseRoundTrip) {
   old = std::regex_replace(old, std::regex("start_pose: .*\n"), "");
   old = std::regex_replace(old, std::regex("\"generator\": \"[^\"]*\""),
                            "\"generator\": \"groundline sim\"");
-  testing::WriteText(dir / "manifest.yaml", old);
+  ::groundline::testing::WriteText(dir / "manifest.yaml", old);
   Result<DatasetManifest> migrated = ReadDatasetManifest(dir / "manifest.yaml");
   ASSERT_TRUE(migrated.ok()) << migrated.message();
   EXPECT_EQ(migrated->lidar->stamp, LidarStamp::kFirstRay);
   EXPECT_FALSE(migrated->start_pose.has_value());
-  testing::WriteText(dir / "manifest.yaml",
-                     std::regex_replace(old, std::regex("provenance:\n"),
-                                        "provenance:\n  \"lidar_stamp\": \"mid_sweep\"\n"));
+  ::groundline::testing::WriteText(
+      dir / "manifest.yaml", std::regex_replace(old, std::regex("provenance:\n"),
+                                                "provenance:\n  \"lidar_stamp\": \"mid_sweep\"\n"));
   Result<DatasetManifest> mid = ReadDatasetManifest(dir / "manifest.yaml");
   ASSERT_TRUE(mid.ok()) << mid.message();
   EXPECT_EQ(mid->lidar->stamp, LidarStamp::kMidSweep);

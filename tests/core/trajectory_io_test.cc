@@ -12,19 +12,16 @@
 #include <random>
 #include <string>
 
+#include "dataset_fixture.h"
 #include "test_data.h"
 #include "test_units.h"
 
 namespace groundline::core {
 namespace {
 
-using ::groundline::testing::ScratchDir;
 using ::groundline::testing::kPi;
-
-void WriteText(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
+using ::groundline::testing::ScratchDir;
+using ::groundline::testing::WriteText;
 
 // Yaws near 0, +-pi/2 and +-pi (where the quaternion's qw vanishes), plus
 // random ones from a fixed seed.
