@@ -31,6 +31,7 @@ struct SimFlags {
   bool no_lidar = false;
   bool no_camera = false;
   bool randomize_nuisances = false;
+  bool survey_noise = false;
   double camera_rate_hz = 10.0;
   int threads = 2;
   // Which flags were given (they override the scenario file).
@@ -80,6 +81,15 @@ ranges (texture contrast, lux, gradient, shadows cast by racks, pallets and
 the vehicle, glare size and count and strip rows, tire marks along the lanes,
 patched concrete, wet areas, blur, noise), seeded by --seed: the randomized
 evaluation set of docs/perception.md.
+
+--survey-noise writes the floor map as a real survey would measure it instead
+of the world's exact geometry: every marking vertex off by 3 mm (1 sigma per
+axis, a tape survey), every wall and rack face off by 2 cm across and 0.2 deg
+(a layout drawing); the map's survey block states these sigmas, and the
+localizer weighs the map by them. A scenario sets other values under
+survey_noise (marking_vertex_sigma_m, face_offset_sigma_m, face_angle_deg).
+The ground truth stays exact; note that `extract --dataset` then scores the
+detections against the surveyed map, survey errors included.
 
 A scenario file (--scenario) sets everything else: the zone's layout, route
 speeds, sensor rates and noise, each photometric nuisance on/off with its
@@ -152,6 +162,7 @@ std::optional<int> AssembleOptions(const SimFlags& flags, sim::Scenario* scenari
   if (flags.no_lidar) options.with_lidar = false;
   if (flags.no_camera) options.with_camera = false;
   if (flags.randomize_nuisances) options.randomize_nuisances = true;
+  if (flags.survey_noise) options.survey_noise = sim::SurveyNoiseOptions::Typical();
   if (!from_file || flags.Given("--camera-rate")) options.camera_rate_hz = flags.camera_rate_hz;
   return std::nullopt;
 }
@@ -291,6 +302,9 @@ CLI::App* AddSimCommand(CLI::App& parent, CommandRunner* run) {
                 "Skip the floor camera (no images; much faster, much smaller)");
   cmd->add_flag("--randomize-nuisances", flags->randomize_nuisances,
                 "Draw every photometric nuisance per scene from wide ranges (seeded by --seed)");
+  cmd->add_flag("--survey-noise", flags->survey_noise,
+                "Write the floor map as a survey measured it: 3 mm per marking vertex, faces "
+                "from a layout drawing off by 2 cm and 0.2 deg (the map states these sigmas)");
   flags->given.push_back(
       cmd->add_option("--camera-rate", flags->camera_rate_hz,
                       "Camera frames per second written, Hz (0 < rate <= 60, the sensor's rate)")

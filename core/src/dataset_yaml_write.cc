@@ -22,7 +22,8 @@ constexpr char kFloorMapHeader[] =
     "# groundline floor map: ground-truth floor markings (format: docs/dataset.md).\n"
     "# polyline_m: centre line in the map frame, metres; width_m across it.\n"
     "# colour_rgb: 8-bit sRGB; polarity: bright or dark against the floor.\n"
-    "# dash_m/gap_m (tape_dashed only): the pattern starts with a dash at the first vertex.\n";
+    "# dash_m/gap_m (tape_dashed only): the pattern starts with a dash at the first vertex.\n"
+    "# survey (optional): the survey's stated 1-sigma accuracy.\n";
 
 std::string Version(int major, int minor) {
   return std::to_string(major) + "." + std::to_string(minor);
@@ -159,6 +160,13 @@ std::string FormatFloorMap(const FloorMap& map) {
   out << YAML::Key << "version" << YAML::Value
       << Version(kFloorMapFormatMajor, kFloorMapFormatMinor);
   Quoted(out, "frame", map.frame);
+  if (map.survey) {
+    out << YAML::Key << "survey" << YAML::Value << YAML::BeginMap;
+    Number(out, "marking_vertex_sigma_m", map.survey->marking_vertex_sigma_m);
+    Number(out, "face_offset_sigma_m", map.survey->face_offset_sigma_m);
+    Number(out, "face_angle_sigma_rad", map.survey->face_angle_sigma_rad);
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "markings" << YAML::Value;
   if (map.markings.empty()) out << YAML::Flow;
   out << YAML::BeginSeq;

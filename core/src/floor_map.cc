@@ -138,6 +138,16 @@ namespace internal {
 
 std::optional<FieldProblem> CheckFloorMap(const FloorMap& map) {
   if (map.frame.empty()) return FieldProblem{"frame", "a non-empty frame name", ""};
+  if (map.survey) {
+    for (const auto& [field, value] :
+         {std::pair{"survey.marking_vertex_sigma_m", map.survey->marking_vertex_sigma_m},
+          std::pair{"survey.face_offset_sigma_m", map.survey->face_offset_sigma_m},
+          std::pair{"survey.face_angle_sigma_rad", map.survey->face_angle_sigma_rad}}) {
+      if (!(std::isfinite(value) && value > 0.0)) {
+        return FieldProblem{field, "a sigma > 0", FormatShortest(value)};
+      }
+    }
+  }
   std::set<std::int64_t> ids;
   for (std::size_t i = 0; i < map.markings.size(); ++i) {
     const std::string p = IndexPath("markings", i);
@@ -182,9 +192,18 @@ Result<FloorMap> internal::ReadFloorMapInFrame(const std::filesystem::path& path
   y.CheckFormat(root, kFloorMapFormatName, kFloorMapFormatMajor, kFloorMapFormatMinor, &major,
                 &minor);
   if (!y.ok()) return y.status();
-  y.CheckKeys(root, "", {"format", "version", "frame", "markings"});
+  y.CheckKeys(root, "", {"format", "version", "frame", "survey", "markings"});
   FloorMap map;
   map.frame = y.Text(root, "", "frame");
+  if (const YAML::Node survey = y.Child(root, "", "survey", false);
+      survey && y.ExpectMap(survey, "survey")) {
+    y.CheckKeys(survey, "survey",
+                {"marking_vertex_sigma_m", "face_offset_sigma_m", "face_angle_sigma_rad"});
+    FloorMapSurvey& s = map.survey.emplace();
+    s.marking_vertex_sigma_m = y.Number(survey, "survey", "marking_vertex_sigma_m");
+    s.face_offset_sigma_m = y.Number(survey, "survey", "face_offset_sigma_m");
+    s.face_angle_sigma_rad = y.Number(survey, "survey", "face_angle_sigma_rad");
+  }
   if (y.ok() && !expected_frame.empty() && map.frame != expected_frame) {
     y.Fail(root["frame"], "frame", "the dataset's map frame '" + expected_frame + "'", map.frame);
   }

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numbers>
 
 #include "groundline/core/segment_distance.h"
 #include "groundline/localization/atlas.h"
@@ -115,14 +116,26 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     AtlasLine entry;
     entry.id = static_cast<std::int64_t>(atlas.lines.size());
     entry.line_map = *line;
-    entry.covariance = LineCovarianceAbout(*line, 0.5 * (segment.a_m + segment.b_m),
-                                           options.line_rho_sigma_m, options.line_alpha_sigma_rad);
+    double rho_sigma_m = options.line_rho_sigma_m;
+    double alpha_sigma_rad = options.line_alpha_sigma_rad;
+    if (map.survey) {
+      // Two ends off by sigma each across the line, independently: the
+      // midpoint moves by sigma / sqrt(2), the direction by sqrt(2) sigma / L,
+      // and the two are uncorrelated.
+      const double sigma = map.survey->marking_vertex_sigma_m;
+      rho_sigma_m = sigma / std::numbers::sqrt2;
+      alpha_sigma_rad = std::numbers::sqrt2 * sigma / (segment.b_m - segment.a_m).norm();
+    }
+    entry.covariance =
+        LineCovarianceAbout(*line, 0.5 * (segment.a_m + segment.b_m), rho_sigma_m, alpha_sigma_rad);
     entry.kind = segment.kind;
     entry.endpoint_a_m = segment.a_m;
     entry.endpoint_b_m = segment.b_m;
     atlas.lines.push_back(entry);
   }
-  const double variance = options.junction_sigma_m * options.junction_sigma_m;
+  const double junction_sigma_m =
+      map.survey ? map.survey->marking_vertex_sigma_m : options.junction_sigma_m;
+  const double variance = junction_sigma_m * junction_sigma_m;
   for (const Eigen::Vector2d& point : MarkingJunctions(map, options)) {
     atlas.junctions.push_back({static_cast<std::int64_t>(atlas.junctions.size()), point,
                                Eigen::Matrix2d::Identity() * variance});
@@ -136,8 +149,10 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     }
   }
   AtlasWallOptions face_options;
-  face_options.rho_sigma_m = options.face_rho_sigma_m;
-  face_options.alpha_sigma_rad = options.face_alpha_sigma_rad;
+  face_options.rho_sigma_m =
+      map.survey ? map.survey->face_offset_sigma_m : options.face_rho_sigma_m;
+  face_options.alpha_sigma_rad =
+      map.survey ? map.survey->face_angle_sigma_rad : options.face_alpha_sigma_rad;
   // A validated floor map has no segment under 1 mm, so this cannot fail.
   [[maybe_unused]] const core::Status added = AppendWallLines(faces, face_options, &atlas);
   assert(added.ok());

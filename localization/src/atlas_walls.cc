@@ -30,9 +30,10 @@ core::Status AppendWallLines(const std::vector<WallSegment>& segments,
     AtlasLine wall;
     wall.id = next_id++;
     wall.line_map = *line;
-    wall.covariance = Eigen::Vector2d(options.rho_sigma_m * options.rho_sigma_m,
-                                      options.alpha_sigma_rad * options.alpha_sigma_rad)
-                          .asDiagonal();
+    // About the face's midpoint, where the survey's shift and turn are
+    // independent (LineCovarianceAbout), not about the map origin.
+    wall.covariance = LineCovarianceAbout(*line, 0.5 * (segments[i].a_m + segments[i].b_m),
+                                          options.rho_sigma_m, options.alpha_sigma_rad);
     wall.kind = segments[i].rack_face ? core::MarkingKind::kRackFace : core::MarkingKind::kWall;
     wall.endpoint_a_m = segments[i].a_m;
     wall.endpoint_b_m = segments[i].b_m;

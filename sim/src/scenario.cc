@@ -255,7 +255,7 @@ core::Result<Scenario> LoadScenarioUnguarded(const std::filesystem::path& path) 
   }
   ReadFields(y, root, "", {{"seed", &o.seed}, {"robots", &scenario.robots}},
              {"format", "version", "name", "description", "zone", "layout", "route", "encoders",
-              "lidar", "camera", "nuisances", "perturbations"});
+              "lidar", "camera", "nuisances", "perturbations", "survey_noise"});
   if (root["robots"] && y.ok() && scenario.robots < 1) {
     y.Fail(root["robots"], "robots", "a number of robots >= 1", root["robots"].Scalar());
   }
@@ -321,6 +321,10 @@ core::Result<Scenario> LoadScenarioUnguarded(const std::filesystem::path& path) 
   }
   ReadNuisances(y, root["nuisances"], &o.render, &o.randomize_nuisances);
   ReadPerturbations(y, root["perturbations"], &o.mount_perturbations);
+  ReadFields(y, root["survey_noise"], "survey_noise",
+             {{"marking_vertex_sigma_m", &o.survey_noise.marking_vertex_sigma_m},
+              {"face_offset_sigma_m", &o.survey_noise.face_offset_sigma_m},
+              {"face_angle_deg", &o.survey_noise.face_angle_sigma_rad, kDegToRad}});
   if (!y.ok()) return y.status();
   if (core::Status s = o.Validate(); !s.ok()) return s.WithContext(path.string());
   return scenario;

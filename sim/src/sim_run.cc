@@ -1,7 +1,10 @@
 #include "groundline/sim/sim_run.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <random>
 #include <string>
 
 #include "groundline/sim/floor_nuisances.h"
@@ -29,6 +32,7 @@ constexpr std::uint64_t kEncoderStream = 2;
 constexpr std::uint64_t kLidarStream = 3;
 constexpr std::uint64_t kCameraStream = 4;
 constexpr std::uint64_t kClutterStream = 5;
+constexpr std::uint64_t kSurveyStream = 6;
 
 const char* ZoneLetter(Zone zone) {
   switch (zone) {
@@ -107,6 +111,32 @@ core::DatasetManifest MakeManifest(const SimRunOptions& options, const World& wo
 
 }  // namespace
 
+core::Status SurveyNoiseOptions::Validate() const {
+  const double sigmas[3] = {marking_vertex_sigma_m, face_offset_sigma_m, face_angle_sigma_rad};
+  const char* names[3] = {"marking_vertex_sigma_m", "face_offset_sigma_m", "face_angle_sigma_rad"};
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::isfinite(sigmas[i]) && sigmas[i] >= 0.0)) {
+      return core::Status::Error(std::string(names[i]) + ": expected a sigma >= 0, got " +
+                                 std::to_string(sigmas[i]));
+    }
+    // The map states the survey's accuracy; a stated sigma of 0 would claim
+    // an exact survey of that part.
+    if (enabled() && sigmas[i] == 0.0) {
+      return core::Status::Error(std::string(names[i]) +
+                                 ": expected a sigma > 0 when any survey noise is on");
+    }
+  }
+  return core::Status::Ok();
+}
+
+SurveyNoiseOptions SurveyNoiseOptions::Typical() {
+  SurveyNoiseOptions o;
+  o.marking_vertex_sigma_m = 0.003;
+  o.face_offset_sigma_m = 0.02;
+  o.face_angle_sigma_rad = 0.2 * std::numbers::pi / 180.0;
+  return o;
+}
+
 core::Status SimRunOptions::Validate() const {
   const core::Status layout = zone == Zone::kA   ? zone_a.Validate()
                               : zone == Zone::kB ? zone_b.Validate()
@@ -119,6 +149,7 @@ core::Status SimRunOptions::Validate() const {
   if (with_lidar) {
     if (core::Status s = lidar.Validate(); !s.ok()) return s.WithContext("lidar");
   }
+  if (core::Status s = survey_noise.Validate(); !s.ok()) return s.WithContext("survey_noise");
   if (with_camera) {
     if (core::Status s = camera.Validate(); !s.ok()) return s.WithContext("camera");
     if (core::Status s = render.Validate(); !s.ok()) return s.WithContext("render");
@@ -169,6 +200,36 @@ core::FloorMap SiteFloorMap(const World& world, double lidar_plane_height_m) {
     out.polarity = core::MarkingPolarity::kDark;
     out.polyline_m = {face.a_m, face.b_m};
     map.markings.push_back(std::move(out));
+  }
+  return map;
+}
+
+core::FloorMap SurveyedFloorMap(const core::FloorMap& exact, const SurveyNoiseOptions& noise,
+                                std::uint64_t seed) {
+  if (!noise.enabled()) return exact;
+  core::FloorMap map = exact;
+  map.survey = core::FloorMapSurvey{noise.marking_vertex_sigma_m, noise.face_offset_sigma_m,
+                                    noise.face_angle_sigma_rad};
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (core::FloorMarking& marking : map.markings) {
+    std::vector<core::Vector2>& v = marking.polyline_m;
+    if (core::IsFaceKind(marking.kind)) {
+      // A face as a whole: a turn about its midpoint, then a shift across it.
+      const core::Vector2 mid = 0.5 * (v.front() + v.back());
+      const core::Vector2 along = (v.back() - v.front()).normalized();
+      const core::Vector2 normal(-along.y(), along.x());
+      const double turn = noise.face_angle_sigma_rad * unit(rng);
+      const double shift = noise.face_offset_sigma_m * unit(rng);
+      const Eigen::Rotation2Dd R(turn);
+      for (core::Vector2& p : v) p = mid + R * (p - mid) + shift * normal;
+      continue;
+    }
+    const bool closed = v.size() > 2 && v.front() == v.back();
+    for (core::Vector2& p : v) {
+      p += noise.marking_vertex_sigma_m * core::Vector2(unit(rng), unit(rng));
+    }
+    if (closed) v.back() = v.front();
   }
   return map;
 }
@@ -260,8 +321,11 @@ core::Result<SimRun> SimulateRobot(World world, Route route, const SimRunOptions
   core::Dataset& dataset = run.dataset;
   dataset.manifest = MakeManifest(options, run.world);
   dataset.ground_truth = run.route.T_map_base;
-  dataset.floor_map = SiteFloorMap(
-      run.world, options.with_lidar ? options.lidar.height_m : WallFaceOptions().plane_height_m);
+  // One survey per site: every robot of a fleet gets the same map.
+  dataset.floor_map = SurveyedFloorMap(
+      SiteFloorMap(run.world,
+                   options.with_lidar ? options.lidar.height_m : WallFaceOptions().plane_height_m),
+      options.survey_noise, StreamSeed(options.seed, kSurveyStream));
   dataset.manifest.start_pose =
       core::StartPose{run.route.T_map_base.front().stamp_s, run.route.T_map_base.front().pose};
   dataset.wheel_encoders.reserve(run.encoder_log.readings.size());

@@ -156,6 +156,7 @@ inline core::Dataset MakeSyntheticDataset(const std::filesystem::path& dir) {
       marking(10, MarkingKind::kStagingBoxEdge, 0.075, {0, 90, 200}, kBright,
               {Vector2(1, 2), Vector2(3, 2), Vector2(3, 4), Vector2(1, 4), Vector2(1, 2)});
   map.markings = {dashed, stop, joint, box};
+  map.survey = core::FloorMapSurvey{0.003, 0.02, 0.0035};
   d.floor_map = map;
   d.UseDefaultFileNames();
   return d;

@@ -203,6 +203,16 @@ std::vector<Corruption> Cases() {
       {"floor_map_frame_not_utf8", map,
        [=](const fs::path& d) { return Replace(d / map, "frame: \"map\"", "frame: \"ma\xffp\""); },
        "frame", "UTF-8"},
+      {"floor_map_survey_sigma_zero", map,
+       [=](const fs::path& d) {
+         return Replace(d / map, "face_offset_sigma_m: 0.02", "face_offset_sigma_m: 0");
+       },
+       "survey.face_offset_sigma_m", "sigma > 0"},
+      {"floor_map_survey_unknown_key", map,
+       [=](const fs::path& d) {
+         return Replace(d / map, "face_angle_sigma_rad:", "face_angle_sigma_deg:");
+       },
+       "survey.face_angle_sigma_deg", "unknown key"},
       {"floor_map_unknown_kind", map,
        [=](const fs::path& d) { return Replace(d / map, "kind: joint", "kind: pothole"); },
        "markings[2].kind"},

@@ -113,6 +113,10 @@ TEST(Dataset, RoundTripsEveryFieldWithinTheWrittenPrecision) {
   }
   ASSERT_TRUE(d.floor_map.has_value());
   EXPECT_EQ(d.floor_map->frame, "map");
+  ASSERT_TRUE(d.floor_map->survey.has_value());
+  EXPECT_EQ(d.floor_map->survey->marking_vertex_sigma_m, 0.003);
+  EXPECT_EQ(d.floor_map->survey->face_offset_sigma_m, 0.02);
+  EXPECT_EQ(d.floor_map->survey->face_angle_sigma_rad, 0.0035);
   ASSERT_EQ(d.floor_map->markings.size(), written.floor_map->markings.size());
   for (std::size_t i = 0; i < d.floor_map->markings.size(); ++i) {
     const FloorMarking& a = written.floor_map->markings[i];

@@ -22,7 +22,7 @@ namespace groundline::core {
 
 inline constexpr char kFloorMapFormatName[] = "groundline-floor-map";
 inline constexpr int kFloorMapFormatMajor = 1;
-inline constexpr int kFloorMapFormatMinor = 0;
+inline constexpr int kFloorMapFormatMinor = 1;
 
 enum class MarkingKind {
   kTapeSolid,        // continuous tape line (aisle edge, lane divider)
@@ -66,9 +66,23 @@ struct FloorMarking {
   std::optional<double> gap_m;
 };
 
+// Since 1.1, optional: the stated accuracy of the survey the map comes from
+// (1 sigma, each > 0). A map without it states none, and its users assume
+// their own defaults.
+struct FloorMapSurvey {
+  // Every vertex of a floor marking's polyline, along each axis, independent
+  // from vertex to vertex (a tape or total-station survey).
+  double marking_vertex_sigma_m = 0.003;
+  // A wall or rack face as a whole (a layout drawing): a shift across it and
+  // a turn about its midpoint.
+  double face_offset_sigma_m = 0.02;
+  double face_angle_sigma_rad = 0.0034906585039886592;  // 0.2 deg
+};
+
 struct FloorMap {
   std::string frame = "map";  // the frame of every polyline
   std::vector<FloorMarking> markings;
+  std::optional<FloorMapSurvey> survey;
 
   // Checks the rules above (ids, widths, colours, polylines, dash pattern);
   // the message names the marking by id and index.

@@ -72,6 +72,8 @@ Eigen::Matrix2d LineCovarianceAbout(const perception::HesseLine& line,
                                     const Eigen::Vector2d& anchor_m, double sigma_m,
                                     double sigma_rad);
 
+// The survey accuracies assumed for a floor map that states none; a map with a
+// survey block (core::FloorMapSurvey) is taken at its word instead.
 struct AtlasFromFloorMapOptions {
   // Survey accuracy of a marking line, at the midpoint of each segment
   // (LineCovarianceAbout): across the line and its direction.
@@ -94,7 +96,9 @@ struct AtlasFromFloorMapOptions {
 // polyline corners and where segments of different floor markings cross or
 // meet (a segment end within junction_merge_distance_m of another segment);
 // then the map's wall and rack faces as face lines (AppendWallLines), which
-// make no junctions.
+// make no junctions. With the map's survey block, a segment's covariance
+// follows from its vertices' sigma and its length, a junction's is the
+// vertices' sigma, and a face's is the survey's face sigmas.
 Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options);
 
 // The centre-line segments of the map's floor markings (no faces) with their

@@ -24,7 +24,8 @@ struct WallSegment {
 };
 
 struct AtlasWallOptions {
-  double rho_sigma_m = 0.005;  // survey accuracy of a face
+  // Survey accuracy of a face: a shift across it and a turn about its midpoint.
+  double rho_sigma_m = 0.005;
   double alpha_sigma_rad = 0.002;
 
   core::Status Validate() const;

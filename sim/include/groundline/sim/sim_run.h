@@ -38,6 +38,26 @@
 
 namespace groundline::sim {
 
+// The errors of the survey a site's floor map comes from. All zero (the
+// default): the dataset's floor map is the world's exact geometry. All > 0:
+// every vertex of a floor marking moves by N(0, marking_vertex_sigma_m^2)
+// along each axis, every wall and rack face shifts across itself by
+// N(0, face_offset_sigma_m^2) and turns about its midpoint by
+// N(0, face_angle_sigma_rad^2); the map states these sigmas in its survey
+// block, as an honest survey would.
+struct SurveyNoiseOptions {
+  double marking_vertex_sigma_m = 0.0;
+  double face_offset_sigma_m = 0.0;
+  double face_angle_sigma_rad = 0.0;
+  bool enabled() const {
+    return marking_vertex_sigma_m > 0.0 || face_offset_sigma_m > 0.0 || face_angle_sigma_rad > 0.0;
+  }
+  core::Status Validate() const;
+  // A tape survey of the markings (3 mm per vertex) and faces taken from a
+  // layout drawing (2 cm, 0.2 deg).
+  static SurveyNoiseOptions Typical();
+};
+
 struct SimRunOptions {
   Zone zone = Zone::kB;
   // The layout of each zone (only the one of `zone` is used; its seed is
@@ -82,6 +102,8 @@ struct SimRunOptions {
   // extrinsics file keeps camera.mount (nominal) and its
   // ground_truth_extrinsics the true mount over time.
   MountPerturbationOptions mount_perturbations;
+  // The floor map's survey errors (one draw per site, seeded by `seed`).
+  SurveyNoiseOptions survey_noise;
 
   core::Status Validate() const;
 };
@@ -163,6 +185,12 @@ core::FloorMap ToFloorMap(const World& world);
 // lidar_plane_height_m) as markings of kind wall / rack_face, ids after the
 // markings'. The dataset's floor_map.yaml.
 core::FloorMap SiteFloorMap(const World& world, double lidar_plane_height_m);
+
+// The site's floor map as a survey with `noise` measured it (see
+// SurveyNoiseOptions), with its survey block; `exact` itself when the noise
+// is off. A closed outline stays closed.
+core::FloorMap SurveyedFloorMap(const core::FloorMap& exact, const SurveyNoiseOptions& noise,
+                                std::uint64_t seed);
 
 // Converts a simulated scan to the dataset's encoding: no return and
 // closer-than-minimum both become core::kNoReturnRange_m, and the stamp moves
