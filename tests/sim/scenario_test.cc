@@ -63,6 +63,7 @@ perturbations:
   height_loss_mm_per_km: 3
   steps:
     - {cause: payload, at_s: 10, pitch_deg: 0.5, height_mm: -2}
+survey_noise: {marking_vertex_sigma_m: 0.004, face_offset_sigma_m: 0.03, face_angle_deg: 0.1}
 )");
   const core::Result<Scenario> s = LoadScenario(path);
   ASSERT_TRUE(s.ok()) << s.message();
@@ -70,6 +71,9 @@ perturbations:
   EXPECT_EQ(o.zone, Zone::kB);
   EXPECT_EQ(o.seed, 9u);
   EXPECT_EQ(o.zone_b.num_aisles, 6);
+  EXPECT_EQ(o.survey_noise.marking_vertex_sigma_m, 0.004);
+  EXPECT_EQ(o.survey_noise.face_offset_sigma_m, 0.03);
+  EXPECT_NEAR(o.survey_noise.face_angle_sigma_rad, 0.1 * kDeg, 1e-15);
   EXPECT_EQ(o.zone_b.pallet_fill, 0.5);
   EXPECT_EQ(o.route.length_m, 250.0);
   EXPECT_TRUE(o.route.closed_loop);
