@@ -109,6 +109,7 @@ std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
 Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options) {
   Atlas atlas;
   atlas.frame = map.frame;
+  atlas.covariances_stated = map.survey.has_value();
   for (const MarkingSegment& segment : MarkingSegments(map)) {
     const core::Result<perception::HesseLine> line =
         perception::LineFromPoints(segment.a_m, segment.b_m);

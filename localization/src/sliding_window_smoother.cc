@@ -141,15 +141,28 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
   std::vector<const JunctionObservation*> unmatched_junctions;
   health->lines_observed = static_cast<int>(observations.lines.size());
   health->junctions_observed = static_cast<int>(observations.junctions.size());
+  const bool with_landmark_covariance =
+      !mapping && options_.landmark_covariance_in_factors && atlas_.covariances_stated;
   const auto add_line = [&](const LineObservation& observation, int landmark) {
-    const auto sqrt_information = SqrtInformationFromCovariance2(observation.covariance);
+    Eigen::Matrix2d covariance = observation.covariance;
+    if (with_landmark_covariance) {
+      Eigen::Matrix2d J;
+      perception::InverseTransformLine(T_pred, atlas_.lines[landmark].line_map, nullptr, &J);
+      covariance += J * atlas_.lines[landmark].covariance * J.transpose();
+    }
+    const auto sqrt_information = SqrtInformationFromCovariance2(covariance);
     if (!sqrt_information.ok()) return false;
     keyframe->lines.push_back(
         {landmark, std::make_unique<GroundLineFactor>(observation.line_base, *sqrt_information)});
     return true;
   };
   const auto add_junction = [&](const JunctionObservation& observation, int landmark) {
-    const auto sqrt_information = SqrtInformationFromCovariance2(observation.covariance);
+    Eigen::Matrix2d covariance = observation.covariance;
+    if (with_landmark_covariance) {
+      const Eigen::Matrix2d R = T_pred.Rotation();
+      covariance += R.transpose() * atlas_.junctions[landmark].covariance * R;
+    }
+    const auto sqrt_information = SqrtInformationFromCovariance2(covariance);
     if (!sqrt_information.ok()) return false;
     keyframe->junctions.push_back(
         {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});

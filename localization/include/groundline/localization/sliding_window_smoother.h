@@ -120,6 +120,13 @@ struct SmootherOptions {
   double slip_sigma_m = 0.0;
   int slip_min_matches = 2;
   double track_m = 0.76;           // the wheel track of the slip hypothesis [m]
+  // Localization mode, on an atlas whose covariances are stated
+  // (Atlas::covariances_stated): a line or junction factor's noise includes
+  // the landmark's own covariance, propagated into the vehicle frame at the
+  // predicted pose (the landmark is held fixed, so its error would otherwise
+  // count as exact). Each observation carries it anew, although one
+  // landmark's survey error is one error: first-order, not a shared variable.
+  bool landmark_covariance_in_factors = true;
   LandmarkTrackerOptions tracker;  // mapping mode
 
   core::Status Validate() const;
