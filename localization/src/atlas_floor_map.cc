@@ -107,9 +107,11 @@ std::vector<Eigen::Vector2d> MarkingJunctions(const core::FloorMap& map,
 }
 
 Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOptions& options) {
+  // The accuracy the map states, or else the options' assumptions.
+  const core::FloorMapSurvey* survey = map.survey ? &*map.survey : nullptr;
   Atlas atlas;
   atlas.frame = map.frame;
-  atlas.covariances_stated = map.survey.has_value();
+  atlas.covariances_stated = survey != nullptr;
   for (const MarkingSegment& segment : MarkingSegments(map)) {
     const core::Result<perception::HesseLine> line =
         perception::LineFromPoints(segment.a_m, segment.b_m);
@@ -119,11 +121,11 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     entry.line_map = *line;
     double rho_sigma_m = options.line_rho_sigma_m;
     double alpha_sigma_rad = options.line_alpha_sigma_rad;
-    if (map.survey) {
+    if (survey) {
       // Two ends off by sigma each across the line, independently: the
       // midpoint moves by sigma / sqrt(2), the direction by sqrt(2) sigma / L,
       // and the two are uncorrelated.
-      const double sigma = map.survey->marking_vertex_sigma_m;
+      const double sigma = survey->marking_vertex_sigma_m;
       rho_sigma_m = sigma / std::numbers::sqrt2;
       alpha_sigma_rad = std::numbers::sqrt2 * sigma / (segment.b_m - segment.a_m).norm();
     }
@@ -135,7 +137,7 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     atlas.lines.push_back(entry);
   }
   const double junction_sigma_m =
-      map.survey ? map.survey->marking_vertex_sigma_m : options.junction_sigma_m;
+      survey ? survey->marking_vertex_sigma_m : options.junction_sigma_m;
   const double variance = junction_sigma_m * junction_sigma_m;
   for (const Eigen::Vector2d& point : MarkingJunctions(map, options)) {
     atlas.junctions.push_back({static_cast<std::int64_t>(atlas.junctions.size()), point,
@@ -150,10 +152,9 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
     }
   }
   AtlasWallOptions face_options;
-  face_options.rho_sigma_m =
-      map.survey ? map.survey->face_offset_sigma_m : options.face_rho_sigma_m;
+  face_options.rho_sigma_m = survey ? survey->face_offset_sigma_m : options.face_rho_sigma_m;
   face_options.alpha_sigma_rad =
-      map.survey ? map.survey->face_angle_sigma_rad : options.face_alpha_sigma_rad;
+      survey ? survey->face_angle_sigma_rad : options.face_alpha_sigma_rad;
   // A validated floor map has no segment under 1 mm, so this cannot fail.
   [[maybe_unused]] const core::Status added = AppendWallLines(faces, face_options, &atlas);
   assert(added.ok());

@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include "groundline/core/text_parse.h"
 #include "groundline/sim/floor_nuisances.h"
 #include "groundline/sim/wall_faces.h"
 #include "sim_run_internal.h"
@@ -117,7 +118,7 @@ core::Status SurveyNoiseOptions::Validate() const {
   for (int i = 0; i < 3; ++i) {
     if (!(std::isfinite(sigmas[i]) && sigmas[i] >= 0.0)) {
       return core::Status::Error(std::string(names[i]) + ": expected a sigma >= 0, got " +
-                                 std::to_string(sigmas[i]));
+                                 core::FormatShortestDouble(sigmas[i]));
     }
     // The map states the survey's accuracy; a stated sigma of 0 would claim
     // an exact survey of that part.
