@@ -228,7 +228,11 @@ core::FloorMap SurveyedFloorMap(const core::FloorMap& exact, const SurveyNoiseOp
     }
     const bool closed = v.size() > 2 && v.front() == v.back();
     for (core::Vector2& p : v) {
-      p += noise.marking_vertex_sigma_m * core::Vector2(unit(rng), unit(rng));
+      // Two named draws: the order in which a call's arguments are evaluated
+      // is unspecified, and one seed must give one map with every compiler.
+      const double dx = unit(rng);
+      const double dy = unit(rng);
+      p += noise.marking_vertex_sigma_m * core::Vector2(dx, dy);
     }
     if (closed) v.back() = v.front();
   }
