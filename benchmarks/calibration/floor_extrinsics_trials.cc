@@ -15,6 +15,7 @@
 
 #include "groundline/calibration/floor_extrinsics.h"
 #include "groundline/calibration/tag_detection.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/sim/commissioning_scene.h"
 
 namespace groundline {
@@ -74,7 +75,7 @@ void BM_SyntheticCorners(benchmark::State& state) {
             const auto px = calibration::PredictFloorPixel(scene.camera, scene.true_mount,
                                                            pose.T_floor_base, corners[c]);
             if (!px.ok() || !scene.camera.InImage(*px)) break;
-            seen.push_back({tag.id, c, corners[c], *px + Eigen::Vector2d(noise(rng), noise(rng))});
+            seen.push_back({tag.id, c, corners[c], *px + core::DrawVector<2>(noise, rng)});
           }
           if (seen.size() == 4) im.corners.insert(im.corners.end(), seen.begin(), seen.end());
         }

@@ -16,7 +16,7 @@
 // out corners and solves again ("Threw out some outliers ...; going again").
 // The leak is in the library, bounded by the number of re-solves; tell
 // LeakSanitizer, when it runs, not to report it.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(GROUNDLINE_SANITIZED)
 extern "C" const char* __lsan_default_suppressions() { return "leak:libdogleg.so\n"; }
 #endif
 

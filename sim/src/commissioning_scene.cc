@@ -139,9 +139,11 @@ core::Result<CommissioningScene> MakeCommissioningScene(const CommissioningOptio
   for (int k = 0; k < options.poses; ++k) {
     char name[32];
     std::snprintf(name, sizeof(name), "pose_%03d.png", k);
-    layout.vehicle_poses.push_back({name, core::SE2(options.start_x_m + k * options.step_x_m,
-                                                    options.lateral_jitter_m * unit(rng),
-                                                    options.yaw_jitter_rad * unit(rng))});
+    // One draw per statement, in core::DrawVector's order.
+    const double yaw_rad = options.yaw_jitter_rad * unit(rng);
+    const double y_m = options.lateral_jitter_m * unit(rng);
+    layout.vehicle_poses.push_back(
+        {name, core::SE2(options.start_x_m + k * options.step_x_m, y_m, yaw_rad)});
   }
   CommissioningScene scene{layout, *camera, options.camera.mount, TagMatWorld(layout)};
   return scene;

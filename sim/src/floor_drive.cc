@@ -3,6 +3,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "groundline/core/random_draws.h"
+
 namespace groundline::sim {
 
 FloorDrive::FloorDrive(const core::FloorMap& map, core::Trajectory trajectory,
@@ -37,9 +39,8 @@ bool FloorDrive::Next(
     const double dtheta = true_dtheta * (1.0 + options_.rotation_scale_error);
     localization::OdometryIncrement increment;
     increment.covariance = localization::IncrementCovariance(options_.noise, ds, dtheta);
-    const Eigen::Vector3d noise(std::sqrt(increment.covariance(0, 0)) * normal(rng_),
-                                std::sqrt(increment.covariance(1, 1)) * normal(rng_),
-                                std::sqrt(increment.covariance(2, 2)) * normal(rng_));
+    const Eigen::Vector3d noise =
+        increment.covariance.diagonal().cwiseSqrt().cwiseProduct(core::DrawVector<3>(normal, rng_));
     // The odometry reports the nominal arc; the truth differs from it by the noise.
     increment.T_prev_curr =
         core::SE2::Exp(Eigen::Vector3d(ds, 0.0, dtheta)) * core::SE2::Exp(-noise);

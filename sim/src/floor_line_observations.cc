@@ -3,6 +3,9 @@
 #include <Eigen/Cholesky>
 #include <cassert>
 #include <optional>
+#include <random>
+
+#include "groundline/core/random_draws.h"
 
 namespace groundline::sim {
 namespace {
@@ -77,7 +80,7 @@ localization::FloorObservations FloorObservationSimulator::Observe(
     localization::LineObservation observation;
     observation.covariance = s2 * (J1 * J1.transpose() + J2 * J2.transpose());
     const Eigen::Matrix2d L = observation.covariance.llt().matrixL();
-    const Eigen::Vector2d noise = L * Eigen::Vector2d(normal(rng_), normal(rng_));
+    const Eigen::Vector2d noise = L * core::DrawVector<2>(normal, rng_);
     observation.line_base =
         perception::NormalizeLine(line->rho_m + noise(0), line->alpha_rad + noise(1));
     observation.kind = segment.kind;
@@ -93,7 +96,7 @@ localization::FloorObservations FloorObservationSimulator::Observe(
     }
     localization::JunctionObservation observation;
     const double sigma = options_.junction_sigma_m;
-    observation.point_base_m = p + sigma * Eigen::Vector2d(normal(rng_), normal(rng_));
+    observation.point_base_m = p + sigma * core::DrawVector<2>(normal, rng_);
     observation.covariance = Eigen::Matrix2d::Identity() * sigma * sigma;
     out.junctions.push_back(observation);
   }

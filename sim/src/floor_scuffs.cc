@@ -51,7 +51,8 @@ ScuffField::ScuffField(std::uint32_t seed, bool enabled) {
   arcs_.reserve(static_cast<std::size_t>(count));
   for (; index < count; ++index) {
     draw = 0;
-    const Vector2 mid(uniform(0.0, period), uniform(0.0, period));
+    const double mid_y = uniform(0.0, period);  // one draw per statement, y first
+    const Vector2 mid(uniform(0.0, period), mid_y);
     const double heading = uniform(0.0, 2.0 * std::numbers::pi);
     const double radius = uniform(kMinRadiusM, kMaxRadiusM);
     const double turn = uniform(0.0, 1.0) < 0.5 ? 1.0 : -1.0;

@@ -151,7 +151,9 @@ int AddRouteClutter(World* world, const core::Trajectory& route, double per_100m
       ob.z_max_m = u(0.0, 1.0) < 0.5 ? 0.144 : u(0.6, 1.6);
       ob.camera_reflectance = u(0.25, 0.7);
     } else if (kind < 0.7) {  // a box or a stack of boxes: cardboard, plastic crates
-      half = Vector2(u(0.15, 0.45), u(0.15, 0.45));
+      // One draw per statement, y first (core::DrawVector's order).
+      const double half_y = u(0.15, 0.45);
+      half = Vector2(u(0.15, 0.45), half_y);
       ob.z_max_m = u(0.2, 1.2);
       ob.camera_reflectance = u(0.15, 0.6);
     } else {  // a post: a rack leg, a bollard, a barrier's upright; steel or yellow paint

@@ -25,6 +25,11 @@ class RectDraws {
   double Uniform(double lo, double hi) {
     return lo + (hi - lo) * HashU32(index_, draw_++, seed_) / 4294967296.0;
   }
+  // A point uniform on the tile, y drawn first (core::DrawVector's order).
+  Vector2 Centre() {
+    const double y = Uniform(0.0, RectTile::kPeriodM);
+    return Vector2(Uniform(0.0, RectTile::kPeriodM), y);
+  }
   // A direction: with probability p_axis along a map axis (x or y) within
   // +-jitter_rad, otherwise uniform.
   Vector2 Direction(double p_axis, double jitter_rad) {
@@ -82,7 +87,7 @@ RectTile MakeCastShadows(const FloorRenderOptions& o, std::uint32_t seed) {
   for (std::int64_t i = 0; i < n; ++i) {
     RectDraws d(seed + kCastShadows, i);
     TileRect r;
-    r.centre_m = Vector2(d.Uniform(0.0, RectTile::kPeriodM), d.Uniform(0.0, RectTile::kPeriodM));
+    r.centre_m = d.Centre();
     r.dir = d.Direction(0.7, 0.0);
     r.half_length_m = 0.5 * d.Uniform(0.8, 10.0);
     r.half_width_m = 0.5 * d.Uniform(0.3, 1.5);
@@ -97,7 +102,7 @@ RectTile MakeTireMarks(const FloorRenderOptions& o, std::uint32_t seed) {
   const std::int64_t pairs = RectCount(o.tire_mark_density / 100.0, 1.0);
   for (std::int64_t i = 0; i < pairs; ++i) {
     RectDraws d(seed + kTireMarks, i);
-    const Vector2 centre(d.Uniform(0.0, RectTile::kPeriodM), d.Uniform(0.0, RectTile::kPeriodM));
+    const Vector2 centre = d.Centre();
     const Vector2 dir = d.Direction(0.85, 2.0 * std::numbers::pi / 180.0);
     const double half_length = 0.5 * d.Uniform(3.0, 20.0);
     const double half_width = 0.5 * d.Uniform(0.04, 0.10);
@@ -124,7 +129,7 @@ RectTile MakePatches(const FloorRenderOptions& o, std::uint32_t seed) {
   for (std::int64_t i = 0; i < n; ++i) {
     RectDraws d(seed + kPatches, i);
     TileRect r;
-    r.centre_m = Vector2(d.Uniform(0.0, RectTile::kPeriodM), d.Uniform(0.0, RectTile::kPeriodM));
+    r.centre_m = d.Centre();
     r.dir = d.Direction(0.8, 0.0);
     r.half_length_m = 0.5 * d.Uniform(0.5, 3.0);
     r.half_width_m = 0.5 * d.Uniform(0.5, 3.0);

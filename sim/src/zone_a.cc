@@ -147,10 +147,12 @@ core::Result<World> BuildZoneA(const ZoneAOptions& o) {
           const Vector2 box_hi = box_lo + Vector2(bw, bd);
           b.AddStagingBox(box_lo, box_hi, MarkingColour::kWhite, kTapeWidthM);
           if (!occupied(rng)) continue;
-          const Vector2 jitter(internal::Uniform(&rng, -0.08, 0.08),
-                               internal::Uniform(&rng, -0.08, 0.08));
-          b.AddPalletStack(0.5 * (box_lo + box_hi) + jitter, {1.0, 1.2},
-                           internal::Uniform(&rng, -0.05, 0.05), internal::Uniform(&rng, 0.8, 2.2));
+          // One draw per statement, last first (core::DrawVector's order).
+          const double jitter_y = internal::Uniform(&rng, -0.08, 0.08);
+          const Vector2 jitter(internal::Uniform(&rng, -0.08, 0.08), jitter_y);
+          const double height_m = internal::Uniform(&rng, 0.8, 2.2);
+          const double yaw_rad = internal::Uniform(&rng, -0.05, 0.05);
+          b.AddPalletStack(0.5 * (box_lo + box_hi) + jitter, {1.0, 1.2}, yaw_rad, height_m);
         }
       }
     }

@@ -179,8 +179,9 @@ core::Result<World> BuildZoneC(const ZoneCOptions& o) {
       for (int s = 0; s < slots; ++s) {
         if (!occupied(rng)) continue;
         const Vector2 center(xd + internal::Uniform(&rng, -0.1, 0.1), y0 + 0.75 + 1.3 * s);
-        b.AddPalletStack(center, {1.0, 1.2}, internal::Uniform(&rng, -0.05, 0.05),
-                         internal::Uniform(&rng, 0.5, 2.0));
+        const double height_m = internal::Uniform(&rng, 0.5, 2.0);    // one draw per statement,
+        const double yaw_rad = internal::Uniform(&rng, -0.05, 0.05);  // last first
+        b.AddPalletStack(center, {1.0, 1.2}, yaw_rad, height_m);
       }
     }
     if (two_rows && d % o.doors_per_group == 1 && d + 1 < o.num_doors) {

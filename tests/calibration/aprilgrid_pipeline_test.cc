@@ -14,6 +14,7 @@
 #include "groundline/calibration/board_detection.h"
 #include "groundline/calibration/intrinsic_calibration.h"
 #include "groundline/calibration/target_render.h"
+#include "groundline/core/random_draws.h"
 
 namespace groundline::calibration {
 namespace {
@@ -64,11 +65,14 @@ TEST(AprilGridPipeline, RenderedViewsOfAKnownCameraCalibrateBackToIt) {
   std::uniform_real_distribution<double> u01(-1.0, 1.0);
   std::vector<CalibrationView> views;
   for (int i = 0; views.size() < 10 && i < 40; ++i) {
-    const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.5 * u01(rng), Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(0.5 * u01(rng), Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(0.3 * u01(rng), Eigen::Vector3d::UnitZ()))
+    const Eigen::Vector3d angles =
+        Eigen::Vector3d(0.5, 0.5, 0.3).cwiseProduct(core::DrawVector<3>(u01, rng));
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(angles(0), Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(angles(1), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(angles(2), Eigen::Vector3d::UnitZ()))
                                   .toRotationMatrix();
-    const Eigen::Vector3d centre(0.08 * u01(rng), 0.06 * u01(rng), 0.36 + 0.05 * u01(rng));
+    const Eigen::Vector3d d = core::DrawVector<3>(u01, rng);
+    const Eigen::Vector3d centre(0.08 * d(0), 0.06 * d(1), 0.36 + 0.05 * d(2));
     const Eigen::Vector3d t = centre - R * Eigen::Vector3d(0.14, 0.1, 0.0);
     cv::Mat map_x(240, 320, CV_32F), map_y(240, 320, CV_32F);
     const Eigen::Vector3d Rt_t = R.transpose() * t;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2.h"
 #include "jacobian_check.h"
 #include "test_units.h"
@@ -135,7 +136,7 @@ TEST(FloorHomography, MatchesRigidTransformAndPinholeProjection) {
     const Eigen::Isometry3d T_base_cam = BaseFromCamera(mount);
     const Eigen::Matrix3d H = FloorToImageHomography(T_base_cam, K);
     for (int i = 0; i < 20; ++i) {
-      const Eigen::Vector2d floor(3.0 * unit(rng), 3.0 * unit(rng));
+      const Eigen::Vector2d floor = 3.0 * core::DrawVector<2>(unit, rng);
       const Eigen::Vector3d p_cam = T_base_cam.inverse() * Eigen::Vector3d(floor.x(), floor.y(), 0);
       const core::Result<Eigen::Vector2d> pixel = ProjectFloorPoint(H, floor);
       if (p_cam.z() < 1e-3) {  // behind (or grazing) the camera
@@ -161,7 +162,7 @@ TEST(FloorHomography, BackProjectionRecoversFloorPoints) {
   const Eigen::Matrix3d H = FloorToImageHomography(T_base_cam, K);
   const Eigen::Matrix3d G = ImageToFloorHomography(H);
   for (int i = 0; i < 500; ++i) {
-    const Eigen::Vector2d floor(1.5 + unit(rng), unit(rng));
+    const Eigen::Vector2d floor = Eigen::Vector2d(1.5, 0.0) + core::DrawVector<2>(unit, rng);
     const core::Result<Eigen::Vector2d> pixel = ProjectFloorPoint(H, floor);
     ASSERT_TRUE(pixel.ok());
     const core::Result<Eigen::Vector2d> back = BackProjectPixel(G, *pixel);
@@ -253,7 +254,8 @@ TEST(FloorHomography, MountFromFloorHomographyInvertsIt) {
     const Eigen::Vector3d axis = T_base_cam.linear().col(2);
     const Eigen::Vector3d centre = T_base_cam.translation();
     const Eigen::Vector2d in_view = (centre - axis * (centre.z() / axis.z())).head<2>();
-    const double scale = std::exp(2.0 * unit(rng)) * (unit(rng) < 0.0 ? -1.0 : 1.0);
+    const double magnitude = std::exp(2.0 * unit(rng));
+    const double scale = unit(rng) < 0.0 ? -magnitude : magnitude;
     const Eigen::Matrix3d H =
         scale * FloorToImageHomography(T_base_cam, Eigen::Matrix3d::Identity());
     const core::Result<CameraMount> back = MountFromFloorHomography(H, in_view);

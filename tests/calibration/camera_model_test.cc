@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "jacobian_check.h"
 #include "test_cameras.h"
 
@@ -94,7 +95,8 @@ TEST(CameraModelProject, RoundTripsRandomVisiblePoints) {
   for (const CameraModel& camera : AllTestCameras()) {
     int visible = 0;
     for (int i = 0; i < 400; ++i) {
-      const Eigen::Vector3d p(0.6 * unit(rng), 0.45 * unit(rng), 1.0 + 0.5 * unit(rng));
+      const Eigen::Vector3d d = core::DrawVector<3>(unit, rng);
+      const Eigen::Vector3d p(0.6 * d(0), 0.45 * d(1), 1.0 + 0.5 * d(2));
       if (!camera.IsVisible(p)) continue;
       ++visible;
       core::Result<Eigen::Vector3d> ray = camera.Unproject(*camera.Project(p));
@@ -110,7 +112,8 @@ TEST(CameraModelProject, JacobianMatchesNumericForEveryModel) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (const CameraModel& camera : AllTestCameras()) {
     for (int i = 0; i < 20; ++i) {
-      const Eigen::Vector3d p(0.5 * unit(rng), 0.4 * unit(rng), 1.2 + 0.5 * unit(rng));
+      const Eigen::Vector3d d = core::DrawVector<3>(unit, rng);
+      const Eigen::Vector3d p(0.5 * d(0), 0.4 * d(1), 1.2 + 0.5 * d(2));
       Eigen::Matrix<double, 2, 3> J;
       ASSERT_TRUE(camera.Project(p, &J).ok());
       const auto f = [&camera](const Eigen::Vector3d& x) -> Eigen::Vector2d {

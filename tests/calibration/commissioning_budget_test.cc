@@ -12,6 +12,7 @@
 
 #include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/sim/commissioning_scene.h"
 #include "synthetic_views.h"
 #include "test_data.h"
@@ -34,7 +35,7 @@ std::vector<FloorImage> FloorCorners(const sim::CommissioningScene& scene, unsig
         const core::Result<Eigen::Vector2d> px =
             PredictFloorPixel(scene.camera, scene.true_mount, pose.T_floor_base, corners[c]);
         if (!px.ok() || !scene.camera.InImage(*px)) break;
-        seen.push_back({tag.id, c, corners[c], *px + Eigen::Vector2d(noise(rng), noise(rng))});
+        seen.push_back({tag.id, c, corners[c], *px + core::DrawVector<2>(noise, rng)});
       }
       if (seen.size() == 4) im.corners.insert(im.corners.end(), seen.begin(), seen.end());
     }
@@ -111,7 +112,8 @@ TEST(CommissioningBudget, IntrinsicsUncertaintyReachesTheFloorOfTheSimulatedVehi
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.9, 0.0), Eigen::Vector2d(1.5, 0.5),
                                    Eigen::Vector2d(1.5, -0.5), Eigen::Vector2d(1.9, 0.0)}) {
     const std::optional<Eigen::Matrix2d> c = floor.bev_map.CovarianceAt(p);
-    if (c) std::printf("  cell at (%.1f, %.1f) m: %.2f mm\n", p.x(), p.y(), 1e3 * std::sqrt(c->trace()));
+    if (c)
+      std::printf("  cell at (%.1f, %.1f) m: %.2f mm\n", p.x(), p.y(), 1e3 * std::sqrt(c->trace()));
   }
   // Farther ahead, the same pixel error covers more floor.
   if (floor.bev_budget[0].known && floor.bev_budget[1].known) {

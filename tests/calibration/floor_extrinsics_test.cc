@@ -10,10 +10,11 @@
 #include <numbers>
 #include <random>
 
+#include "commissioning_fixture.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/sim/commissioning_scene.h"
 #include "jacobian_check.h"
 #include "test_units.h"
-#include "commissioning_fixture.h"
 
 namespace groundline::calibration {
 namespace {
@@ -53,7 +54,7 @@ std::vector<FloorImage> NoisyCorners(const sim::CommissioningScene& scene, doubl
         const core::Result<Eigen::Vector2d> px =
             PredictFloorPixel(scene.camera, scene.true_mount, pose.T_floor_base, corners[c]);
         if (!px.ok() || !scene.camera.InImage(*px)) break;
-        seen.push_back({tag.id, c, corners[c], *px + Eigen::Vector2d(noise(rng), noise(rng))});
+        seen.push_back({tag.id, c, corners[c], *px + core::DrawVector<2>(noise, rng)});
       }
       if (seen.size() == 4) im.corners.insert(im.corners.end(), seen.begin(), seen.end());
     }
@@ -62,9 +63,9 @@ std::vector<FloorImage> NoisyCorners(const sim::CommissioningScene& scene, doubl
   return images;
 }
 
-
 TEST(FloorExtrinsics, PixelJacobianMatchesNumericDifferentiation) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   const core::SE2 T_floor_base(0.3, -0.05, 0.2);
   for (const Eigen::Vector2d& p :
        {Eigen::Vector2d(1.2, 0.1), Eigen::Vector2d(1.0, -0.4), Eigen::Vector2d(1.5, 0.35)}) {
@@ -127,7 +128,8 @@ TEST(FloorExtrinsics, SolvesFromOneStationaryViewWithTagsInBaseLink) {
 }
 
 TEST(FloorExtrinsics, NoiseFreeCornersGiveTheExactMount) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(1);
   const std::vector<FloorImage> images = NoisyCorners(scene, 0.0, rng);
   core::Result<FloorExtrinsicsResult> r = SolveFloorExtrinsics(scene.camera, images, {});
@@ -139,7 +141,8 @@ TEST(FloorExtrinsics, NoiseFreeCornersGiveTheExactMount) {
 }
 
 TEST(FloorExtrinsics, FailsWithTooFewCorners) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::vector<FloorImage> images(1);
   images[0].corners.resize(4);
   core::Result<FloorExtrinsicsResult> r = SolveFloorExtrinsics(scene.camera, images, {});

@@ -11,22 +11,22 @@
 #include <numbers>
 #include <random>
 
+#include "commissioning_fixture.h"
 #include "groundline/calibration/calibration_report.h"
 #include "groundline/calibration/floor_calibration.h"
 #include "groundline/calibration/floor_projection.h"
 #include "groundline/calibration/floor_rectification.h"
 #include "groundline/calibration/tag_detection.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/sim/commissioning_scene.h"
 #include "test_data.h"
 #include "test_units.h"
-#include "commissioning_fixture.h"
 
 namespace groundline::calibration {
 namespace {
 
 using ::groundline::testing::CommissioningSceneOrFail;
 using ::groundline::testing::kDeg;
-
 
 // Every tag corner of the rectified floor, detected by libapriltag in the
 // raster, against its surveyed position: the largest distance in metres and
@@ -109,8 +109,8 @@ std::vector<FloorImage> Corners(const sim::CommissioningScene& scene, double sur
         if (!px.ok() || !scene.camera.InImage(*px)) break;
         auto [it, added] = survey_error.try_emplace({tag.id, c}, Eigen::Vector2d::Zero());
         if (added && survey_sigma_m > 0.0) it->second = {survey_noise(rng), survey_noise(rng)};
-        seen.push_back({tag.id, c, corners[c] + it->second,
-                        *px + Eigen::Vector2d(pixel_noise(rng), pixel_noise(rng))});
+        seen.push_back(
+            {tag.id, c, corners[c] + it->second, *px + core::DrawVector<2>(pixel_noise, rng)});
       }
       if (seen.size() == 4) im.corners.insert(im.corners.end(), seen.begin(), seen.end());
     }
@@ -138,7 +138,8 @@ bool Contains(const std::vector<std::string>& lines, const std::string& text) {
 }
 
 TEST(FloorVerdict, PassesAndNamesTheTagAndImageRegionToFix) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(11);
   const std::vector<FloorImage> clean = Corners(scene, 0.0, rng);
   FloorCalibration good = Solved(scene, clean);
@@ -246,7 +247,8 @@ TEST(FloorVerdict, ThresholdsConfigErrorsNameTheFileLineAndKey) {
 }
 
 TEST(FloorExtrinsicsCovariance, SurveyErrorWidensTheBoundsToHoldTheTruth) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   constexpr int kTrials = 30;
   constexpr double kSurveyM = 0.005;
   int inside_with = 0, inside_without = 0;
@@ -289,7 +291,8 @@ TEST(FloorExtrinsicsCovariance, SurveyErrorWidensTheBoundsToHoldTheTruth) {
 // displacement of a one-pixel step in u and in v (central differences of
 // FloorPointOfPixel), and it adds to the mount's part.
 TEST(BevErrorBudget, IntrinsicsUncertaintyIsCarriedToTheFloorThroughTheMount) {
-  const sim::CommissioningScene scene = CommissioningSceneOrFail(sim::CommissioningOptions::Small());
+  const sim::CommissioningScene scene =
+      CommissioningSceneOrFail(sim::CommissioningOptions::Small());
   std::mt19937_64 rng(3);
   FloorCalibration c = Solved(scene, Corners(scene, 0.0, rng));
   const auto constant_map = [](double range_m, double var_px2) {

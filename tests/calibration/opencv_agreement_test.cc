@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "groundline/calibration/camera_model.h"
+#include "groundline/core/random_draws.h"
 #include "test_cameras.h"
 
 namespace groundline::calibration {
@@ -29,7 +30,8 @@ TEST(OpenCvAgreement, ProjectPointsGivesTheSamePixelsForOpenCv4To12) {
     const std::vector<double> distortion(p.begin() + 4, p.end());
     std::vector<cv::Point3d> points;
     for (int i = 0; i < 1000; ++i) {
-      points.emplace_back(0.6 * unit(rng), 0.45 * unit(rng), 1.0 + 0.5 * unit(rng));
+      const Eigen::Vector3d p = core::DrawVector<3>(unit, rng);
+      points.emplace_back(0.6 * p(0), 0.45 * p(1), 1.0 + 0.5 * p(2));
     }
     std::vector<cv::Point2d> expected;
     cv::projectPoints(points, cv::Vec3d::zeros(), cv::Vec3d::zeros(), K, distortion, expected);

@@ -13,6 +13,7 @@
 #include "groundline/calibration/calib_target.h"
 #include "groundline/calibration/camera_model.h"
 #include "groundline/calibration/intrinsic_calibration.h"
+#include "groundline/core/random_draws.h"
 
 namespace groundline::calibration::testing {
 
@@ -58,7 +59,8 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
   std::vector<CalibrationView> views;
   for (int v = 0; views.size() < static_cast<std::size_t>(n) && v < 50 * n; ++v) {
     double z = 0.45 + 0.15 * u(rng);
-    Eigen::Vector2d centre_px(sx * (320 + 200 * u(rng)), sy * (240 + 150 * u(rng)));
+    const Eigen::Vector2d d = core::DrawVector<2>(u, rng);
+    Eigen::Vector2d centre_px(sx * (320 + 200 * d(0)), sy * (240 + 150 * d(1)));
     if (top_left_only) {  // a small board image (~190 px wide) kept in the top-left
       z = 1.0 + 0.05 * u(rng);
       centre_px = {sx * (130 + 40 * u(rng)), sy * (95 + 30 * u(rng))};
@@ -68,9 +70,11 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
       if (++slot_tries > 30) ++border_slot, slot_tries = 0;  // give this slot up
     }
     const Eigen::Vector3d centre = *camera.Unproject(centre_px, RayNormalization::kZEqualsOne) * z;
-    const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(0.3 * u(rng), Eigen::Vector3d::UnitZ()))
+    const Eigen::Vector3d angles =
+        Eigen::Vector3d(0.5, 0.5, 0.3).cwiseProduct(core::DrawVector<3>(u, rng));
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(angles(0), Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(angles(1), Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(angles(2), Eigen::Vector3d::UnitZ()))
                                   .toRotationMatrix();
     const Eigen::Vector3d t = centre - R * Eigen::Vector3d(size.x() / 2, size.y() / 2, 0.0);
     CalibrationView view;
@@ -87,7 +91,7 @@ inline std::vector<CalibrationView> SyntheticViews(const CameraModel& camera,
       if (!inside) continue;
       for (int k = 0; k < 4; ++k) {
         view.observation.grid_index.push_back(AprilGridCornerIndex(target, grid, id, k));
-        view.observation.corners_px.push_back(q[k] + Eigen::Vector2d(noise(rng), noise(rng)));
+        view.observation.corners_px.push_back(q[k] + core::DrawVector<2>(noise, rng));
       }
     }
     if (view.observation.grid_index.size() >= 4 * 8) {

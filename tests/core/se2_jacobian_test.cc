@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2.h"
 #include "jacobian_check.h"
 #include "se2_test_points.h"
@@ -59,7 +60,9 @@ TEST(SE2Jacobian, Log) {
 }
 
 TEST(SE2Jacobian, ComposeBothArguments) {
-  for (const auto& [a, b] : PosePairs()) {
+  for (const PosePair& pair : PosePairs()) {
+    const SE2& a = pair.a;  // not a structured binding: lambdas capture these
+    const SE2& b = pair.b;
     Matrix3 j_a, j_b;
     a.Compose(b, &j_a, &j_b);
     const auto f_a = [&](const SE2& v) { return v.Compose(b); };
@@ -79,7 +82,9 @@ TEST(SE2Jacobian, Inverse) {
 }
 
 TEST(SE2Jacobian, BetweenBothArguments) {
-  for (const auto& [a, b] : PosePairs()) {
+  for (const PosePair& pair : PosePairs()) {
+    const SE2& a = pair.a;  // not a structured binding: lambdas capture these
+    const SE2& b = pair.b;
     Matrix3 j_a, j_b;
     a.Between(b, &j_a, &j_b);
     const auto f_a = [&](const SE2& v) { return v.Between(b); };
@@ -93,7 +98,7 @@ TEST(SE2Jacobian, ActBothArguments) {
   std::mt19937_64 rng(testing::kSeed);
   std::uniform_real_distribution<double> coord(-10.0, 10.0);
   for (const SE2& t : PosePoints()) {
-    const Vector2 p(coord(rng), coord(rng));
+    const Vector2 p = DrawVector<2>(coord, rng);
     Matrix23 j_t;
     Matrix2 j_p;
     t.Act(p, &j_t, &j_p);
@@ -121,7 +126,9 @@ TEST(SE2Jacobian, PlusBothArguments) {
 
 TEST(SE2Jacobian, MinusBothArguments) {
   int checked = 0;
-  for (const auto& [a, b] : PosePairs()) {
+  for (const PosePair& pair : PosePairs()) {
+    const SE2& a = pair.a;  // not a structured binding: lambdas capture these
+    const SE2& b = pair.b;
     Matrix3 j_a, j_b;
     const Vector3 d = a.Minus(b, &j_a, &j_b);
     if (NearWrap(d.z())) continue;  // the result jumps by 2 pi across the wrap

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2.h"
 #include "jacobian_check.h"
 #include "se2_test_points.h"
@@ -146,8 +147,8 @@ TEST(SE2Manifold, CeresAlignsNoisyPointsAcrossTheWrap) {
   std::normal_distribution<double> noise(0.0, kSigmaM);
   std::vector<PointResidual> residuals;
   for (int i = 0; i < kNumPoints; ++i) {
-    const Vector2 p_b(coord(rng), coord(rng));
-    const Vector2 p_a = T_a_b_true * p_b + Vector2(noise(rng), noise(rng));
+    const Vector2 p_b = DrawVector<2>(coord, rng);
+    const Vector2 p_a = T_a_b_true * p_b + core::DrawVector<2>(noise, rng);
     residuals.push_back({p_a, p_b, kSigmaM});
   }
 

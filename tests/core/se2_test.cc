@@ -9,6 +9,7 @@
 #include <random>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "groundline/core/random_draws.h"
 #include "se2_test_points.h"
 
 namespace groundline::core {
@@ -100,7 +101,7 @@ TEST(SE2, ActMatchesHomogeneousMatrix) {
   std::mt19937_64 rng(testing::kSeed);
   std::uniform_real_distribution<double> coord(-10.0, 10.0);
   for (const SE2& t : PosePoints()) {
-    const Vector2 p(coord(rng), coord(rng));
+    const Vector2 p = DrawVector<2>(coord, rng);
     const Vector3 expected = t.Matrix() * Vector3(p.x(), p.y(), 1.0);
     EXPECT_LT(MaxAbsDiff(t.Act(p), expected.head<2>()), 1e-12);
     EXPECT_EQ(MaxAbsDiff(t * p, t.Act(p)), 0.0);

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2.h"
 #include "test_units.h"
 
@@ -50,9 +51,14 @@ inline std::vector<Vector3> TangentPoints(unsigned seed = kSeed) {
   for (double theta : SpecialAngles()) {
     points.emplace_back(0.0, 0.0, theta);
     points.emplace_back(1.0, 0.0, theta);
-    points.emplace_back(trans(rng), trans(rng), theta);
+    const Vector2 t = DrawVector<2>(trans, rng);
+    points.emplace_back(t.x(), t.y(), theta);
   }
-  for (int i = 0; i < kRandomTrials; ++i) points.emplace_back(trans(rng), trans(rng), angle(rng));
+  for (int i = 0; i < kRandomTrials; ++i) {
+    const double theta = angle(rng);  // one draw per statement, last first
+    const Vector2 t = DrawVector<2>(trans, rng);
+    points.emplace_back(t.x(), t.y(), theta);
+  }
   return points;
 }
 

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <random>
 
+#include "groundline/core/random_draws.h"
+
 namespace groundline::core {
 namespace {
 
@@ -41,8 +43,8 @@ TEST(SegmentDistance, SegmentToSegmentMatchesDenseSampling) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int k = 0; k < 40; ++k) {
-    const Eigen::Vector2d a0(u(rng), u(rng)), a1(u(rng), u(rng));
-    const Eigen::Vector2d b0(u(rng), u(rng)), b1(u(rng), u(rng));
+    const Eigen::Vector2d a0 = DrawVector<2>(u, rng), a1 = DrawVector<2>(u, rng);
+    const Eigen::Vector2d b0 = DrawVector<2>(u, rng), b1 = DrawVector<2>(u, rng);
     const double d = SegmentSegmentDistance(a0, a1, b0, b1);
     // Sampling overestimates by at most half a sample step of the longer.
     const double step = std::max((a1 - a0).norm(), (b1 - b0).norm()) / 200.0;

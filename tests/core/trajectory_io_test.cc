@@ -13,6 +13,7 @@
 #include <string>
 
 #include "dataset_fixture.h"
+#include "groundline/core/random_draws.h"
 #include "test_data.h"
 #include "test_units.h"
 
@@ -43,7 +44,9 @@ Trajectory MakeTrajectory() {
   for (int i = 0; i < 20; ++i) {
     StampedPose p;
     p.stamp_s = stamp_s;
-    p.pose = SE2(position_m(rng), position_m(rng), angle_rad(rng));
+    const double angle = angle_rad(rng);  // one draw per statement, last first
+    const Vector2 position = DrawVector<2>(position_m, rng);
+    p.pose = SE2(position.x(), position.y(), angle);
     trajectory.push_back(p);
     stamp_s += 0.1;
   }

@@ -8,11 +8,13 @@
 #include <numbers>
 #include <random>
 
+#include "groundline/core/random_draws.h"
+
 namespace groundline::core {
 namespace {
 
-using ::groundline::testing::kPi;
 using ::groundline::testing::kDeg;
+using ::groundline::testing::kPi;
 
 // 10 Hz poses along a gentle S-curve.
 Trajectory Curve(std::size_t n) {
@@ -122,7 +124,7 @@ TEST(TrajectoryMetrics, AlignmentIsTheLeastSquaresFitUnderNoise) {
   for (int i = 0; i < 400; ++i) {
     const Vector2 p(0.05 * i, 2.0 * std::sin(0.02 * i));
     est.push_back(p);
-    ref.push_back(T_ref_est * p + Vector2(noise(rng), noise(rng)));
+    ref.push_back(T_ref_est * p + DrawVector<2>(noise, rng));
   }
   const Result<SE2> fit = AlignSE2(est, ref);
   ASSERT_TRUE(fit.ok()) << fit.message();
@@ -187,7 +189,7 @@ TEST(TrajectoryMetrics, NeesOfSamplesFromTheReportedCovarianceIsChiSquare3) {
   Trajectory estimate = reference;
   for (StampedPose& p : estimate) {
     // e = Log(T_est^-1 T_ref) ~ N(0, Sigma)  <=>  T_est = T_ref Exp(e)^-1.
-    const Vector3 e = L * Vector3(normal(rng), normal(rng), normal(rng));
+    const Vector3 e = L * DrawVector<3>(normal, rng);
     p.pose = p.pose * SE2::Exp(e).Inverse();
     p.covariance = covariance;
   }

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <random>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/fleet/marginal_packet.h"
 
 namespace groundline::fleet {
@@ -36,8 +37,8 @@ inline MarginalPacket RandomPacket(std::size_t n, std::uint32_t seed) {
   packet.stamp_s = 1718000000.125;
   for (std::size_t k = 0; k < n; ++k) {
     packet.separator_keys.push_back(MakePoseKey(3, 1000 + 7 * k));
-    packet.linearization_point.emplace_back(50.0 * unit(rng), 20.0 * unit(rng),
-                                            std::numbers::pi * unit(rng));
+    const Eigen::Vector3d d = core::DrawVector<3>(unit, rng);
+    packet.linearization_point.emplace_back(50.0 * d(0), 20.0 * d(1), std::numbers::pi * d(2));
   }
   const SquareRootPrior prior =
       SquareRootFromInformation(RandomInformation(n, rng), RandomVector(3 * n, rng)).value();

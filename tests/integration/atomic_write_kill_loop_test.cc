@@ -155,7 +155,7 @@ bool HasTemporary(const fs::path& dir) {
 }
 
 TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   // Each kill re-formats the four files to compare them, several times slower
   // under the sanitizers: half the kills there (the release build does 100).
   int kills = 50;

@@ -101,7 +101,7 @@ void ExpectRightPose(const Outcome& o) {
 }
 
 TEST(Relocalization, DistinctiveFloorCommitsWithoutAPrior) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "thousands of hypotheses over the whole zone take minutes under "
                   "AddressSanitizer; the release build runs this test";
 #endif
@@ -111,7 +111,7 @@ TEST(Relocalization, DistinctiveFloorCommitsWithoutAPrior) {
 }
 
 TEST(Relocalization, RepeatingAislesStayAmbiguousWithoutAPrior) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "hundreds of hypotheses over 60 s of driving take minutes under "
                   "AddressSanitizer; the release build runs this test";
 #endif
@@ -131,7 +131,7 @@ class RelocalizationZones : public ::testing::TestWithParam<std::tuple<sim::Zone
 // along them after its first line seed and is then past the prior's reach).
 TEST_P(RelocalizationZones, WithACoarsePriorCommitsToTheTruePose) {
   const auto [zone, seed] = GetParam();
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   if (zone != sim::Zone::kB) {
     GTEST_SKIP() << "CI time: zones A, C and D take 30-90 s each under AddressSanitizer (a "
                     "large atlas; C and D never commit); zone B runs here, all four in release";
@@ -158,7 +158,7 @@ class RelocalizationWrongHint
 
 TEST_P(RelocalizationWrongHint, IsReportedAndNothingCommits) {
   const auto [zone, seed, dx_m, dy_m] = GetParam();
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   if (zone != sim::Zone::kB || seed != 1u) {
     GTEST_SKIP() << "CI time: zone A keeps hundreds of hypotheses the hint excludes, minutes "
                     "under AddressSanitizer, and zone B takes 60-90 s per seed; zone B seed 1 "
@@ -203,7 +203,7 @@ class RelocalizationRightHint
 
 TEST_P(RelocalizationRightHint, IsNotContradictedAndACommitIsRight) {
   const auto [zone, seed, radius_m] = GetParam();
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "CI time: zone A keeps thousands of hypotheses the hint excludes, minutes "
                   "under AddressSanitizer; the release build runs this test";
 #endif

@@ -95,7 +95,7 @@ double ShareNotBackground(const cv::Mat& bgr) {
 
 TEST(StatusPageBrowser, ShowsTheLivePoseRatesCountersAndMapOfARunningService) {
   GROUNDLINE_REQUIRE_CHROMIUM();
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "the service's scan matching under AddressSanitizer is too slow to keep a "
                   "paced replay alive while the browser loads; runs in the release build";
 #endif

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <random>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2_manifold.h"
 #include "jacobian_check.h"
 #include "random_pose.h"
@@ -84,8 +85,9 @@ TEST(JunctionFactor, TangentJacobiansMatchNumeric) {
   std::uniform_real_distribution<double> xy(-5.0, 5.0);
   for (int trial = 0; trial < 200; ++trial) {
     const SE2 T_map_base = RandomPose(rng);
-    const Eigen::Vector2d point(xy(rng), xy(rng));
-    const JunctionFactor factor(Eigen::Vector2d(xy(rng), xy(rng)), RandomSqrtInformation2(rng));
+    const Eigen::Vector2d point = core::DrawVector<2>(xy, rng);
+    const Eigen::Matrix2d sqrt_information = RandomSqrtInformation2(rng);
+    const JunctionFactor factor(core::DrawVector<2>(xy, rng), sqrt_information);
     Eigen::Matrix<double, 2, 3> J_T;
     Eigen::Matrix2d J_point;
     factor.Residual(T_map_base, point, &J_T, &J_point);

@@ -13,6 +13,7 @@
 #include <numeric>
 #include <random>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/relative_pose_factor.h"
@@ -78,7 +79,8 @@ struct Chain {
     truth.push_back(SE2(1.0, 2.0, 0.3));
     for (int i = 1; i < 6; ++i) truth.push_back(truth.back() * SE2(1.0, 0.1, 0.35));
     for (int i = 0; i < 5; ++i) {
-      odometry.push_back(truth[i].Between(truth[i + 1]) * SE2(noise(rng), noise(rng), noise(rng)));
+      const Eigen::Vector3d n = core::DrawVector<3>(noise, rng);
+      odometry.push_back(truth[i].Between(truth[i + 1]) * SE2(n(0), n(1), n(2)));
     }
     fixes[0] = truth[2] * SE2(0.1, -0.05, 0.04);
     fixes[1] = truth[5] * SE2(-0.08, 0.12, -0.05);

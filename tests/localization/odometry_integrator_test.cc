@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "jacobian_check.h"
 
 namespace groundline::localization {
@@ -58,7 +59,8 @@ TEST(OdometryIntegrator, PropagationJacobiansMatchNumeric) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial) {
-    const SE2 T(5.0 * u(rng), 5.0 * u(rng), 3.14159 * u(rng));
+    const Vector3 xi = Vector3(5.0, 5.0, 3.14159).cwiseProduct(core::DrawVector<3>(u, rng));
+    const SE2 T(xi(0), xi(1), xi(2));
     const OdometryIncrement inc =
         IncrementFromWheels(drive, noise, WheelAngleIncrement{2.0 * u(rng), 2.0 * u(rng)});
     const SE2& D = inc.T_prev_curr;
@@ -95,7 +97,7 @@ TEST(OdometryIntegrator, CovarianceMatchesMonteCarlo) {
     SE2 T;
     for (const OdometryIncrement& inc : increments) {
       const Vector3 sd = inc.covariance.diagonal().cwiseSqrt();
-      const Vector3 w(sd(0) * normal(rng), sd(1) * normal(rng), sd(2) * normal(rng));
+      const Vector3 w = sd.cwiseProduct(core::DrawVector<3>(normal, rng));
       T = T * inc.T_prev_curr * SE2::Exp(w);
     }
     const Vector3 e = T.Minus(nominal);

@@ -13,6 +13,7 @@
 #include <numbers>
 #include <random>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/localization/sliding_window_smoother.h"
 
 namespace groundline::localization {
@@ -72,9 +73,8 @@ std::vector<Step> AisleDrive(int n, std::uint32_t seed) {
     Step step;
     step.stamp_s = 0.1 * i;
     const core::SE2 T_prev_curr = truth(i - 1).Inverse() * T;
-    const Eigen::Vector3d noise(odometry_sigma.x() * normal(rng) + 0.005,
-                                odometry_sigma.y() * normal(rng) + 0.003,
-                                odometry_sigma.z() * normal(rng));
+    const Eigen::Vector3d noise = odometry_sigma.cwiseProduct(core::DrawVector<3>(normal, rng)) +
+                                  Eigen::Vector3d(0.005, 0.003, 0.0);
     step.motion.T_start_end = T_prev_curr * core::SE2::Exp(noise);
     step.motion.covariance = odometry_sigma.cwiseAbs2().asDiagonal();
     step.relative.T_prev_curr = T_prev_curr * core::SE2::Exp(Eigen::Vector3d(0.0, 0.0, 1e-3));
@@ -104,7 +104,7 @@ std::vector<Step> AisleDrive(int n, std::uint32_t seed) {
       if (ahead < 0.6 || ahead > 2.4) continue;
       JunctionObservation observation;
       observation.point_base_m =
-          T.Inverse() * junction.point_m + 0.01 * Eigen::Vector2d(normal(rng), normal(rng));
+          T.Inverse() * junction.point_m + 0.01 * core::DrawVector<2>(normal, rng);
       observation.covariance = Eigen::Matrix2d::Identity() * 1e-4;
       step.observations.junctions.push_back(observation);
     }

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "hesse_line_traits.h"
 #include "jacobian_check.h"
 #include "test_units.h"
@@ -104,7 +105,9 @@ TEST(HesseLine, FromPointsJacobiansMatchNumeric) {
     // Within a numeric step of rho = 0 the central difference straddles the
     // normalization flip and compares descriptions in different charts.
     if (std::abs(truth.rho_m) < 1e-3) continue;
-    const auto [p1, p2] = PointsOn(NormalizeLine(truth.rho_m, truth.alpha_rad), -0.7, 1.5);
+    const auto points = PointsOn(NormalizeLine(truth.rho_m, truth.alpha_rad), -0.7, 1.5);
+    const Eigen::Vector2d& p1 = points.first;  // lambdas capture these
+    const Eigen::Vector2d& p2 = points.second;
     Eigen::Matrix2d J1, J2;
     ASSERT_TRUE(LineFromPoints(p1, p2, &J1, &J2).ok());
     EXPECT_JACOBIAN_NEAR(
@@ -133,8 +136,10 @@ TEST(HesseLine, TransformMovesTheLineWithItsPoints) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int trial = 0; trial < 1000; ++trial) {
-    const core::SE2 T_a_b(3.0 * unit(rng), 3.0 * unit(rng), kPi * unit(rng));
-    const HesseLine line_b = NormalizeLine(2.0 * unit(rng), kPi * unit(rng));
+    const Eigen::Vector3d t = core::DrawVector<3>(unit, rng);
+    const core::SE2 T_a_b(3.0 * t(0), 3.0 * t(1), kPi * t(2));
+    const Eigen::Vector2d l = core::DrawVector<2>(unit, rng);
+    const HesseLine line_b = NormalizeLine(2.0 * l(0), kPi * l(1));
     const auto [p, q] = PointsOn(line_b);
     const HesseLine line_a = TransformLine(T_a_b, line_b);
     EXPECT_TRUE(IsNormalized(line_a));
@@ -168,8 +173,10 @@ TEST(HesseLine, TransformJacobiansMatchNumeric) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int trial = 0; trial < 50; ++trial) {
-    const core::SE2 T(3.0 * unit(rng), 3.0 * unit(rng), kPi * unit(rng));
-    const HesseLine line = NormalizeLine(0.1 + 2.0 * std::abs(unit(rng)), kPi * unit(rng));
+    const Eigen::Vector3d t = core::DrawVector<3>(unit, rng);
+    const core::SE2 T(3.0 * t(0), 3.0 * t(1), kPi * t(2));
+    const Eigen::Vector2d l = core::DrawVector<2>(unit, rng);
+    const HesseLine line = NormalizeLine(0.1 + 2.0 * std::abs(l(0)), kPi * l(1));
     Matrix23 J_T;
     Eigen::Matrix2d J_l;
     TransformLine(T, line, &J_T, &J_l);
@@ -234,7 +241,7 @@ TEST(HesseLine, LineErrorIsWeighedByTheEstimatesOwnCovarianceThroughTheFlip) {
   int flipped = 0, inside = 0, inside_truth_description = 0;
   double mean_nees = 0.0;
   for (int t = 0; t < kTrials; ++t) {
-    const Eigen::Vector2d d = L * Eigen::Vector2d(n01(rng), n01(rng));
+    const Eigen::Vector2d d = L * core::DrawVector<2>(n01, rng);
     Eigen::Matrix2d covariance = C;
     const HesseLine estimate =
         NormalizeLine(truth.rho_m + d(0), truth.alpha_rad + d(1), &covariance);

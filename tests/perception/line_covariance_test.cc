@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "groundline/calibration/camera_model.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/perception/junctions.h"
 #include "groundline/perception/line_extractor.h"
@@ -28,8 +29,10 @@ calibration::CameraModel TestCamera() {
 
 TEST(LineCovariance, PixelsToLineJacobiansMatchNumeric) {
   const calibration::FloorProjection projection(TestCamera(), calibration::CameraMount{});
-  for (const auto& [a, b] : {std::pair{Eigen::Vector2d(300, 900), Eigen::Vector2d(420, 200)},
+  for (const auto& pixels : {std::pair{Eigen::Vector2d(300, 900), Eigen::Vector2d(420, 200)},
                              std::pair{Eigen::Vector2d(100, 600), Eigen::Vector2d(1200, 640)}}) {
+    const Eigen::Vector2d& a = pixels.first;  // lambdas capture these
+    const Eigen::Vector2d& b = pixels.second;
     Eigen::Matrix2d J1, J2;
     ASSERT_TRUE(LineFromPixels(projection, a, b, &J1, &J2).ok());
     EXPECT_JACOBIAN_NEAR(
@@ -172,7 +175,7 @@ TEST(LineCovariance, FitWithPixelNoiseMatchesMonteCarlo) {
   for (int t = 0; t < kTrials; ++t) {
     std::vector<Eigen::Vector2d> points;
     for (const Eigen::Vector2d& u : true_pixels) {
-      points.push_back(*projection.FloorPointOfPixel(u + Eigen::Vector2d(noise(rng), noise(rng))));
+      points.push_back(*projection.FloorPointOfPixel(u + core::DrawVector<2>(noise, rng)));
     }
     core::Result<LineFit> fit = FitLineWithPixelNoise(points, jacobians, kSigmaPx);
     ASSERT_TRUE(fit.ok()) << fit.message();

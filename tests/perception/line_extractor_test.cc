@@ -81,9 +81,11 @@ TEST(LineExtractor, GlareBlobsAndShortScuffsGiveNoLines) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> x(1.0, 2.2), y(-0.5, 0.5), angle(0.0, kPi);
   std::vector<Tape> scuffs;
-  for (int i = 0; i < 12; ++i) {  // short dark streaks, 3 cm wide, 5-12 cm long
-    const Eigen::Vector2d c(x(rng), y(rng));
-    const Eigen::Vector2d d(std::cos(angle(rng)), std::sin(angle(rng)));
+  for (int i = 0; i < 12; ++i) {        // short dark streaks, 3 cm wide, 8 cm long
+    const double heading = angle(rng);  // one draw per statement
+    const double c_y = y(rng);
+    const Eigen::Vector2d c(x(rng), c_y);
+    const Eigen::Vector2d d(std::cos(heading), std::sin(heading));
     scuffs.push_back({c - 0.04 * d, c + 0.04 * d, 0.03, 60.0});
   }
   const Floor painted = Paint(scuffs);
@@ -145,7 +147,8 @@ TEST(LineExtractor, CovarianceIsConsistentOverMonteCarlo) {
       noise(1.0, 4.0);
   std::vector<double> nees;
   for (unsigned trial = 0; trial < 40; ++trial) {
-    const HesseLine truth = NormalizeLine(rho(rng), kPi / 2 + angle(rng));
+    const double alpha = kPi / 2 + angle(rng);  // one draw per statement, last first
+    const HesseLine truth = NormalizeLine(rho(rng), alpha);
     const Eigen::Vector2d foot = truth.rho_m * truth.Normal();
     const Tape tape{foot - 2.6 * truth.Direction(), foot + 0.5 * truth.Direction(), 0.05,
                     grey(rng)};

@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/perception/hesse_line.h"
 #include "test_units.h"
 
@@ -81,7 +82,7 @@ void CheckCovarianceByMonteCarlo(const HesseLine& truth, const std::vector<doubl
   for (int trial = 0; trial < kTrials; ++trial) {
     for (size_t i = 0; i < clean.size(); ++i) {
       const double sigma_i = sigma_m / std::sqrt(weights.empty() ? 1.0 : weights[i]);
-      noisy[i] = clean[i] + sigma_i * Eigen::Vector2d(gauss(rng), gauss(rng));
+      noisy[i] = clean[i] + sigma_i * core::DrawVector<2>(gauss, rng);
     }
     const core::Result<LineFit> fit = FitLineTls(noisy, weights, sigma_m);
     ASSERT_TRUE(fit.ok());

@@ -60,7 +60,7 @@ double AteRmse(const LocalizedRun& run, const core::Trajectory& truth) {
 }
 
 TEST(DatasetReplay, TheSameEstimateWithoutTheSimulatorsProvenanceAndWallsBeatOdometry) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif

@@ -29,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../io/dds_test_env.h"
+#include "child_process.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/io/dds_convert.h"
@@ -36,7 +37,6 @@
 #include "groundline/io/dds_pubsub.h"
 #include "groundline/service/service.h"
 #include "groundline/service/service_config.h"
-#include "child_process.h"
 #include "simulated_drive.h"
 #include "test_data.h"
 
@@ -74,7 +74,7 @@ double AteRmse(const core::Trajectory& estimate, const core::Trajectory& truth) 
 TEST(ServiceDds,
      ReplayToServeToListenerFollowsAReinitializationMatchesTheFileReplayAndLosesNothing) {
   io::testing::UseLoopbackConfig();
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   // Scan matching under AddressSanitizer is several times slower: a shorter drive.
   const double length_m = 12.0;
 #else

@@ -220,7 +220,7 @@ TEST(ServiceState, RoundTripsExactlyAndADamagedFileNamesTheField) {
 }
 
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
@@ -296,7 +296,7 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
 }
 
 TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
@@ -340,7 +340,7 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
 }
 
 TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif
@@ -376,7 +376,7 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
 // mount is estimated from the keyframes' lines and reported on every
 // health.jsonl line; the drive's mount is the commissioned one, so no alarm.
 TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "a rendered drive and Debug scan matching under AddressSanitizer; runs in the "
                   "release build";
 #endif
@@ -454,7 +454,7 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
 }
 
 TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP()
       << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
 #endif

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "floor_camera_internal.h"
+#include "groundline/core/random_draws.h"
 
 namespace groundline::sim::internal {
 namespace {
@@ -18,7 +19,7 @@ double Autocorrelation(const ScuffField& field, const Vector2& lag_m, int sample
   std::uniform_real_distribution<double> u(-100.0, 100.0);
   double cross = 0.0, square = 0.0;
   for (int i = 0; i < samples; ++i) {
-    const Vector2 p(u(rng), u(rng));
+    const Vector2 p = core::DrawVector<2>(u, rng);
     const double d = field.Darkening(p);
     if (d == 0.0) continue;
     cross += d * field.Darkening(p + lag_m);
@@ -33,7 +34,7 @@ TEST(FloorScuffs, MeanDarkeningOfTheFormerStreaks) {
   std::uniform_real_distribution<double> u(0.0, ScuffField::kPeriodM);
   double sum = 0.0;
   constexpr int kSamples = 100000;
-  for (int i = 0; i < kSamples; ++i) sum += field.Darkening(Vector2(u(rng), u(rng)));
+  for (int i = 0; i < kSamples; ++i) sum += field.Darkening(core::DrawVector<2>(u, rng));
   // Overlapping arcs darken by their maximum, a little less than the sum.
   EXPECT_NEAR(sum / kSamples, ScuffField::kMeanDarkening, 0.15 * ScuffField::kMeanDarkening);
 }
@@ -58,7 +59,7 @@ TEST(FloorScuffs, SeededPeriodicAndSoft) {
   std::uniform_real_distribution<double> u(-200.0, 200.0);
   int dark = 0, differ = 0, soft = 0;
   for (int i = 0; i < 50000; ++i) {
-    const Vector2 p(u(rng), u(rng));
+    const Vector2 p = core::DrawVector<2>(u, rng);
     const float d = a.Darkening(p);
     EXPECT_GE(d, 0.0f);
     EXPECT_LE(d, 1.0f);

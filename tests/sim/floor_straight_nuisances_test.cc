@@ -7,6 +7,7 @@
 
 #include "flat_world.h"
 #include "floor_camera_internal.h"
+#include "groundline/core/random_draws.h"
 #include "groundline/sim/floor_nuisances.h"
 
 namespace groundline::sim {
@@ -53,7 +54,7 @@ TEST(FloorStraightNuisances, CastShadowEdgesAreStraightLightSteps) {
   int shaded = 0;
   constexpr int kSamples = 40000;
   for (int i = 0; i < kSamples; ++i) {
-    shaded += fields.Light(Vector2(u(rng), u(rng)), CoarseFields{}) < 0.75f;
+    shaded += fields.Light(core::DrawVector<2>(u, rng), CoarseFields{}) < 0.75f;
   }
   EXPECT_NEAR(static_cast<double>(shaded) / kSamples, 1.0 - std::exp(-0.15), 0.03);
 }

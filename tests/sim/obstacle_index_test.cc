@@ -31,7 +31,8 @@ TEST(ObstacleIndex, RayCastsMatchBruteForceInZoneA) {
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> x(-5.0, 105.0), y(-5.0, 70.0), a(-M_PI, M_PI);
     for (int i = 0; i < 3000; ++i) {
-      const Vector2 origin(x(rng), y(rng));
+      const double origin_y = y(rng);  // one draw per statement, last first
+      const Vector2 origin(x(rng), origin_y);
       const double angle = i % 10 == 0 ? (i / 10 % 4) * M_PI / 2 : a(rng);  // axis-aligned too
       const Vector2 dir(std::cos(angle), std::sin(angle));
       const double expected = BruteForceRay(world, origin, dir, 30.0);

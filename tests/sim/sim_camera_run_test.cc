@@ -13,10 +13,10 @@
 namespace groundline::sim {
 namespace {
 
-// A short zone C run with the camera at 0.1 Hz (a few full-size frames): images, calibration files and
-// the dataset read back; the written intrinsics and mount are the renderer's.
+// A short zone C run with the camera at 0.1 Hz (a few full-size frames): images, calibration files
+// and the dataset read back; the written intrinsics and mount are the renderer's.
 TEST(SimCameraRun, WritesImagesAndCalibrationThatReadBack) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   // CI time: full-size renders (~70 s under ASan); SimRun covers the writer under ASan.
   GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
 #endif

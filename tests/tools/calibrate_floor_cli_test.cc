@@ -70,7 +70,8 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
     EXPECT_EQ(map["covariance_m2"][i].is_null(), bev["rms_mm"][i].is_null()) << i;
     if (map["covariance_m2"][i].is_null()) continue;
     ++seen;
-    const double trace = map["covariance_m2"][i][0].get<double>() + map["covariance_m2"][i][2].get<double>();
+    const double trace =
+        map["covariance_m2"][i][0].get<double>() + map["covariance_m2"][i][2].get<double>();
     EXPECT_NEAR(bev["rms_mm"][i].get<double>(), 1e3 * std::sqrt(trace), 0.051) << i;
   }
   EXPECT_GT(seen, 10);
@@ -128,8 +129,9 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
 // bounds, per-tag residuals, the rectified floor, thresholds from a config
 // (flags override it), the intrinsics folded in; and the input errors.
 TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRectifiedFloor) {
-#ifdef __SANITIZE_ADDRESS__
-  // CI time: a Debug executable solving and rectifying a rendered scene (~60 s under ASan); FloorRectification covers the geometry under ASan.
+#ifdef GROUNDLINE_SANITIZED
+  // CI time: a Debug executable solving and rectifying a rendered scene (~60 s under ASan);
+  // FloorRectification covers the geometry under ASan.
   GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
 #endif
   const std::filesystem::path dir = ScratchDir("floor_report");

@@ -30,7 +30,7 @@ nlohmann::json ReadJson(const std::filesystem::path& path) {
 }
 
 TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   // ~4 min of a Debug executable's scan matching under ASan; 1.5 s in release.
   GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
 #endif
@@ -100,7 +100,7 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
 // copy are dropped, all counted and said, and the relation error is that of
 // the same minute in order.
 TEST(LocalizeCarmenCli, ALogWrittenOutOfOrderRunsToTheEndAsInOrder) {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
                   "ordering's unit tests run there";
 #endif

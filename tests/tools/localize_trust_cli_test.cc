@@ -50,7 +50,7 @@ bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
 class LocalizeTrust : public ::testing::Test {
  protected:
   void SetUp() override {
-#ifdef __SANITIZE_ADDRESS__
+#ifdef GROUNDLINE_SANITIZED
     // The camera drive (150 rendered frames) and its relocalizations take
     // many minutes of a Debug executable under ASan; ~2 min in release.
     GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
