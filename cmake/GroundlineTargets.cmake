@@ -29,8 +29,11 @@ function(groundline_add_library module)
   groundline_set_warnings(${target})
 endfunction()
 
-# groundline_add_test(<name> [LONG] [OPTIMIZED_UNDER_SANITIZERS] SOURCES ... [DEPS ...])
-# One GoogleTest executable; each TEST becomes its own ctest entry.
+# groundline_add_test(<name> [LONG] [OPTIMIZED_UNDER_SANITIZERS] [SHARDS n] SOURCES ...
+#                     [DEPS ...])
+# One GoogleTest executable: one ctest entry that runs all its tests in one
+# process, or n entries (SHARDS n, GoogleTest's sharding) that share them out.
+# To run one test, run the executable with --gtest_filter=Suite.Name.
 # Test code compiles at -O0 in every build: what the tests time and exercise
 # is the libraries (built -O2 in release, -O1 under the sanitizers), and
 # optimizing the gtest and Eigen templates of the test code itself took over
@@ -38,7 +41,7 @@ endfunction()
 # (a rendered floor, a synthetic drive) goes in a small library of its own,
 # which keeps the build's optimization level.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "LONG;OPTIMIZED_UNDER_SANITIZERS" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "LONG;OPTIMIZED_UNDER_SANITIZERS" "SHARDS" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
   groundline_set_warnings(${name})
@@ -63,20 +66,27 @@ function(groundline_add_test name)
   if(ARG_LONG)
     set(cost 1000)
   endif()
+  # A test process, not a test, is the unit ctest runs: a test binary that
+  # links OpenCV, Ceres and the rest takes ~0.25 s of CPU to start (0.1-0.7 s
+  # under ASan+UBSan, most of it in the kernel for the shadow memory); with
+  # one process per test the release suite took 268 s on 2 cores, with one
+  # per executable 207 s. An executable whose tests take most of a minute in
+  # all is split into SHARDS so that `ctest -j 2` keeps both cores busy to
+  # its end. An executable of more sources holds more tests: it starts
+  # earlier.
+  list(LENGTH ARG_SOURCES sources)
+  math(EXPR cost "${cost} + 10 * ${sources}")
   set(environment "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
-  if(GROUNDLINE_SANITIZE)
-    # Under the sanitizers an executable is one ctest entry that runs all its
-    # tests in one process: starting an ASan+UBSan test binary takes 0.1-0.7 s
-    # of CPU, most of it in the kernel (the shadow memory), and one process
-    # per test made that the larger part of the suite's system time. The
-    # release build keeps one entry per test. An executable of more sources
-    # holds more tests: it starts earlier.
-    list(LENGTH ARG_SOURCES sources)
-    math(EXPR cost "${cost} + 10 * ${sources}")
+  if(NOT ARG_SHARDS OR ARG_SHARDS LESS 2)
     add_test(NAME ${name} COMMAND ${name})
     set_tests_properties(${name} PROPERTIES ENVIRONMENT "${environment}" COST ${cost})
   else()
-    gtest_discover_tests(${name} DISCOVERY_TIMEOUT 120
-                         PROPERTIES ENVIRONMENT "${environment}" COST ${cost})
+    math(EXPR last "${ARG_SHARDS} - 1")
+    foreach(shard RANGE ${last})
+      add_test(NAME ${name}.shard${shard} COMMAND ${name})
+      set_tests_properties(${name}.shard${shard} PROPERTIES
+        ENVIRONMENT "${environment};GTEST_TOTAL_SHARDS=${ARG_SHARDS};GTEST_SHARD_INDEX=${shard}"
+        COST ${cost})
+    endforeach()
   endif()
 endfunction()

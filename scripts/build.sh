@@ -10,10 +10,6 @@ shift || true
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 jobs="${GROUNDLINE_JOBS:-$(nproc)}"
-# clang-14 (scripts/setup.sh installs it; libFuzzer needs it anyway) compiles
-# this tree in about two thirds of GCC 12's time, at -O0 test code in half;
-# CXX/CC in the environment choose another compiler for a new build tree.
-compiler=(-DCMAKE_CXX_COMPILER="${CXX:-clang++-14}" -DCMAKE_C_COMPILER="${CC:-clang-14}")
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
 # ccache, when a developer has it, makes rebuilds across worktrees cheap; CI does not need it.
@@ -22,7 +18,7 @@ command -v ccache >/dev/null 2>&1 && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=cca
 case "$kind" in
   release)
     # -g1: line tables only (backtraces, profiles); full -g doubles the build time.
-    cmake -S . -B build "${compiler[@]}" "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    cmake -S . -B build "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
       -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=ON >/dev/null
     cmake --build build -j "$jobs" "${targets[@]}"
@@ -32,7 +28,7 @@ case "$kind" in
     # AddressSanitizer documentation advises: the suite ran in 281 s instead
     # of 630 s at -O0 (2 cores, 2026-12-01), for ~20 % more compile time per
     # file; Debug keeps the assertions (no NDEBUG).
-    cmake -S . -B build-asan "${compiler[@]}" "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
+    cmake -S . -B build-asan "${generator[@]}" "${launcher[@]}" -DCMAKE_BUILD_TYPE=Debug \
       -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DCMAKE_C_FLAGS_DEBUG="-O1 -g1" \
       -DGROUNDLINE_SANITIZE=ON -DGROUNDLINE_WERROR=ON -DGROUNDLINE_BUILD_BENCHMARKS=OFF >/dev/null
     cmake --build build-asan -j "$jobs" "${targets[@]}"

@@ -45,6 +45,9 @@ bool SE2Manifold::RightMultiplyByPlusJacobian(const double* x, int num_rows,
                                               double* tangent_matrix) const {
   // Called by Ceres for every Jacobian block each iteration: avoid the
   // generic dense product of the base class.
+  // No rows: Ceres may pass null matrices, and a column of a Map on null is
+  // an offset from a null pointer (undefined behaviour).
+  if (num_rows == 0) return true;
   const Eigen::Map<const RowMajorMatrixX3> in(ambient_matrix, num_rows, 3);
   Eigen::Map<RowMajorMatrixX3> out(tangent_matrix, num_rows, 3);
   const double c = std::cos(x[2]);
