@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include "groundline/core/random_draws.h"
 #include "groundline/core/text_parse.h"
 #include "groundline/sim/floor_nuisances.h"
 #include "groundline/sim/wall_faces.h"
@@ -228,11 +229,7 @@ core::FloorMap SurveyedFloorMap(const core::FloorMap& exact, const SurveyNoiseOp
     }
     const bool closed = v.size() > 2 && v.front() == v.back();
     for (core::Vector2& p : v) {
-      // Two named draws: the order in which a call's arguments are evaluated
-      // is unspecified, and one seed must give one map with every compiler.
-      const double dx = unit(rng);
-      const double dy = unit(rng);
-      p += noise.marking_vertex_sigma_m * core::Vector2(dx, dy);
+      p += noise.marking_vertex_sigma_m * core::DrawVector<2>(unit, rng);
     }
     if (closed) v.back() = v.front();
   }

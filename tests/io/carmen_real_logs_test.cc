@@ -23,7 +23,7 @@ using groundline::testing::SharedDataDir;
 using ::groundline::testing::kPi;
 // Values are written with 2-6 decimals; parsed doubles must match exactly up
 // to the decimal-to-binary rounding.
-constexpr double kTol = 1e-9;
+constexpr double kParseTol = 1e-9;
 
 CarmenLog ReadStrict(const std::string& name) {
   CarmenReadOptions options;
@@ -34,9 +34,9 @@ CarmenLog ReadStrict(const std::string& name) {
 }
 
 void ExpectPose(const core::SE2& pose, double x, double y, double theta) {
-  EXPECT_NEAR(pose.x(), x, kTol);
-  EXPECT_NEAR(pose.y(), y, kTol);
-  EXPECT_NEAR(pose.yaw(), theta, kTol);
+  EXPECT_NEAR(pose.x(), x, kParseTol);
+  EXPECT_NEAR(pose.y(), y, kParseTol);
+  EXPECT_NEAR(pose.yaw(), theta, kParseTol);
 }
 
 // Laser stamps strictly increase in all three logs (checked with awk).
@@ -75,14 +75,14 @@ TEST(CarmenRealLogs, Aces) {
   EXPECT_EQ(first_odom.line, 14);
   ExpectPose(first_odom.pose, -0.000602, 0.012727, -1.570796);
   EXPECT_EQ(first_odom.tv_mps, 0.0);
-  EXPECT_NEAR(first_odom.stamp_s, 70.179699, kTol);
+  EXPECT_NEAR(first_odom.stamp_s, 70.179699, kParseTol);
   EXPECT_EQ(first_odom.logger_stamp_s, 0.0);
   // Line 14762: ODOM -17.805700 -3.180960 2.478771 0 0 0 1435.900000 nohost 1365.720301
   const CarmenOdometry& last_odom = log.odometry.back();
   EXPECT_EQ(last_odom.line, 14762);
   ExpectPose(last_odom.pose, -17.805700, -3.180960, 2.478771);
-  EXPECT_NEAR(last_odom.stamp_s, 1435.9, kTol);
-  EXPECT_NEAR(last_odom.logger_stamp_s, 1365.720301, kTol);
+  EXPECT_NEAR(last_odom.stamp_s, 1435.9, kParseTol);
+  EXPECT_NEAR(last_odom.logger_stamp_s, 1365.720301, kParseTol);
 
   // Line 15: FLASER 180 46.56 47.31 12.51 ... 6.36 <pose> <pose> 70.289900 nohost 0.110201
   const CarmenLaserScan& first = log.scans.front();
@@ -90,16 +90,16 @@ TEST(CarmenRealLogs, Aces) {
   EXPECT_EQ(first.message, CarmenLaserMessage::kFlaser);
   EXPECT_EQ(first.laser_id, 1);
   ASSERT_EQ(first.ranges_m.size(), 180u);
-  EXPECT_NEAR(first.ranges_m[0], 46.56, kTol);
-  EXPECT_NEAR(first.ranges_m[1], 47.31, kTol);
-  EXPECT_NEAR(first.ranges_m[2], 12.51, kTol);
-  EXPECT_NEAR(first.ranges_m[179], 6.36, kTol);
+  EXPECT_NEAR(first.ranges_m[0], 46.56, kParseTol);
+  EXPECT_NEAR(first.ranges_m[1], 47.31, kParseTol);
+  EXPECT_NEAR(first.ranges_m[2], 12.51, kParseTol);
+  EXPECT_NEAR(first.ranges_m[179], 6.36, kParseTol);
   EXPECT_TRUE(first.remissions.empty());
   ASSERT_TRUE(first.laser_pose.has_value() && first.robot_pose.has_value());
   ExpectPose(*first.laser_pose, -0.000602, 0.012727, -1.570796);
   ExpectPose(*first.robot_pose, -0.000602, 0.012727, -1.570796);
-  EXPECT_NEAR(first.stamp_s, 70.2899, kTol);
-  EXPECT_NEAR(first.logger_stamp_s, 0.110201, kTol);
+  EXPECT_NEAR(first.stamp_s, 70.2899, kParseTol);
+  EXPECT_NEAR(first.logger_stamp_s, 0.110201, kParseTol);
   // CARMEN's old-format geometry for 180 readings: -90 deg, 1 deg steps.
   EXPECT_DOUBLE_EQ(first.angle_min_rad, -kPi / 2);
   EXPECT_DOUBLE_EQ(first.angle_increment_rad, kPi / 180);
@@ -109,12 +109,12 @@ TEST(CarmenRealLogs, Aces) {
   // Line 14761: FLASER 180 1.52 1.52 1.57 ... 1.02 <pose> <pose> 1435.809999 nohost 1365.630300
   const CarmenLaserScan& last = log.scans.back();
   EXPECT_EQ(last.line, 14761);
-  EXPECT_NEAR(last.ranges_m[0], 1.52, kTol);
-  EXPECT_NEAR(last.ranges_m[2], 1.57, kTol);
-  EXPECT_NEAR(last.ranges_m[179], 1.02, kTol);
+  EXPECT_NEAR(last.ranges_m[0], 1.52, kParseTol);
+  EXPECT_NEAR(last.ranges_m[2], 1.57, kParseTol);
+  EXPECT_NEAR(last.ranges_m[179], 1.02, kParseTol);
   ExpectPose(*last.robot_pose, -17.805700, -3.180960, 2.478771);
-  EXPECT_NEAR(last.stamp_s, 1435.809999, kTol);
-  EXPECT_NEAR(last.logger_stamp_s, 1365.6303, kTol);
+  EXPECT_NEAR(last.stamp_s, 1435.809999, kParseTol);
+  EXPECT_NEAR(last.logger_stamp_s, 1365.6303, kParseTol);
 
   for (const CarmenLaserScan& scan : log.scans) ASSERT_EQ(scan.ranges_m.size(), 180u);
   ExpectScanStampsStrictlyIncrease(log);
@@ -153,14 +153,14 @@ TEST(CarmenRealLogs, MitCsail) {
   const CarmenLaserScan& first = log.scans.front();
   EXPECT_EQ(first.line, 4);
   ASSERT_EQ(first.ranges_m.size(), 361u);
-  EXPECT_NEAR(first.ranges_m[0], 1.40, kTol);
-  EXPECT_NEAR(first.ranges_m[1], 1.39, kTol);
-  EXPECT_NEAR(first.ranges_m[360], 2.70, kTol);
+  EXPECT_NEAR(first.ranges_m[0], 1.40, kParseTol);
+  EXPECT_NEAR(first.ranges_m[1], 1.39, kParseTol);
+  EXPECT_NEAR(first.ranges_m[360], 2.70, kParseTol);
   ExpectPose(*first.laser_pose, 576.536523, 0.106594, -2.255213);
   ExpectPose(*first.robot_pose, 576.536523, 0.106594, -2.255213);
   // Absolute Unix time: 1e-6 is the resolution a double keeps at 1.1e9 s.
   EXPECT_NEAR(first.stamp_s, 1134864629.895182, 1e-6);
-  EXPECT_NEAR(first.logger_stamp_s, 0.086295, kTol);
+  EXPECT_NEAR(first.logger_stamp_s, 0.086295, kParseTol);
   // 361 readings: 0.5 deg steps over 180 deg from -90 deg.
   EXPECT_DOUBLE_EQ(first.angle_increment_rad, kPi / 360);
   EXPECT_NEAR(first.BeamAngleRad(360), kPi / 2, 1e-12);
@@ -169,11 +169,11 @@ TEST(CarmenRealLogs, MitCsail) {
   //            1134865053.892206 b21 424.077432
   const CarmenLaserScan& last = log.scans.back();
   EXPECT_EQ(last.line, 1991);
-  EXPECT_NEAR(last.ranges_m[0], 3.98, kTol);
-  EXPECT_NEAR(last.ranges_m[360], 2.21, kTol);
+  EXPECT_NEAR(last.ranges_m[0], 3.98, kParseTol);
+  EXPECT_NEAR(last.ranges_m[360], 2.21, kParseTol);
   ExpectPose(*last.robot_pose, 597.816512, -3.220376, -1.412351);
   EXPECT_NEAR(last.stamp_s, 1134865053.892206, 1e-6);
-  EXPECT_NEAR(last.logger_stamp_s, 424.077432, kTol);
+  EXPECT_NEAR(last.logger_stamp_s, 424.077432, kParseTol);
 
   for (const CarmenLaserScan& scan : log.scans) ASSERT_EQ(scan.ranges_m.size(), 361u);
   ExpectScanStampsStrictlyIncrease(log);
@@ -201,35 +201,35 @@ TEST(CarmenRealLogs, FreiburgClinicRobotLaser) {
   EXPECT_EQ(first.laser_id, 1);
   EXPECT_EQ(CarmenLaserMessageName(first), "ROBOTLASER1");
   EXPECT_EQ(first.laser_type, 0);
-  EXPECT_NEAR(first.angle_min_rad, -1.570796, kTol);
-  EXPECT_NEAR(first.angle_increment_rad, 0.017453, kTol);
-  EXPECT_NEAR(first.max_range_m, 81.9, kTol);
+  EXPECT_NEAR(first.angle_min_rad, -1.570796, kParseTol);
+  EXPECT_NEAR(first.angle_increment_rad, 0.017453, kParseTol);
+  EXPECT_NEAR(first.max_range_m, 81.9, kParseTol);
   ASSERT_EQ(first.ranges_m.size(), 181u);
-  EXPECT_NEAR(first.ranges_m[0], 14.12, kTol);
-  EXPECT_NEAR(first.ranges_m[1], 7.16, kTol);
-  EXPECT_NEAR(first.ranges_m[2], 49.61, kTol);
-  EXPECT_NEAR(first.ranges_m[180], 15.88, kTol);
+  EXPECT_NEAR(first.ranges_m[0], 14.12, kParseTol);
+  EXPECT_NEAR(first.ranges_m[1], 7.16, kParseTol);
+  EXPECT_NEAR(first.ranges_m[2], 49.61, kParseTol);
+  EXPECT_NEAR(first.ranges_m[180], 15.88, kParseTol);
   EXPECT_TRUE(first.remissions.empty());
   ExpectPose(*first.laser_pose, 0.22, 0.0, 0.0);
   ExpectPose(*first.robot_pose, 0.0, 0.0, 0.0);
   EXPECT_EQ(first.tv_mps, 0.0);
   EXPECT_NEAR(first.stamp_s, 1232658478.161285, 1e-6);
-  EXPECT_NEAR(first.logger_stamp_s, -0.055208, kTol);
+  EXPECT_NEAR(first.logger_stamp_s, -0.055208, kParseTol);
 
   // Line 6917: ... -1.566433 ... 180 8.450 9.390 81.910 ... 8.540 0
   //   2.289982 -10.869829 0.207979 2.074723 -10.915255 0.207979 0 0 0 0 0
   //   1232663298.321285 zoidberg2 4820.104792
   const CarmenLaserScan& last = log.scans.back();
   EXPECT_EQ(last.line, 6917);
-  EXPECT_NEAR(last.angle_min_rad, -1.566433, kTol);
+  EXPECT_NEAR(last.angle_min_rad, -1.566433, kParseTol);
   ASSERT_EQ(last.ranges_m.size(), 180u);
-  EXPECT_NEAR(last.ranges_m[0], 8.45, kTol);
-  EXPECT_NEAR(last.ranges_m[2], 81.91, kTol);
-  EXPECT_NEAR(last.ranges_m[179], 8.54, kTol);
+  EXPECT_NEAR(last.ranges_m[0], 8.45, kParseTol);
+  EXPECT_NEAR(last.ranges_m[2], 81.91, kParseTol);
+  EXPECT_NEAR(last.ranges_m[179], 8.54, kParseTol);
   ExpectPose(*last.laser_pose, 2.289982, -10.869829, 0.207979);
   ExpectPose(*last.robot_pose, 2.074723, -10.915255, 0.207979);
   EXPECT_NEAR(last.stamp_s, 1232663298.321285, 1e-6);
-  EXPECT_NEAR(last.logger_stamp_s, 4820.104792, kTol);
+  EXPECT_NEAR(last.logger_stamp_s, 4820.104792, kParseTol);
 
   // awk: 1748 scans of 181 readings, 5169 of 180 (interleaved start angles).
   int with_181 = 0, with_180 = 0;

@@ -20,13 +20,6 @@
 namespace groundline::testing {
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
   const std::filesystem::path dir = ScratchDir("floor");
   const std::filesystem::path scene = dir / "scene";

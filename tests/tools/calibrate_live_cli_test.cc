@@ -15,20 +15,15 @@ namespace groundline {
 namespace {
 
 using testing::Quoted;
+using testing::ReadText;
 using testing::RunGroundline;
-
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(CalibrateLiveCli, IntrinsicsFromRecordedFramesGuidesKeepsAndSolvesLikeTheFolderFlow) {
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
   const std::filesystem::path dir = ::groundline::testing::ScratchDir("live_intrinsics");
   const std::string uri =
-      "folder:" + (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      "folder:" +
+      (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   std::string output;
   ASSERT_EQ(RunGroundline("calibrate intrinsics --live '" + uri +
                               "' --target opencv_chessboard_9x6_25mm --out " + Quoted(dir / "cal") +
@@ -77,7 +72,8 @@ TEST(CalibrateLiveCli, IntrinsicsMaxViewsStopsEarlyAndUsageErrorsExitTwo) {
   GROUNDLINE_REQUIRE_DATA("calib/opencv_chessboard/left01.jpg");
   const std::filesystem::path dir = ::groundline::testing::ScratchDir("live_limits");
   const std::string uri =
-      "folder:" + (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
+      "folder:" +
+      (::groundline::testing::SharedDataDir() / "calib/opencv_chessboard/left*.jpg").string();
   std::string output;
   const int code = RunGroundline("calibrate intrinsics --live '" + uri +
                                      "' --target opencv_chessboard_9x6_25mm --max-views 5 "

@@ -17,12 +17,8 @@ namespace groundline {
 namespace {
 
 using testing::Quoted;
+using testing::ReadJson;
 using testing::RunGroundline;
-
-nlohmann::json ReadJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 class CliFlow : public ::testing::Test {
  protected:

@@ -10,21 +10,34 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 namespace groundline::testing {
 
 // Runs `groundline <args>` (args are passed to the shell as written; quote
 // paths) and returns its exit code; stdout and stderr together in *output.
 // The captured output goes to <dir>/cli_output.txt.
+// The whole text of a file ("" when it cannot be read).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A JSON file; throws (failing the test) when it is missing or malformed.
+inline nlohmann::json ReadJson(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
 inline int RunGroundline(const std::string& args, const std::filesystem::path& dir,
                          std::string* output) {
   const std::filesystem::path log = dir / "cli_output.txt";
   const std::string command =
       std::string("'") + GROUNDLINE_CLI_PATH + "' " + args + " > '" + log.string() + "' 2>&1";
   const int status = std::system(command.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  *output = text.str();
+  *output = ReadText(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -20,11 +20,23 @@ namespace {
 using testing::Quoted;
 using testing::RunGroundline;
 
-const std::vector<std::string> kCommands = {
-    "localize",          "serve",   "sim",       "convert",
-    "convert carmen",    "eval",    "dataset",   "dataset check",
-    "sim-commissioning", "targets", "calibrate", "calibrate intrinsics",
-    "calibrate floor",   "calibrate history", "calibrate parallels", "extract", "replay-dds"};
+const std::vector<std::string> kCommands = {"localize",
+                                            "serve",
+                                            "sim",
+                                            "convert",
+                                            "convert carmen",
+                                            "eval",
+                                            "dataset",
+                                            "dataset check",
+                                            "sim-commissioning",
+                                            "targets",
+                                            "calibrate",
+                                            "calibrate intrinsics",
+                                            "calibrate floor",
+                                            "calibrate history",
+                                            "calibrate parallels",
+                                            "extract",
+                                            "replay-dds"};
 
 TEST(CliUsage, EveryCommandHasItsOwnHelpAndUsageErrorsExit2) {
   const std::filesystem::path dir = ::groundline::testing::ScratchDir("cli_usage");

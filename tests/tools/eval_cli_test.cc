@@ -18,14 +18,11 @@
 namespace groundline {
 namespace {
 
+using testing::ReadJson;
+
 // Runs `groundline eval` with `args`; returns its exit code, stdout+stderr in *output.
 int RunCli(const std::string& args, const std::filesystem::path& dir, std::string* output) {
   return testing::RunGroundline("eval " + args, dir, output);
-}
-
-nlohmann::json ReadJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 class EvalCli : public ::testing::Test {

@@ -27,12 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::Quoted;
+using testing::ReadJson;
 using testing::RunGroundline;
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
   for (const nlohmann::json& w : summary["warnings"]) {
