@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 
 #include "floor_camera_internal.h"
 #include "groundline/sim/floor_nuisances.h"
@@ -73,12 +74,18 @@ FloorRenderOptions FloorRenderOptions::Ideal() {
 struct FloorRenderer::Impl {
   Impl(const calibration::CameraModel& c, const calibration::CameraMount& m,
        internal::PixelFloorTable t, internal::StrokeGrid g, const FloorRenderOptions& o)
-      : camera(c), mount(m), table(std::move(t)), grid(std::move(g)), fields(o) {}
+      : camera(c),
+        mount(m),
+        table(std::move(t)),
+        grid(std::move(g)),
+        fields(o),
+        image_cone(internal::ComputeImageCone(c, table.width_px, table.height_px)) {}
   calibration::CameraModel camera;
   calibration::CameraMount mount;
   internal::PixelFloorTable table;
   internal::StrokeGrid grid;
   internal::FloorFields fields;
+  internal::ImageCone image_cone;
   std::vector<float> marking_reflectance;
   std::vector<double> marking_wear;
   // Paint order: where markings overlap the one of the highest layer shows.
@@ -133,14 +140,40 @@ std::vector<float> MotionBlur(const internal::PixelFloorTable& t, const std::vec
                               const BaseVelocity& vel, double exposure_s) {
   std::vector<float> out = sharp;
   const int w = t.width_px, h = t.height_px;
-  const auto sample = [&](double u, double v) {
-    u = std::clamp(u, 0.0, w - 1.0);
-    v = std::clamp(v, 0.0, h - 1.0);
-    const int u0 = std::min(static_cast<int>(u), w - 2), v0 = std::min(static_cast<int>(v), h - 2);
+  // Bilinear sample of the sharp image; `Clamp` keeps (u, v) on the image, which
+  // the caller may skip when the whole blur segment lies in [0, w-2] x [0, h-2]
+  // (the clamps are then no-ops, so both give the same value).
+  const auto sample = [&](auto clamp, double u, double v) {
+    if constexpr (decltype(clamp)::value) {
+      u = std::clamp(u, 0.0, w - 1.0);
+      v = std::clamp(v, 0.0, h - 1.0);
+    }
+    int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
+    if constexpr (decltype(clamp)::value) {
+      u0 = std::min(u0, w - 2);
+      v0 = std::min(v0, h - 2);
+    }
     const double a = u - u0, b = v - v0;
     const float* r0 = &sharp[static_cast<std::size_t>(v0) * w + u0];
     const float* r1 = r0 + w;
     return (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+  };
+  // Sample k of n lies at offset (k + 0.5) / n - 0.5 of the blur segment.
+  constexpr int kMaxSamples = 64;
+  static const std::vector<double> offsets = [] {
+    std::vector<double> o(static_cast<std::size_t>(kMaxSamples + 1) * kMaxSamples);
+    for (int n = 1; n <= kMaxSamples; ++n) {
+      for (int k = 0; k < n; ++k) {
+        o[static_cast<std::size_t>(n) * kMaxSamples + k] = (k + 0.5) / n - 0.5;
+      }
+    }
+    return o;
+  }();
+  const auto blur = [&](auto clamp, int u, int v, double du, double dv, int n) {
+    const double* s = &offsets[static_cast<std::size_t>(n) * kMaxSamples];
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += sample(clamp, u + s[k] * du, v + s[k] * dv);
+    return sum;
   };
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
@@ -153,14 +186,20 @@ std::vector<float> MotionBlur(const internal::PixelFloorTable& t, const std::vec
       const double det = a * d - b * c;
       if (std::abs(det) < 1e-18) continue;
       const double du = (d * fx - b * fy) / det, dv = (-c * fx + a * fy) / det;
-      const double len = std::hypot(du, dv);
-      if (len < 0.25) continue;
-      const int n = std::min(64, static_cast<int>(std::ceil(len)) + 1);
-      double sum = 0.0;
-      for (int k = 0; k < n; ++k) {
-        const double s = (k + 0.5) / n - 0.5;
-        sum += sample(u + s * du, v + s * dv);
+      // The blur length decides only the sample count: the plain square root
+      // does, except within a hair of a threshold, where hypot's value decides.
+      double len = std::sqrt(du * du + dv * dv);
+      if (std::abs(len - 0.25) < 1e-9 * (1.0 + len) ||
+          std::abs(len - std::round(len)) < 1e-9 * (1.0 + len)) {
+        len = std::hypot(du, dv);
       }
+      if (len < 0.25) continue;
+      const int n = std::min(kMaxSamples, static_cast<int>(std::ceil(len)) + 1);
+      const double half_u = 0.5 * std::abs(du), half_v = 0.5 * std::abs(dv);
+      const bool inside =
+          u - half_u >= 0.0 && u + half_u <= w - 2.0 && v - half_v >= 0.0 && v + half_v <= h - 2.0;
+      const double sum = inside ? blur(std::false_type{}, u, v, du, dv, n)
+                                : blur(std::true_type{}, u, v, du, dv, n);
       out[i] = static_cast<float>(sum / n);
     }
   }
@@ -304,7 +343,7 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
                    im.layer[static_cast<std::size_t>(m)] > im.layer[static_cast<std::size_t>(than)];
           };
           for (const int k : cand) {
-            const double sd = internal::StrokeSignedDistance(strokes[k], p);
+            const double sd = internal::StrokeSignedDistanceCapped(strokes[k], p, foot);
             if (sd < -foot) {
               if (above(strokes[k].marking, top)) top = strokes[k].marking;
             } else if (sd <= foot) {
@@ -326,7 +365,7 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
                 const Vector2 q = p + ((sx + 0.5) / S - 0.5) * du + ((sy + 0.5) / S - 0.5) * dv;
                 int m = -1;
                 for (const int k : cand) {
-                  if (internal::StrokeSignedDistance(strokes[k], q) <= 0.0 &&
+                  if (internal::StrokeSignedDistanceCapped(strokes[k], q, 0.0) <= 0.0 &&
                       above(strokes[k].marking, m)) {
                     m = strokes[k].marking;
                   }
@@ -348,7 +387,8 @@ GreyImage FloorRenderer::Render(const core::SE2& T_map_base, const BaseVelocity&
   }
   if (o.motion_blur && o.exposure_s > 0.0) dn = MotionBlur(t, dn, velocity, o.exposure_s);
   if (o.occlusion && !occluders.empty()) {
-    internal::DrawOccluders(im.camera, im.mount, T_map_base, occluders, gain, w, h, &dn);
+    internal::DrawOccluders(im.camera, im.mount, im.image_cone, T_map_base, occluders, gain, w, h,
+                            &dn);
   }
 
   GreyImage image;

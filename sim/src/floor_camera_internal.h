@@ -48,6 +48,20 @@ struct Stroke {
 // Signed distance from p to the stroke's rectangle (negative inside).
 double StrokeSignedDistance(const Stroke& s, const Vector2& p_m);
 
+// StrokeSignedDistance where it is at most `cap`; elsewhere some value above
+// `cap`. A test `d < x` or `d <= x` with x <= cap gives the same answer as on
+// the exact distance, without its square root for points off a corner.
+inline double StrokeSignedDistanceCapped(const Stroke& s, const Vector2& p_m, double cap) {
+  const Vector2 d = p_m - s.a_m;
+  const double along = d.dot(s.dir);
+  const double across = std::abs(s.dir.x() * d.y() - s.dir.y() * d.x());
+  const double ex = std::max(-along, along - s.length_m);  // > 0 beyond an end
+  const double ey = across - s.half_width_m;
+  // Off a corner the distance is hypot(ex, ey) >= max(ex, ey).
+  if (ex <= 0.0 || ey <= 0.0 || ex > cap || ey > cap) return std::max(ex, ey);
+  return std::hypot(ex, ey);
+}
+
 // Splits markings into strokes (dashes for dashed tape; interior polyline
 // vertices extend the adjoining segments by the half width so corners close).
 std::vector<Stroke> MakeStrokes(const World& world);
@@ -153,6 +167,7 @@ class ScuffField {
     Vector2 mid_dir;   // unit, centre -> the arc's midpoint
     double radius_m;
     double half_angle_rad;
+    double cos_half_angle;  // cos(half_angle_rad)
     double half_width_m;
     float strength;
   };
@@ -236,6 +251,16 @@ inline double RectSignedDistance(double along, double across, double half_length
   return std::hypot(ex, ey);
 }
 
+// SoftInside(RectSignedDistance(...), penumbra_m), without the square root
+// where the point is at least half a penumbra outside (SoftInside is 0 there,
+// and the distance is at least max(ex, ey)).
+inline float SoftInsideRect(double along, double across, double half_length, double half_width,
+                            double penumbra_m) {
+  const double ex = std::abs(along) - half_length, ey = std::abs(across) - half_width;
+  if (ex >= 0.5 * penumbra_m || ey >= 0.5 * penumbra_m) return 0.0f;
+  return SoftInside(RectSignedDistance(along, across, half_length, half_width), penumbra_m);
+}
+
 // Light multiplier (<= 1) of the vehicle's shadow (a convex polygon in
 // base_link, counter-clockwise) at the base_link point q.
 float VehicleShadowLight(const std::vector<Vector2>& polygon, const Vector2& q_m, double factor,
@@ -265,11 +290,22 @@ struct FloorFields {
   float Glare(const Vector2& p_m) const;
 };
 
+// The image's extent in normalized coordinates (x/z, y/z) with a margin: a
+// point in front of the camera beyond one of these bounds projects off the
+// w x h image (the lens is monotonic). The whole projectable cone when the
+// border does not unproject.
+struct ImageCone {
+  double x_lo, x_hi, y_lo, y_hi;
+};
+ImageCone ComputeImageCone(const calibration::CameraModel& camera, int w, int h);
+
 // Draws the occluders over the image `dn` (w x h floats) by forward projection
-// (floor_camera.h, step 4); gain is DN per unit reflectance.
+// (floor_camera.h, step 4); gain is DN per unit reflectance; `cone` is the
+// camera's ComputeImageCone.
 void DrawOccluders(const calibration::CameraModel& camera, const calibration::CameraMount& mount,
-                   const core::SE2& T_map_base, const std::vector<Occluder>& occluders, double gain,
-                   int w, int h, std::vector<float>* dn);
+                   const ImageCone& cone, const core::SE2& T_map_base,
+                   const std::vector<Occluder>& occluders, double gain, int w, int h,
+                   std::vector<float>* dn);
 
 }  // namespace groundline::sim::internal
 

@@ -210,8 +210,7 @@ float FloorFields::Concrete(const Vector2& p, const CoarseFields& c) const {
   r *= 1.0f - static_cast<float>(options.tire_mark_darkness) * tire;
   // Patches: value = the reflectance factor; sharp seams (1 mm).
   patches.ForEachNear(p, [&](const TileRect& m, double along, double across) {
-    const float in =
-        SoftInside(RectSignedDistance(along, across, m.half_length_m, m.half_width_m), 0.001);
+    const float in = SoftInsideRect(along, across, m.half_length_m, m.half_width_m, 0.001);
     r *= 1.0f + (m.value - 1.0f) * in;
   });
   if (options.wet) {
@@ -242,9 +241,8 @@ float FloorFields::Light(const Vector2& p, const CoarseFields& c) const {
   // Cast shadows from one light: overlapping shadows are no darker than one.
   float shade = 0.0f;
   cast_shadows.ForEachNear(p, [&](const TileRect& m, double along, double across) {
-    shade = std::max(shade,
-                     SoftInside(RectSignedDistance(along, across, m.half_length_m, m.half_width_m),
-                                options.shadow_penumbra_m));
+    shade = std::max(shade, SoftInsideRect(along, across, m.half_length_m, m.half_width_m,
+                                           options.shadow_penumbra_m));
   });
   l *= 1.0f - (1.0f - static_cast<float>(options.cast_shadow_factor)) * shade;
   return l;

@@ -63,6 +63,7 @@ ScuffField::ScuffField(std::uint32_t seed, bool enabled) {
     arc.mid_dir = (mid - arc.centre_m) / radius;
     arc.radius_m = radius;
     arc.half_angle_rad = 0.5 * uniform(kMinLengthM, kMaxLengthM) / radius;
+    arc.cos_half_angle = std::cos(arc.half_angle_rad);
     arc.half_width_m = uniform(kMinHalfWidthM, kMaxHalfWidthM);
     arc.strength = static_cast<float>(uniform(kMinStrength, kMaxStrength));
     const auto a = static_cast<std::uint32_t>(arcs_.size());
@@ -108,6 +109,9 @@ float ScuffField::ArcDarkening(const Arc& arc, const Vector2& p_m) const {
   if (r2 <= inner * inner || r2 >= outer * outer) return 0.0f;
   const double r = std::sqrt(r2);
   const Vector2 u = v / r;
+  // Clearly beyond the arc's ends (the angle test below would fail) without
+  // the arc tangent.
+  if (arc.mid_dir.dot(u) < arc.cos_half_angle - 1e-9) return 0.0f;
   const double angle =
       std::atan2(arc.mid_dir.x() * u.y() - arc.mid_dir.y() * u.x(), arc.mid_dir.dot(u));
   const double t = std::abs(angle) / arc.half_angle_rad;

@@ -37,7 +37,16 @@ double RayBox(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Occluder
   return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
 }
 
-TEST(FloorCameraOcclusion, OccludedPixelsAreWhereTheBoxProjects) {
+// Renders the boxes over a bright floor and compares the dark pixels with the
+// ray-cast mask, away from the outlines; the counts for the caller's bounds.
+struct MaskComparison {
+  int occluded = 0;         // pixels whose ray meets a box first
+  int compared = 0;         // floor pixels away from an outline
+  int wrong = 0;            // dark where not occluded, or bright where occluded
+  int changed_outside = 0;  // not occluded, yet different from the clear render
+};
+
+MaskComparison CompareWithRayCast(const core::SE2& T_map_base, const std::vector<Occluder>& boxes) {
   FloorCameraOptions camera_options;  // a quarter-size imager keeps the test fast
   camera_options.width_px = 320;
   camera_options.height_px = 256;
@@ -51,18 +60,6 @@ TEST(FloorCameraOcclusion, OccludedPixelsAreWhereTheBoxProjects) {
   world.floor_max_m = Vector2(50, 50);
   const FloorRenderer renderer =
       *FloorRenderer::Create(world, camera, camera_options.mount, options);
-
-  const core::SE2 T_map_base(3.0, -2.0, 0.7);
-  // A pallet-sized box 1.3-1.9 m ahead, across the view, turned by 20 deg,
-  // and a thin pole (a pedestrian's leg) beside it.
-  std::vector<Occluder> boxes(2);
-  boxes[0].footprint_m.center_m = T_map_base * Vector2(1.6, 0.05);
-  boxes[0].footprint_m.half_extent_m = Vector2(0.3, 0.25);
-  boxes[0].footprint_m.yaw_rad = T_map_base.yaw() + 0.35;
-  boxes[0].z_max_m = 0.4;
-  boxes[1].footprint_m.center_m = T_map_base * Vector2(1.2, -0.45);
-  boxes[1].footprint_m.half_extent_m = Vector2(0.06, 0.06);
-  boxes[1].z_max_m = 1.8;
   const GreyImage image = renderer.Render(T_map_base, {}, 0, boxes);
   const GreyImage clear = renderer.Render(T_map_base, {}, 0, {});
 
@@ -84,7 +81,7 @@ TEST(FloorCameraOcclusion, OccludedPixelsAreWhereTheBoxProjects) {
       }
     }
   }
-  int occluded = 0, compared = 0, wrong = 0, changed_outside = 0;
+  MaskComparison m;
   for (int v = 1; v + 1 < h; ++v) {
     for (int u = 1; u + 1 < w; ++u) {
       const int e = expected[static_cast<std::size_t>(v) * w + u];
@@ -94,18 +91,55 @@ TEST(FloorCameraOcclusion, OccludedPixelsAreWhereTheBoxProjects) {
           interior = interior && expected[static_cast<std::size_t>(v + dv) * w + u + du] == e;
         }
       }
-      occluded += e;
+      m.occluded += e;
       if (!interior || clear.at(u, v) < 120) continue;  // outline, or not floor anyway
-      ++compared;
+      ++m.compared;
       const bool dark = image.at(u, v) < 60;
-      if (dark != (e == 1)) ++wrong;
-      if (e == 0 && image.at(u, v) != clear.at(u, v)) ++changed_outside;
+      if (dark != (e == 1)) ++m.wrong;
+      if (e == 0 && image.at(u, v) != clear.at(u, v)) ++m.changed_outside;
     }
   }
-  EXPECT_GT(occluded, 2000);  // the box covers a good part of the view
-  EXPECT_GT(compared, 40000);
-  EXPECT_EQ(wrong, 0);
-  EXPECT_EQ(changed_outside, 0);
+  return m;
+}
+
+TEST(FloorCameraOcclusion, OccludedPixelsAreWhereTheBoxProjects) {
+  const core::SE2 T_map_base(3.0, -2.0, 0.7);
+  // A pallet-sized box 1.3-1.9 m ahead, across the view, turned by 20 deg,
+  // and a thin pole (a pedestrian's leg) beside it.
+  std::vector<Occluder> boxes(2);
+  boxes[0].footprint_m.center_m = T_map_base * Vector2(1.6, 0.05);
+  boxes[0].footprint_m.half_extent_m = Vector2(0.3, 0.25);
+  boxes[0].footprint_m.yaw_rad = T_map_base.yaw() + 0.35;
+  boxes[0].z_max_m = 0.4;
+  boxes[1].footprint_m.center_m = T_map_base * Vector2(1.2, -0.45);
+  boxes[1].footprint_m.half_extent_m = Vector2(0.06, 0.06);
+  boxes[1].z_max_m = 1.8;
+  const MaskComparison m = CompareWithRayCast(T_map_base, boxes);
+  EXPECT_GT(m.occluded, 2000);  // the box covers a good part of the view
+  EXPECT_GT(m.compared, 40000);
+  EXPECT_EQ(m.wrong, 0);
+  EXPECT_EQ(m.changed_outside, 0);
+}
+
+// The renderer skips boxes, faces and quads that cannot show. A long rack face
+// running from behind the vehicle to far ahead crosses the image's border and
+// most of it lies outside the view: its visible part must still be drawn up
+// to the border, and a box behind the camera must leave the image untouched.
+TEST(FloorCameraOcclusion, ABoxCrossingTheImageBorderIsDrawnUpToIt) {
+  const core::SE2 T_map_base(-4.0, 7.0, -0.4);
+  std::vector<Occluder> boxes(2);
+  boxes[0].footprint_m.center_m = T_map_base * Vector2(4.0, 0.9);  // -8 m .. +16 m, to the left
+  boxes[0].footprint_m.half_extent_m = Vector2(12.0, 0.25);
+  boxes[0].footprint_m.yaw_rad = T_map_base.yaw();
+  boxes[0].z_max_m = 3.0;
+  boxes[1].footprint_m.center_m = T_map_base * Vector2(-2.0, 0.0);  // behind
+  boxes[1].footprint_m.half_extent_m = Vector2(0.4, 0.4);
+  boxes[1].z_max_m = 1.0;
+  const MaskComparison m = CompareWithRayCast(T_map_base, boxes);
+  EXPECT_GT(m.occluded, 1000);
+  EXPECT_GT(m.compared, 30000);
+  EXPECT_EQ(m.wrong, 0);
+  EXPECT_EQ(m.changed_outside, 0);
 }
 
 TEST(FloorCameraOcclusion, OccludersOfTheWorldFollowItsMovingObstacles) {
