@@ -59,12 +59,7 @@ struct RelocalizerOptions {
   // match's noise: the errors the likelihood does not model (the odometry's
   // scale drift between frames, perception biases such as a wide bar's edge),
   // which otherwise collapse a hypothesis' covariance until the true one
-  // loses its matches. It was implicit until the floor-map atlas took its
-  // survey error about each segment's midpoint instead of the map origin
-  // (atlas.h LineCovarianceAbout), which had widened rho by 2 mrad times the
-  // distance from the origin (4-16 cm in the simulated zones); 5 cm keeps
-  // the relocalization tests' outcomes (zone A seed 1 with a 2 m prior:
-  // without it the 90-deg-turned twin hypothesis wins by 3 unmatched lines).
+  // loses its matches (docs/atlas.md, "Scoring").
   double line_rho_floor_m = 0.05;
   // Association gate (chi-square, 2 dof) and the log-likelihood of an
   // observation that matches nothing; the latter must be below -gate/2 so a
