@@ -30,12 +30,7 @@ IntrinsicCalibration Calibrate(bool top_left_only, unsigned seed = 7, int n_view
   return *cal;
 }
 
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using ::groundline::testing::ReadText;
 
 TEST(CalibrationReport, AGoodCalibrationPassesWithEveryQuadrantCovered) {
   const IntrinsicCalibration cal = Calibrate(false);
@@ -137,7 +132,7 @@ TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
   ASSERT_TRUE(ros.ok()) << ros.message();
   EXPECT_EQ(ros->camera.lens_model(), "LENSMODEL_OPENCV8");
 
-  const nlohmann::json json = nlohmann::json::parse(ReadFile(dir / "out/report.json"));
+  const nlohmann::json json = nlohmann::json::parse(ReadText(dir / "out/report.json"));
   EXPECT_EQ(json["verdict"], "PASS");
   EXPECT_DOUBLE_EQ(json["rms_px"].get<double>(), cal.summary.rms_px);
   EXPECT_EQ(json["views"].size(), cal.views.size());
@@ -157,7 +152,7 @@ TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
   ASSERT_FALSE(partial.ok());
   EXPECT_NE(partial.message().find("partial.json: field 'advice'"), std::string::npos)
       << partial.message();
-  const std::string html = ReadFile(dir / "out/report.html");
+  const std::string html = ReadText(dir / "out/report.html");
   EXPECT_NE(html.find("PASS"), std::string::npos);
   EXPECT_EQ(html.find("<img"), std::string::npos);  // self-contained: inline SVG only
   EXPECT_EQ(std::count(html.begin(), html.end(), '\n'), 1);
@@ -169,7 +164,7 @@ TEST(CalibrationReport, FilesAreWrittenAndReadBackByMrcalOpenCvAndRosReaders) {
   EXPECT_EQ(svgs, 4u);  // residual field, histogram, coverage, projection uncertainty
   EXPECT_NE(html.find("Projection uncertainty"), std::string::npos);
   // mrcal's optimization_inputs travel with the model; mrcal's parser reads it.
-  const std::string model = ReadFile(dir / "out/camera.cameramodel");
+  const std::string model = ReadText(dir / "out/camera.cameramodel");
   EXPECT_NE(model.find("'optimization_inputs': b'"), std::string::npos);
   EXPECT_NE(model.find("'icam_intrinsics': 0,"), std::string::npos);
   EXPECT_EQ(json["camera_fingerprint"], CameraFingerprint(cal.camera));

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "groundline/core/dataset.h"
+#include "test_data.h"
 #include "test_units.h"
 
 namespace groundline::testing {
@@ -26,13 +27,6 @@ inline void WriteText(const std::filesystem::path& path, const std::string& text
   std::filesystem::create_directories(path.parent_path());
   std::ofstream out(path, std::ios::binary);
   out << text;
-}
-
-inline std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
 }
 
 // Lines of a file without their '\n'; WriteLines adds one after each.

@@ -13,10 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Read(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using ::groundline::testing::ReadText;
 
 TEST(StagedDirectory, NewFolderAppearsOnlyAtCommit) {
   const fs::path dir = ::groundline::testing::ScratchDir("staged_new");
@@ -28,8 +25,8 @@ TEST(StagedDirectory, NewFolderAppearsOnlyAtCommit) {
   ASSERT_TRUE(core::WriteFileAtomically(staged->path() / "sub" / "b.txt", "b").ok());
   EXPECT_FALSE(fs::exists(out));
   ASSERT_TRUE(staged->Commit().ok());
-  EXPECT_EQ(Read(out / "a.txt"), "a");
-  EXPECT_EQ(Read(out / "sub" / "b.txt"), "b");
+  EXPECT_EQ(ReadText(out / "a.txt"), "a");
+  EXPECT_EQ(ReadText(out / "sub" / "b.txt"), "b");
   EXPECT_FALSE(fs::exists(staged->path()));
   // Nothing but the folder itself is left beside it.
   int entries = 0;
@@ -47,12 +44,12 @@ TEST(StagedDirectory, ExistingFolderIsMergedAndKeepsOtherFiles) {
   ASSERT_TRUE(staged.ok()) << staged.message();
   ASSERT_TRUE(core::WriteFileAtomically(staged->path() / "a.txt", "after").ok());
   ASSERT_TRUE(core::WriteFileAtomically(staged->path() / "sub" / "b.txt", "b").ok());
-  EXPECT_EQ(Read(out / "a.txt"), "before");
+  EXPECT_EQ(ReadText(out / "a.txt"), "before");
   ASSERT_TRUE(staged->Commit().ok());
-  EXPECT_EQ(Read(out / "a.txt"), "after");
-  EXPECT_EQ(Read(out / "old.txt"), "kept");
-  EXPECT_EQ(Read(out / "sub" / "b.txt"), "b");
-  EXPECT_EQ(Read(out / "sub" / "c.txt"), "kept too");
+  EXPECT_EQ(ReadText(out / "a.txt"), "after");
+  EXPECT_EQ(ReadText(out / "old.txt"), "kept");
+  EXPECT_EQ(ReadText(out / "sub" / "b.txt"), "b");
+  EXPECT_EQ(ReadText(out / "sub" / "c.txt"), "kept too");
   EXPECT_FALSE(fs::exists(staged->path()));
 }
 

@@ -127,10 +127,7 @@ std::vector<Writer> Writers() {
   };
 }
 
-std::string Bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using ::groundline::testing::ReadText;
 
 bool HasTemporary(const fs::path& dir) {
   std::error_code ec;
@@ -213,7 +210,7 @@ TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
       bool whole = g >= 1000;
       if (whole) {
         ASSERT_TRUE(w.write(expected_dir / w.file, g).ok());
-        whole = Bytes(path) == Bytes(expected_dir / w.file);
+        whole = ReadText(path) == ReadText(expected_dir / w.file);
       }
       if (!whole) {
         ++torn;

@@ -34,12 +34,7 @@ std::string Fmt(const char* format, double value) {
   return text;
 }
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using ::groundline::testing::ReadText;
 
 // Appended before </body>: on load, a <pre id="probe"> with the JSON
 // {text, figures: [{tag, width, height, loaded, src}], overflow_px}.

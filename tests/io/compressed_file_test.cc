@@ -65,10 +65,7 @@ void WriteBzip2(const fs::path& path, const std::vector<std::string>& parts) {
   }
 }
 
-std::string ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using ::groundline::testing::ReadText;
 
 // Reads every line, checking the line counter on the way.
 std::vector<std::string> ReadAll(LineReader* reader) {
@@ -131,7 +128,7 @@ TEST(LineReader, TruncatedCompressedFilesFailNamingTheFile) {
   WriteBzip2(dir / "full.bz2", {Content()});
   for (const char* name : {"full.gz", "full.bz2"}) {
     SCOPED_TRACE(name);
-    const std::string bytes = ReadBytes(dir / name);
+    const std::string bytes = ReadText(dir / name);
     ASSERT_GT(bytes.size(), 100u);
     const fs::path cut = dir / (std::string("cut_") + name);
     WritePlain(cut, bytes.substr(0, bytes.size() / 2));
@@ -149,7 +146,7 @@ TEST(LineReader, TruncatedCompressedFilesFailNamingTheFile) {
 TEST(LineReader, CorruptBzip2DataFails) {
   const fs::path dir = ScratchDir("corrupt");
   WriteBzip2(dir / "full.bz2", {Content()});
-  std::string bytes = ReadBytes(dir / "full.bz2");
+  std::string bytes = ReadText(dir / "full.bz2");
   for (std::size_t i = 20; i < 60; ++i) bytes[i] = static_cast<char>(bytes[i] ^ 0x5a);
   WritePlain(dir / "corrupt.bz2", bytes);
   core::Result<LineReader> reader = LineReader::Open(dir / "corrupt.bz2");
@@ -162,7 +159,7 @@ TEST(LineReader, CorruptBzip2DataFails) {
 TEST(LineReader, TrailingGarbageAfterBzip2StreamIsIgnoredLikeTheBzip2Tool) {
   const fs::path dir = ScratchDir("garbage");
   WriteBzip2(dir / "clean.bz2", {"a\nb\n"});
-  WritePlain(dir / "garbage.bz2", ReadBytes(dir / "clean.bz2") + "not bzip2 data");
+  WritePlain(dir / "garbage.bz2", ReadText(dir / "clean.bz2") + "not bzip2 data");
   core::Result<LineReader> reader = LineReader::Open(dir / "garbage.bz2");
   ASSERT_TRUE(reader.ok()) << reader.message();
   EXPECT_EQ(ReadAll(&*reader), (std::vector<std::string>{"a", "b"}));

@@ -47,12 +47,7 @@ namespace {
 
 constexpr unsigned kDomainId = 179;
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using ::groundline::testing::ReadText;
 
 // A child process with stdout and stderr in a file, on the test's domain.
 class Child : public testing::ChildProcess {

@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include "test_data.h"
+
 extern char** environ;
 
 namespace groundline::testing {
@@ -103,12 +105,7 @@ class ChildProcess {
     return false;
   }
 
-  std::string output() const {
-    std::ifstream in(log_);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-  }
+  std::string output() const { return ReadText(log_); }
 
  private:
   std::filesystem::path log_;

@@ -83,12 +83,9 @@ inline BrowserRun RunHeadlessChromium(const std::string& url, std::vector<std::s
   const int code = browser.Wait(std::chrono::seconds(60));
   run.stdout_text = browser.output();
   if (code != 0) {
-    std::ifstream in(err);
-    std::stringstream log;
-    log << in.rdbuf();
     run.error = chromium.string() + " on " + url +
                 (code < 0 ? ": no exit after 60 s" : ": exit code " + std::to_string(code)) +
-                "; its log:\n" + log.str();
+                "; its log:\n" + ReadText(err);
     return run;
   }
   run.ok = true;

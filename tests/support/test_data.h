@@ -1,5 +1,5 @@
 // Locating the shared public data (../shared/data beside the repository, or
-// $GROUNDLINE_DATA_DIR) and scratch directories for tests.
+// $GROUNDLINE_DATA_DIR), scratch directories for tests, and reading a file whole.
 #ifndef GROUNDLINE_TESTS_SUPPORT_TEST_DATA_H_
 #define GROUNDLINE_TESTS_SUPPORT_TEST_DATA_H_
 
@@ -7,6 +7,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace groundline::testing {
@@ -32,6 +34,12 @@ inline std::filesystem::path ScratchDir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// The whole content of a file, byte for byte ("" when it cannot be read).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 }  // namespace groundline::testing

@@ -13,6 +13,7 @@ namespace groundline {
 namespace {
 
 using testing::Quoted;
+using testing::ReadText;
 using testing::RunGroundline;
 
 TEST(CalibrateCli, TargetsWritesSvgAndPngOfEverySheet) {
@@ -73,10 +74,7 @@ TEST(CalibrateCli, IntrinsicsOnOpenCvChessboardViewsFailsForCoverageAndWritesEve
   EXPECT_EQ(worst[1]["range_m"], 2.0);
   EXPECT_NEAR(worst[1]["worst_px"].get<double>(), 7.75, 0.1);
   EXPECT_GT(worst[1]["worst_mm"].get<double>(), 10.0);
-  const std::string model = [&] {
-    std::ifstream m(dir / "cal/camera.cameramodel");
-    return std::string(std::istreambuf_iterator<char>(m), {});
-  }();
+  const std::string model = ReadText(dir / "cal/camera.cameramodel");
   EXPECT_NE(model.find("'optimization_inputs': b'"), std::string::npos);
 }
 

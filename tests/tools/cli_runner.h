@@ -12,19 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_data.h"
+
 namespace groundline::testing {
 
 // Runs `groundline <args>` (args are passed to the shell as written; quote
 // paths) and returns its exit code; stdout and stderr together in *output.
 // The captured output goes to <dir>/cli_output.txt.
-// The whole text of a file ("" when it cannot be read).
-inline std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // A JSON file; throws (failing the test) when it is missing or malformed.
 inline nlohmann::json ReadJson(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -28,6 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::Quoted;
 using testing::ReadJson;
+using testing::ReadText;
 using testing::RunGroundline;
 
 bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
@@ -341,8 +342,7 @@ TEST_F(LocalizeTrust, SelfCalibrationEstimatesTheMountAndHistoryPlotsIt) {
   for (const char* c : {"pitch", "roll", "height"}) {
     EXPECT_GE(errors[std::string(c) + "_within_3_sigma"].get<double>(), 0.9) << c << out;
   }
-  std::ifstream page(run / "self_calibration.html");
-  const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  const std::string html = ReadText(run / "self_calibration.html");
   EXPECT_NE(html.find("data-component='height'"), std::string::npos);
   EXPECT_NE(html.find("class='truth'"), std::string::npos);
   EXPECT_NE(html.find("class='applied'"), std::string::npos);  // the BEV's mount
