@@ -198,5 +198,43 @@ TEST(FloorStraightNuisances, RandomizedScenesAreValidAndVaried) {
   EXPECT_GT(lux_max, 1000.0);
 }
 
+// The renderer's shortcuts give the exact functions' answers: the capped
+// stroke distance is exact up to its cap and above the cap beyond it, and the
+// soft rectangle edge equals SoftInside of the signed distance, at points
+// drawn densely around a stroke's and a rectangle's corners and sides.
+TEST(FloorStraightNuisances, DistanceShortcutsAgreeWithTheExactFunctions) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> coord(-0.6, 1.6), cap(-0.05, 0.05);
+  internal::Stroke stroke;
+  stroke.a_m = Vector2(0.1, 0.2);
+  stroke.dir = Vector2(std::cos(0.3), std::sin(0.3));
+  stroke.length_m = 1.0;
+  stroke.half_width_m = 0.025;
+  int capped = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const Vector2 p = core::DrawVector<2>(coord, rng);
+    const double c = cap(rng);
+    const double exact = internal::StrokeSignedDistance(stroke, p);
+    const double fast = internal::StrokeSignedDistanceCapped(stroke, p, c);
+    if (exact <= c) {
+      ASSERT_EQ(fast, exact) << p.transpose() << " cap " << c;
+    } else {
+      ASSERT_GT(fast, c) << p.transpose() << " cap " << c;
+      ++capped;
+    }
+  }
+  EXPECT_GT(capped, 1000);
+  std::uniform_real_distribution<double> local(-0.3, 0.3);
+  for (int k = 0; k < 200000; ++k) {
+    const double along = local(rng), across = local(rng);
+    for (const double penumbra : {0.001, 0.01, 0.2}) {
+      ASSERT_EQ(
+          internal::SoftInsideRect(along, across, 0.2, 0.1, penumbra),
+          internal::SoftInside(internal::RectSignedDistance(along, across, 0.2, 0.1), penumbra))
+          << along << " " << across << " " << penumbra;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace groundline::sim
