@@ -1,5 +1,4 @@
 // `groundline serve --config FILE`: flags and config to service::Service.
-#include <malloc.h>
 
 #include <atomic>
 #include <csignal>
@@ -80,12 +79,6 @@ CLI::App* AddServeCommand(CLI::App& parent, CommandRunner* run) {
         std::fprintf(stderr, "groundline serve: %s\n", created.message().c_str());
         return 1;
       }
-      // glibc raises its mmap threshold to the size of each large block freed
-      // (up to 32 MB), so the scan matcher's grids and the frames move onto the
-      // heap, where fragmentation keeps the shift's peak resident for good. A
-      // fixed threshold keeps them mapped and returned when freed: resident
-      // memory then follows what the service holds (docs/service.md, memory).
-      mallopt(M_MMAP_THRESHOLD, 128 * 1024);
       std::signal(SIGINT, OnStopSignal);
       std::signal(SIGTERM, OnStopSignal);
       if ((*created)->http_port() > 0) {
