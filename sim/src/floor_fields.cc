@@ -1,19 +1,14 @@
 // Marking strokes with their grid index, and the seeded procedural floor fields.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "floor_camera_internal.h"
 
 namespace groundline::sim::internal {
 
 double StrokeSignedDistance(const Stroke& s, const Vector2& p_m) {
-  const Vector2 d = p_m - s.a_m;
-  const double along = d.dot(s.dir);
-  const double across = std::abs(s.dir.x() * d.y() - s.dir.y() * d.x());
-  const double ex = std::max(-along, along - s.length_m);  // > 0 beyond an end
-  const double ey = across - s.half_width_m;
-  if (ex <= 0.0 || ey <= 0.0) return std::max(ex, ey);
-  return std::hypot(ex, ey);
+  return StrokeSignedDistanceCapped(s, p_m, std::numeric_limits<double>::infinity());
 }
 
 namespace {
