@@ -102,8 +102,9 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey,
   return Observe(grey, stamp_s, &bev);
 }
 
-core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey, double stamp_s,
-                                                           cv::Mat* bev) const {
+core::Result<ConvertedObservations> FloorFrontEnd::Observe(
+    const cv::Mat& grey, double stamp_s, cv::Mat* bev,
+    perception::ExtractionScratch* scratch) const {
   if (grey.empty() || grey.type() != CV_8UC1) {
     return core::Status::Error("camera frame at " + std::to_string(stamp_s) +
                                " s: expected an 8-bit grey image, got an empty or other-typed one");
@@ -135,7 +136,9 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey, 
     }
   }
   remap_->Apply(grey, bev);
-  ConvertedObservations converted = ObservationsFromExtraction(stamp_s, extractor_->Extract(*bev));
+  perception::ExtractionScratch local;
+  ConvertedObservations converted = ObservationsFromExtraction(
+      stamp_s, extractor_->Extract(*bev, scratch != nullptr ? scratch : &local));
   converted.observations.camera_mount = remap_->mount();
   AddMountUncertainty(&converted.observations);
   return converted;

@@ -6,8 +6,8 @@
 #include <ctime>
 #include <string>
 
-#include "groundline/core/run_timing.h"
 #include "groundline/core/covariance.h"
+#include "groundline/core/run_timing.h"
 #include "groundline/core/trajectory_association.h"
 
 namespace groundline::localization::internal {
@@ -185,8 +185,8 @@ std::optional<KeyframeOutput> LocalizerImpl::BehindReading(const core::WheelEnco
   counters.wheel_dropped_out_of_order -= static_cast<long>(jump_run.size());
   // The clock jumped back: continue the localizer's time from the newest
   // reading, one mean reading interval of the run later.
-  const double interval_s =
-      (jump_run.back().stamp_s - jump_run.front().stamp_s) / static_cast<double>(jump_run.size() - 1);
+  const double interval_s = (jump_run.back().stamp_s - jump_run.front().stamp_s) /
+                            static_cast<double>(jump_run.size() - 1);
   const double shift_s = *last_reading_s + interval_s - jump_run.front().stamp_s;
   clock_offset_s += shift_s;
   ++counters.clock_jumps;
@@ -366,7 +366,8 @@ std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame,
   if (!frame.load || !setup.camera) return std::nullopt;
   const cv::Mat grey = frame.load();
   if (grey.empty()) return std::nullopt;
-  core::Result<ConvertedObservations> seen = setup.camera->Observe(grey, stamp_s);
+  core::Result<ConvertedObservations> seen =
+      setup.camera->Observe(grey, stamp_s, &bev, &extraction_scratch);
   if (!seen.ok()) return std::nullopt;
   return std::move(seen).value();
 }
@@ -474,7 +475,8 @@ std::optional<KeyframeOutput> LocalizerImpl::Relocalize(const core::WheelEncoder
     ++counters.frames_unreadable;
   }
   const std::optional<PoseEstimate> pose = relocalizer->AddFrame(
-      r.stamp_s, motion, seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt});
+      r.stamp_s, motion,
+      seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt});
   if (!pose) return std::nullopt;
   relocalized = *pose;
   relocalizer_odometry.reset();
@@ -541,8 +543,8 @@ SensorState LocalizerImpl::Sensors() const {
   s.camera_ok = uses_camera && s.camera_age_s >= 0.0 && s.camera_age_s <= options.stale_after_s;
   s.lidar_ok = lidar && s.lidar_age_s >= 0.0 && s.lidar_age_s <= options.stale_after_s;
   s.odometry_frozen = odometry_frozen;
-  s.odometry_ok = !odometry_frozen && !coasting &&
-                  !(now_s - last_odometry_fault_s <= options.stale_after_s);
+  s.odometry_ok =
+      !odometry_frozen && !coasting && !(now_s - last_odometry_fault_s <= options.stale_after_s);
   const bool wants_camera = uses_camera;
   const bool wants_lidar = lidar != nullptr;
   if ((!wants_camera || s.camera_ok) && (!wants_lidar || s.lidar_ok) && s.odometry_ok) {

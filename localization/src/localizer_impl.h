@@ -5,11 +5,13 @@
 #include <deque>
 #include <limits>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
 
 #include "groundline/localization/localizer.h"
 #include "groundline/localization/odometry_integrator.h"
+#include "groundline/perception/line_extractor.h"
 #include "localizer_lidar.h"
 
 namespace groundline::localization::internal {
@@ -69,6 +71,9 @@ class LocalizerImpl {
   // in localizer time: applied when the odometry reaches its stamp.
   std::optional<PoseEstimate> pending_pose;
   std::optional<PendingFrame> pending;
+  // The camera front end's frame-sized buffers, reused from frame to frame.
+  cv::Mat bev;
+  perception::ExtractionScratch extraction_scratch;
   std::optional<double> last_reading_s;
   double last_frame_s = -std::numeric_limits<double>::infinity();
   double last_frame_used_s = -std::numeric_limits<double>::infinity();

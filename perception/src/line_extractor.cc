@@ -396,13 +396,18 @@ double RayAngleRad(const ExtractedLine& line, const Eigen::Vector2d& foot_m) {
 }  // namespace
 
 LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
+  ExtractionScratch scratch;
+  return Extract(bev, &scratch);
+}
+
+LineExtraction LineExtractor::Extract(const cv::Mat& bev, ExtractionScratch* scratch) const {
   assert(bev.type() == CV_8UC1 && bev.rows == grid_.rows() && bev.cols == grid_.cols());
-  HessianImages hessian;
-  filter_.Compute(bev, &hessian);
-  RidgeImages ridges;
-  AnalyzeRidges(hessian, &ridges);
-  cv::Mat bev_float;
-  bev.convertTo(bev_float, CV_32F);
+  assert(scratch != nullptr);
+  bev.convertTo(scratch->bev_float, CV_32F);
+  const cv::Mat& bev_float = scratch->bev_float;
+  filter_.Compute(bev_float, &scratch->hessian);
+  AnalyzeRidges(scratch->hessian, &scratch->ridges, &scratch->ridge);
+  const RidgeImages& ridges = scratch->ridges;
 
   LineExtraction result;
   const double side_offset_m = options_.side_offset_cells * grid_.cell_m();
@@ -417,11 +422,10 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
     }
     const double threshold = RidgeEnergyThreshold(energy, search_mask_, segment_options);
     (bright ? result.bright_threshold : result.dark_threshold) = threshold;
-    cv::Mat centres;
     RidgeCentreMask(energy, ridges.eigen_ratio, ridges.normal_rad, search_mask_, threshold,
-                    options_.segments, &centres);
-    const std::vector<RidgeSegment> segments =
-        MergeCollinearSegments(HoughSegments(centres, options_.segments), options_.segments);
+                    options_.segments, &scratch->centres);
+    const std::vector<RidgeSegment> segments = MergeCollinearSegments(
+        HoughSegments(scratch->centres, options_.segments), options_.segments);
     const RidgeImagesView view{&energy, &ridges.eigen_ratio, &ridges.normal_rad};
     std::vector<internal::CandidateLine> candidates;
     for (const RidgeSegment& segment : segments) {

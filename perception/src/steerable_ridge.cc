@@ -86,8 +86,10 @@ void Steer(const HessianImages& hessian, double t_rad, cv::Mat* out) {
 
 double ImageAngleOfBaseAngle(double phi_rad) { return 0.5 * std::numbers::pi - phi_rad; }
 
-void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out) {
+void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out, RidgeScratch* scratch) {
   assert(out != nullptr);
+  RidgeScratch local;
+  RidgeScratch& s = scratch != nullptr ? *scratch : local;
   const cv::Size size = hessian.uu.size();
   out->bright.create(size, CV_32F);
   out->dark.create(size, CV_32F);
@@ -96,16 +98,15 @@ void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out) {
   // Vectorized polar form of ((L_uu - L_vv) / 2, L_uv): the radius is half the
   // eigenvalue gap, the angle twice l_hi's eigenvector angle (cv::cartToPolar;
   // OpenCV's fast atan, checked against an exact eigen-solver to 0.02 deg in the tests).
-  cv::Mat mean, half_diff, radius, double_angle;
-  cv::addWeighted(hessian.uu, 0.5, hessian.vv, 0.5, 0.0, mean);
-  cv::addWeighted(hessian.uu, 0.5, hessian.vv, -0.5, 0.0, half_diff);
-  cv::cartToPolar(half_diff, hessian.uv, radius, double_angle);  // angle in [0, 2 pi)
+  cv::addWeighted(hessian.uu, 0.5, hessian.vv, 0.5, 0.0, s.mean);
+  cv::addWeighted(hessian.uu, 0.5, hessian.vv, -0.5, 0.0, s.half_diff);
+  cv::cartToPolar(s.half_diff, hessian.uv, s.radius, s.double_angle);  // angle in [0, 2 pi)
   out->normal_rad.create(size, CV_32F);
   constexpr float kPi = std::numbers::pi_v<float>;
   for (int r = 0; r < size.height; ++r) {
-    const float* m = mean.ptr<float>(r);
-    const float* rad = radius.ptr<float>(r);
-    const float* angle = double_angle.ptr<float>(r);
+    const float* m = s.mean.ptr<float>(r);
+    const float* rad = s.radius.ptr<float>(r);
+    const float* angle = s.double_angle.ptr<float>(r);
     float* bright = out->bright.ptr<float>(r);
     float* dark = out->dark.ptr<float>(r);
     float* strength = out->signed_strength.ptr<float>(r);

@@ -1,6 +1,8 @@
 // The service's threads: the camera input, the camera stage and the estimator.
 #include "service_impl.h"
 
+#include "groundline/io/image_file.h"
+
 namespace groundline::service {
 
 void Service::Impl::PushFrame(FrameJob job) {
@@ -61,6 +63,12 @@ void Service::Impl::CameraInput(const std::atomic<bool>& done) {
 void Service::Impl::CameraStage() {
   const double cpu_start_s = ThreadCpuSeconds();
   Clock::time_point last_bev = Clock::now() - std::chrono::seconds(1);
+  // Frame-sized buffers kept from frame to frame: the decoded file, the BEV
+  // and the extractor's images are allocated once, not per frame.
+  io::GreyImageFileReader reader;
+  cv::Mat decoded;
+  cv::Mat bev;
+  perception::ExtractionScratch scratch;
   while (!frames->closed_and_empty()) {
     std::optional<FrameJob> job = frames->Pop(std::chrono::milliseconds(20));
     if (!job) continue;
@@ -103,15 +111,14 @@ void Service::Impl::CameraStage() {
       grey = cv::Mat::zeros(camera->image_height_px(), camera->image_width_px(), CV_8UC1);
     } else if (!job->grey.empty()) {
       grey = job->grey;
-    } else if (!job->corrupt) {
-      grey = cv::imread(job->path.string(), cv::IMREAD_GRAYSCALE);
+    } else if (!job->corrupt && reader.Read(job->path, &decoded).ok()) {
+      grey = decoded;
     }
     // A camera delivers decoded frames: the latency counts from here.
     job->arrived = Clock::now();
-    cv::Mat bev;
     core::Result<loc::ConvertedObservations> seen =
         grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())
-                                : camera->Observe(grey, job->stamp_s, &bev);
+                                : camera->Observe(grey, job->stamp_s, &bev, &scratch);
     if (seen.ok()) {
       ++camera_processed;
       if (Clock::now() - last_bev > std::chrono::milliseconds(500)) {
@@ -176,9 +183,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
       nlohmann::ordered_json line = loc::KeyframeJson(*k, mode);
       if (self_calibration) {
         if (self_calibration->AddKeyframe(*k) && !mount_estimate_path.empty() &&
-            !calibration::WriteMountEstimate(
-                 mount_estimate_path,
-                 {self_calibration->commissioned(), self_calibration->estimate()})
+            !calibration::WriteMountEstimate(mount_estimate_path, {self_calibration->commissioned(),
+                                                                   self_calibration->estimate()})
                  .ok()) {
           ++mount_estimate_write_failures;
         }
@@ -186,8 +192,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
           std::lock_guard<std::mutex> mount_lock(mount_mutex);
           pending_mount = std::move(update);
         }
-        line.update(loc::MountEstimateJson(self_calibration->estimate(),
-                                           &self_calibration->applied()));
+        line.update(
+            loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied()));
       }
       if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(
@@ -247,8 +253,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     } else {
       const Clock::duration since_frame =
           Clock::now() - Clock::time_point(Clock::duration(frame_wall_ticks.load()));
-      stalled = since_frame > std::chrono::duration_cast<Clock::duration>(
-                                  std::chrono::duration<double>(stall_s));
+      stalled = since_frame >
+                std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(stall_s));
     }
     // The next frame is due at the reading's time, and not so long ago that
     // the localizer would drop it as late.
@@ -269,7 +275,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     if (event) {
       switch (event->kind) {
         case EstimatorEvent::Kind::kWheel:
-          held.push_back({event->wheel, event->T_odom_base, Clock::now(), std::nullopt, event->seq});
+          held.push_back(
+              {event->wheel, event->T_odom_base, Clock::now(), std::nullopt, event->seq});
           break;
         case EstimatorEvent::Kind::kInitialPose: {
           // rt/initialpose: the start, or a re-initialization of the running

@@ -11,9 +11,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <vector>
 
 namespace groundline::perception {
 namespace {
@@ -239,6 +241,56 @@ TEST(LineExtractor, CalibrationFloorBoundsTheLineCovarianceFromBelow) {
   const LineExtraction none = MakeExtractor(grid, options).Extract(bev);
   ASSERT_EQ(none.lines.size(), 2u);
   EXPECT_EQ(none.lines[0].covariance, plain.lines[0].covariance);
+}
+
+// The extraction of a frame does not depend on the scratch buffers' earlier
+// contents, and a second frame of the same size allocates none of them anew.
+TEST(LineExtractor, ScratchBuffersAreReusedAndLeaveTheResultUnchanged) {
+  const BevGrid grid(BevGridOptions{});
+  const LineExtractor extractor = MakeExtractor(grid);
+  const cv::Mat a = RenderBev(grid, Paint({Tape{{0.6, -0.25}, {2.4, -0.25}, 0.01, 25.0},
+                                           Tape{{1.6, -0.25}, {1.6, 0.8}, 0.20, 200.0}}));
+  const cv::Mat b = RenderBev(grid, Paint({Tape{{0.4, 0.3}, {2.6, 0.35}, 0.075, 170.0}}));
+  const LineExtraction fresh_a = extractor.Extract(a);
+  const LineExtraction fresh_b = extractor.Extract(b);
+  ASSERT_EQ(fresh_a.lines.size(), 2u);
+  ASSERT_EQ(fresh_b.lines.size(), 1u);
+  auto expect_same = [](const LineExtraction& got, const LineExtraction& want) {
+    ASSERT_EQ(got.lines.size(), want.lines.size());
+    for (std::size_t i = 0; i < got.lines.size(); ++i) {
+      EXPECT_EQ(got.lines[i].line.rho_m, want.lines[i].line.rho_m) << i;
+      EXPECT_EQ(got.lines[i].line.alpha_rad, want.lines[i].line.alpha_rad) << i;
+      EXPECT_EQ(got.lines[i].covariance, want.lines[i].covariance) << i;
+      EXPECT_EQ(got.lines[i].kind, want.lines[i].kind) << i;
+    }
+    ASSERT_EQ(got.junctions.size(), want.junctions.size());
+    for (std::size_t i = 0; i < got.junctions.size(); ++i) {
+      EXPECT_EQ(got.junctions[i].point_m, want.junctions[i].point_m) << i;
+    }
+    EXPECT_EQ(got.bright_threshold, want.bright_threshold);
+    EXPECT_EQ(got.dark_threshold, want.dark_threshold);
+  };
+  ExtractionScratch scratch;
+  expect_same(extractor.Extract(a, &scratch), fresh_a);
+  const std::vector<const cv::Mat*> buffers = {&scratch.bev_float,
+                                               &scratch.hessian.uu,
+                                               &scratch.hessian.uv,
+                                               &scratch.hessian.vv,
+                                               &scratch.ridges.bright,
+                                               &scratch.ridges.dark,
+                                               &scratch.ridges.normal_rad,
+                                               &scratch.ridges.eigen_ratio,
+                                               &scratch.ridge.mean,
+                                               &scratch.ridge.radius,
+                                               &scratch.centres};
+  std::vector<const std::uint8_t*> before;
+  for (const cv::Mat* m : buffers) {
+    ASSERT_FALSE(m->empty());
+    before.push_back(m->data);
+  }
+  expect_same(extractor.Extract(b, &scratch), fresh_b);
+  for (std::size_t i = 0; i < buffers.size(); ++i) EXPECT_EQ(buffers[i]->data, before[i]) << i;
+  expect_same(extractor.Extract(a, &scratch), fresh_a);
 }
 
 }  // namespace

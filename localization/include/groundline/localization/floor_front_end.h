@@ -46,9 +46,14 @@ class FloorFrontEnd {
   // The frame's lines and junctions, stamped stamp_s. Errors: an empty frame,
   // one whose size is not the camera model's, a blank one (min_frame_stddev).
   core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s) const;
-  // The same, also returning the BEV image (for a status page or an overlay).
-  core::Result<ConvertedObservations> Observe(const cv::Mat& grey, double stamp_s,
-                                              cv::Mat* bev) const;
+  // The same, also returning the BEV image (for a status page or an overlay)
+  // in *bev, whose buffer is reused when it has the BEV's size. scratch: the
+  // extractor's working images (perception::ExtractionScratch; null: this
+  // call's own). A caller observing frame after frame keeps both, so that no
+  // frame allocates frame-sized buffers.
+  core::Result<ConvertedObservations> Observe(
+      const cv::Mat& grey, double stamp_s, cv::Mat* bev,
+      perception::ExtractionScratch* scratch = nullptr) const;
 
   // The same camera and options on another mount (a self-calibrated one),
   // with the mount's uncertainty: `mount_covariance` over (pitch_rad,

@@ -277,6 +277,21 @@ struct LineExtraction {
 cv::Mat FloorFromPixelJacobians(const BevGrid& grid, const cv::Mat& valid_mask,
                                 const calibration::FloorProjection& projection);
 
+// The frame-sized images Extract works in: the BEV as float, the Hessian,
+// the ridge images and the ridge centres. A caller that extracts frame after
+// frame (the service's camera stage, the localizer) keeps one and passes it:
+// the buffers are then allocated by the first frame and reused, instead of
+// some 3 MB allocated and freed per frame, which fragments a long-running
+// process's heap (docs/service.md, "Memory"). One per thread; its contents
+// after a call are that call's intermediate images, not part of the result.
+struct ExtractionScratch {
+  cv::Mat bev_float;
+  HessianImages hessian;
+  RidgeImages ridges;
+  RidgeScratch ridge;
+  cv::Mat centres;
+};
+
 class LineExtractor {
  public:
   // For the BEV of `remap` (grid, valid cells, camera and mount). Options
@@ -291,6 +306,9 @@ class LineExtractor {
 
   // The lines of one BEV (CV_8UC1, grid-sized; asserted).
   LineExtraction Extract(const cv::Mat& bev) const;
+  // The same, working in *scratch's buffers (not null). The result does not
+  // depend on what *scratch held before.
+  LineExtraction Extract(const cv::Mat& bev, ExtractionScratch* scratch) const;
 
   const BevGrid& grid() const { return grid_; }
   const LineExtractorOptions& options() const { return options_; }

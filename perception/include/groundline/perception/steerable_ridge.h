@@ -94,7 +94,8 @@ class SteerableRidgeFilter {
   explicit SteerableRidgeFilter(const SteerableRidgeOptions& options);
 
   // The Hessian of a single-channel image (CV_8U, CV_16U or CV_32F), borders
-  // replicated. Writes CV_32FC1 images the size of image into *out.
+  // replicated. Writes CV_32FC1 images the size of image into *out (reusing
+  // its buffers when they have that size).
   void Compute(const cv::Mat& image, HessianImages* out) const;
 
   const SteerableRidgeOptions& options() const { return options_; }
@@ -118,8 +119,18 @@ void Steer(const HessianImages& hessian, double t_rad, cv::Mat* out);
 // The image angle t = pi/2 - phi of the base_link direction phi (radians).
 double ImageAngleOfBaseAngle(double phi_rad);
 
-// Eigen-decomposition of the 2x2 Hessian at every pixel.
-void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out);
+// The intermediate images of AnalyzeRidges (CV_32FC1, the input's size). A
+// caller that analyses frame after frame keeps one and passes it: the buffers
+// are allocated by the first frame and reused (cv::Mat::create), so a
+// long-running stage does not allocate and free them for every frame.
+struct RidgeScratch {
+  cv::Mat mean, half_diff, radius, double_angle;
+};
+
+// Eigen-decomposition of the 2x2 Hessian at every pixel. The images of *out
+// are reused when they already have the right size and type. scratch: where
+// the intermediate images live (null: allocated for this call).
+void AnalyzeRidges(const HessianImages& hessian, RidgeImages* out, RidgeScratch* scratch = nullptr);
 
 }  // namespace groundline::perception
 
