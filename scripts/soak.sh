@@ -9,14 +9,20 @@
 # at the end, prints RSS at 1 h and at HOURS h of data and the growth between
 # them (the service's target: < 5 %). The replay runs as fast as the machine
 # allows (`inputs.replay.speed: 0`), so 8 h of data take much less than 8 h.
+# The drive has the camera at SOAK_CAMERA_RATE Hz (default 5; 0: no camera),
+# so that the camera stage (decoding, the BEV, line extraction) runs through
+# the shift as the LiDAR and the estimator do; every frame is extracted, as in
+# any replay as fast as possible.
 # Environment: GROUNDLINE_BIN (default build/tools/groundline),
-# SOAK_SEED (the simulated drive's seed, default 1), SOAK_SAMPLE_S (60).
+# SOAK_SEED (the simulated drive's seed, default 1), SOAK_SAMPLE_S (60),
+# SOAK_CAMERA_RATE (5).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 hours="${1:-8}"
 out="${2:-out/soak}"
 bin="${GROUNDLINE_BIN:-build/tools/groundline}"
 seed="${SOAK_SEED:-1}"
+camera_rate="${SOAK_CAMERA_RATE:-5}"
 sample_s="${SOAK_SAMPLE_S:-60}"
 [ -x "$bin" ] || { echo "soak: $bin is not built (scripts/build.sh release groundline)" >&2; exit 1; }
 mkdir -p "$out"
@@ -24,8 +30,14 @@ out="$(cd "$out" && pwd)"
 
 dataset="$out/zone_d_loop"
 if [ ! -f "$dataset/manifest.yaml" ]; then
-  echo "soak: simulating the zone D closed loop (250 m, no camera, seed $seed)"
-  "$bin" sim --zone D --closed-loop --length 250m --no-camera --seed "$seed" --out "$dataset" >"$out/sim.log" 2>&1
+  if [ "$camera_rate" = 0 ]; then
+    camera=(--no-camera)
+    echo "soak: simulating the zone D closed loop (250 m, no camera, seed $seed)"
+  else
+    camera=(--camera-rate "$camera_rate")
+    echo "soak: simulating the zone D closed loop (250 m, camera at $camera_rate Hz, seed $seed)"
+  fi
+  "$bin" sim --zone D --closed-loop --length 250m "${camera[@]}" --seed "$seed" --out "$dataset" >"$out/sim.log" 2>&1
 fi
 duration_s=$("$bin" dataset check --skip-scans "$dataset" | awk '$1 == "duration" {print $2}')
 [ -n "$duration_s" ] || { echo "soak: could not read the duration of $dataset" >&2; exit 1; }

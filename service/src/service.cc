@@ -198,17 +198,38 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
   std::thread camera_input;
   if (!m.config.camera_uri.empty()) camera_input = std::thread([&] { m.CameraInput(inputs_done); });
   std::thread estimator_thread([&] { m.EstimatorStage(keyframes, odometry, health); });
-  // Returns the heap's free pages to the system every kTrimPeriod (glibc's
-  // malloc_trim also releases free pages inside the heap): the frames and the
-  // scan matcher's grids stay on the heap, reused without page faults, and
-  // fragmentation does not keep the shift's peak resident (docs/service.md).
+  // Returns the heap's free pages to the system after every
+  // kTrimDataPeriodS of sensor data (glibc's malloc_trim, which also releases
+  // free pages inside the heap, not only at its top). glibc keeps large
+  // blocks on the heap once one of their size has been freed, so the LiDAR
+  // stage's grids and OpenCV's working buffers are reused without page
+  // faults; the trim stops fragmentation from keeping a shift's peak
+  // resident. Data time, not wall time: the heap churn between two trims is
+  // that of the same stretch of data whether the service runs at real time
+  // or replays as fast as it can (docs/service.md, "Memory over a shift").
   std::mutex trim_mutex;
   std::condition_variable trim_wake;
   bool trim_done = false;
   std::thread memory_thread([&] {
-    constexpr auto kTrimPeriod = std::chrono::seconds(10);
+    constexpr double kTrimDataPeriodS = 10.0;
+    double last_s = std::numeric_limits<double>::quiet_NaN();
     std::unique_lock<std::mutex> lock(trim_mutex);
-    while (!trim_wake.wait_for(lock, kTrimPeriod, [&] { return trim_done; })) malloc_trim(0);
+    while (!trim_wake.wait_for(lock, std::chrono::milliseconds(100), [&] { return trim_done; })) {
+      const double now_s = m.newest_reading_s.load();
+      if (!(now_s >= last_s)) {  // the first reading, or a clock that stepped back
+        if (std::isfinite(now_s)) last_s = now_s;
+        continue;
+      }
+      if (now_s - last_s < kTrimDataPeriodS) continue;
+      last_s = now_s;
+      const Clock::time_point start = Clock::now();
+      malloc_trim(0);
+      const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
+      std::lock_guard<std::mutex> status_lock(m.status_mutex);
+      ++m.memory_trims;
+      m.trim_ms_total += ms;
+      m.trim_ms_max = std::max(m.trim_ms_max, ms);
+    }
   });
 
   core::Status replayed = core::Status::Ok();
@@ -417,6 +438,8 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
          {"recovered_after_s", t.recovered_at_s ? *t.recovered_at_s - f.to_s : -1.0}});
   }
   if (m.dds) j["dds"] = m.DdsJson();
+  j["memory_trims"] = {
+      {"n", m.memory_trims}, {"total_ms", m.trim_ms_total}, {"max_ms", m.trim_ms_max}};
   j["rss_mb"] = nlohmann::ordered_json::array();
   for (const auto& [data_s, mb] : m.rss_samples) j["rss_mb"].push_back({data_s, mb});
   j["last_keyframe"] = m.last_keyframe;

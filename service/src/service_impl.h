@@ -9,8 +9,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <ctime>
+#include <deque>
 #include <fstream>
 #include <limits>
 #include <mutex>
@@ -172,6 +172,12 @@ struct Service::Impl {
   // (data time since the first reading [s], RSS [MB]) every 600 s of data.
   std::vector<std::pair<double, double>> rss_samples;
   std::optional<double> first_reading_s;
+  // The newest wheel reading's stamp (data time; NaN before the first): the
+  // memory thread trims the heap by it.
+  std::atomic<double> newest_reading_s{std::numeric_limits<double>::quiet_NaN()};
+  // The heap trims, under status_mutex.
+  long memory_trims = 0;
+  double trim_ms_total = 0.0, trim_ms_max = 0.0;
   // Data time of the replay's first event, and per injected fault: whether a
   // keyframe reported the degradation, and when the mode was "full" again.
   double replay_first_s = 0.0;

@@ -167,6 +167,7 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
     }
     const double before_s = localizer->started() ? localizer->Current().stamp_s : -1.0;
     std::optional<loc::KeyframeOutput> k = localizer->AddWheelReading(r);
+    newest_reading_s.store(r.stamp_s);
     std::lock_guard<std::mutex> lock(status_mutex);
     if (!first_reading_s) first_reading_s = r.stamp_s;
     const double data_s = r.stamp_s - *first_reading_s;
