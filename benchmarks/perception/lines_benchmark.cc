@@ -4,9 +4,12 @@
 // The frame: the reference camera (OPENCV5, 1280 x 1024 grey, the simulator's
 // lens) on the reference mount looking at concrete (value noise) with a
 // longitudinal tape, a transverse 20 cm stop bar and a dark joint.
-//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract; args: BEV samples
-//                            per cell along x across (extract and localize: 2 x 4)
-//   BM_ExtractOnly           LineExtractor::Extract on the BEV
+//   BM_FrameToLines          BevRemap::Apply + LineExtractor::Extract with the buffers kept
+//                            from frame to frame (as the service and the localizer
+//                            run); args: BEV samples per cell along x across
+//                            (extract and localize: 2 x 4)
+//   BM_ExtractOnly           LineExtractor::Extract on the BEV; arg 1: with a kept
+//                            ExtractionScratch, 0: buffers allocated per call
 //   BM_WarpPerspectiveToBev  cv::warpPerspective (pinhole, no undistortion)
 #include <benchmark/benchmark.h>
 
@@ -62,10 +65,11 @@ void BM_FrameToLines(benchmark::State& state) {
   const LineExtractor extractor(remap, LineExtractorOptions{});
   const cv::Mat& frame = FloorFrame();
   cv::Mat bev;
+  ExtractionScratch scratch;
   size_t lines = 0;
   for (auto _ : state) {
     remap.Apply(frame, &bev);
-    const LineExtraction out = extractor.Extract(bev);
+    const LineExtraction out = extractor.Extract(bev, &scratch);
     lines = out.lines.size();
     benchmark::DoNotOptimize(lines);
   }
@@ -85,12 +89,14 @@ void BM_ExtractOnly(benchmark::State& state) {
   const LineExtractor extractor(remap, LineExtractorOptions{});
   cv::Mat bev;
   remap.Apply(FloorFrame(), &bev);
+  ExtractionScratch scratch;
+  const bool keep = state.range(0) != 0;
   for (auto _ : state) {
-    const LineExtraction out = extractor.Extract(bev);
+    const LineExtraction out = keep ? extractor.Extract(bev, &scratch) : extractor.Extract(bev);
     benchmark::DoNotOptimize(out.lines.data());
   }
 }
-BENCHMARK(BM_ExtractOnly)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ExtractOnly)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_WarpPerspectiveToBev(benchmark::State& state) {
   cv::setNumThreads(1);
