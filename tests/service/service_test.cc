@@ -499,6 +499,15 @@ TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionN
   const double faulty_m = error_m(faulty, kJumpS);
   EXPECT_LT(clean_m, 0.10);
   EXPECT_LT(faulty_m, clean_m + 0.03) << "clean " << clean_m << " m";
+  // The heap is trimmed after every 10 s of data, whatever the replay's
+  // speed: 30 s of data hold at most 3 trims, and a clock that steps back
+  // restarts the count instead of stopping the trims (the 20 s after the
+  // step hold at least one).
+  for (const nlohmann::ordered_json* summary : {&clean, &faulty}) {
+    const long trims = (*summary)["memory_trims"]["n"].get<long>();
+    EXPECT_GE(trims, 1) << (*summary)["memory_trims"].dump();
+    EXPECT_LE(trims, 3) << (*summary)["memory_trims"].dump();
+  }
 }
 
 }  // namespace
