@@ -103,7 +103,8 @@ def at(h):
 a, b = at(1.0), at(hours)
 print(f"soak: RSS {a[1]:.1f} MB at {a[0]:.2f} h, {b[1]:.1f} MB at {b[0]:.2f} h of data: "
       f"growth {100 * (b[1] - a[1]) / a[1]:+.1f} %  (max {max(r[1] for r in rows):.1f} MB)")
-last_hour = max(by_hour)
+# The last full hour: the run's final sample may open an hour of its own.
+last_hour = max([k for k in by_hour if k + 1 <= hours] or [max(by_hour)])
 if 1 in by_hour and last_hour > 1:
     first, last = by_hour[1], by_hour[last_hour]
     g_med = 100 * (statistics.median(last) - statistics.median(first)) / statistics.median(first)
