@@ -26,6 +26,7 @@ core::Status LocalizerOptions::Validate() const {
       {"stale_after_s", stale_after_s},
       {"lateral_variance_m2_per_m", lateral_variance_m2_per_m},
       {"max_scan_gap_s", max_scan_gap_s},
+      {"deskew_motion_window_s", deskew_motion_window_s},
       {"odometry_gap_speed_mps", odometry_gap_speed_mps},
       {"odometry_gap_yaw_rate_radps", odometry_gap_yaw_rate_radps},
       {"frozen_speed_mps", frozen_speed_mps},
@@ -43,6 +44,11 @@ core::Status LocalizerOptions::Validate() const {
   if (!(std::isfinite(reorder_tolerance_s) && reorder_tolerance_s >= 0.0)) {
     return core::Status::Error("localizer option reorder_tolerance_s: expected >= 0, got " +
                                std::to_string(reorder_tolerance_s));
+  }
+  if (!(deskew_motion_window_s < odometry_history_s)) {
+    return core::Status::Error(
+        "localizer option deskew_motion_window_s: expected less than odometry_history_s (" +
+        std::to_string(odometry_history_s) + "), got " + std::to_string(deskew_motion_window_s));
   }
   if (lidar_local_map_scans < 0) {
     return core::Status::Error("localizer option lidar_local_map_scans: expected >= 0, got " +

@@ -74,6 +74,7 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
     line["lines_dropped"] = k.lines_dropped;
     line["junctions_used"] = health.junctions_used;
     if (health.slip_gate) line["slip_gate"] = true;
+    if (health.slip_from_relative) line["slip_from_relative"] = true;
     line["landmarks_added"] = health.landmarks_added;
     line["window_size"] = health.window_size;
     line["iterations"] = health.iterations;

@@ -11,6 +11,8 @@ namespace groundline::localization::internal {
 LidarStage::LidarStage(const LidarSetup& setup, const LocalizerOptions& options)
     : setup_(setup),
       points_options_(options.scan_points),
+      deskew_(options.deskew_scan_matching),
+      deskew_window_s_(options.deskew_motion_window_s),
       wall_options_(options.walls),
       history_s_(options.odometry_history_s),
       scan_odometry_options_(options.scan_odometry),
@@ -83,9 +85,24 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
       ++counters->lidar_restarts;
     }
     last_matched_s_ = describes_s;
-    const lidar::ScanPoints points =
-        lidar::ScanPointsFromRanges(scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad,
-                                    scan.range_max_m, setup_.T_base_lidar, points_options_);
+    beam_poses_.clear();
+    if (deskew_) {
+      // The sweep's motion: the odometry's mean twist over the window that
+      // ends at the scan's instant, continued over the sweep (so that the
+      // scan is matched as soon as the odometry reaches that instant).
+      const SweepTiming sweep = Sweep(scan);
+      const core::Vector3 twist =
+          OdometryAt(describes_s - deskew_window_s_).Between(OdometryAt(describes_s)).Log() /
+          deskew_window_s_;
+      for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
+        const double dt_s =
+            sweep.first_ray_s + static_cast<double>(i) * sweep.time_increment_s - describes_s;
+        beam_poses_.push_back(core::SE2::Exp(dt_s * twist) * setup_.T_base_lidar);
+      }
+    }
+    const lidar::ScanPoints points = lidar::ScanPointsFromRanges(
+        scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, scan.range_max_m,
+        setup_.T_base_lidar, beam_poses_, points_options_);
     ++scans_in_local_map_;
     core::Result<lidar::ScanReport> report =
         scan_odometry_->AddScan(describes_s, T_fix_ * OdometryAt(describes_s), points);
@@ -122,21 +139,28 @@ core::SE2 LidarStage::OdometryAt(double stamp_s) const {
 std::vector<LineObservation> LidarStage::WallObservations(double stamp_s) const {
   if (!last_) return {};
   const core::LaserScan& scan = *last_;
+  // Each ray is moved from its own time.
+  const SweepTiming sweep = Sweep(scan);
+  const std::vector<lidar::RangePoint> points = lidar::RangePointsAt(
+      scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, sweep.first_ray_s,
+      sweep.time_increment_s, setup_.T_base_lidar, OdometryAt(stamp_s),
+      [this](double t) { return OdometryAt(t); },
+      std::max(wall_options_.min_range_m, scan.range_min_m),
+      std::min(wall_options_.max_range_m, scan.range_max_m));
+  return lidar::WallLineObservations(lidar::ExtractWallLines(points, wall_options_));
+}
+
+LidarStage::SweepTiming LidarStage::Sweep(const core::LaserScan& scan) const {
+  SweepTiming t;
   // A rotating mirror: one revolution per scan period, rays in angle order.
-  const double time_increment_s =
+  t.time_increment_s =
       std::abs(scan.angle_increment_rad) / (setup_.rate_hz * 2.0 * std::numbers::pi);
-  // Each ray is moved from its own time, counted from the first ray's.
-  const double first_ray_s =
+  t.first_ray_s =
       setup_.stamp == core::LidarStamp::kFirstRay
           ? scan.stamp_s
           : scan.stamp_s - lidar::MidSweepOffsetS(scan.ranges_m.size(), scan.angle_increment_rad,
                                                   setup_.rate_hz);
-  const std::vector<lidar::RangePoint> points = lidar::RangePointsAt(
-      scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, first_ray_s, time_increment_s,
-      setup_.T_base_lidar, OdometryAt(stamp_s), [this](double t) { return OdometryAt(t); },
-      std::max(wall_options_.min_range_m, scan.range_min_m),
-      std::min(wall_options_.max_range_m, scan.range_max_m));
-  return lidar::WallLineObservations(lidar::ExtractWallLines(points, wall_options_));
+  return t;
 }
 
 }  // namespace groundline::localization::internal

@@ -45,9 +45,18 @@ class LidarStage {
 
  private:
   void MatchCovered(double up_to_s, LocalizerCounters* counters);
+  // A sweep's ray times: ray i at first_ray_s + i * time_increment_s.
+  struct SweepTiming {
+    double first_ray_s = 0.0;
+    double time_increment_s = 0.0;
+  };
+  SweepTiming Sweep(const core::LaserScan& scan) const;
 
   LidarSetup setup_;
   lidar::ScanPointsOptions points_options_;
+  bool deskew_ = true;
+  double deskew_window_s_ = 0.1;
+  std::vector<core::SE2> beam_poses_;  // per ray, reused from scan to scan
   lidar::WallLineOptions wall_options_;
   double history_s_;
   lidar::ScanOdometryOptions scan_odometry_options_;

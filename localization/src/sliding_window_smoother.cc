@@ -38,9 +38,11 @@ core::Status SmootherOptions::Validate() const {
   if (!(odometry_sigma_floor_m > 0.0) || !(odometry_sigma_floor_rad > 0.0)) {
     return core::Status::Error("smoother odometry_sigma_floor_m and _rad must be > 0");
   }
-  if (!(slip_sigma_m >= 0.0) || !(track_m > 0.0) || slip_min_matches < 1) {
+  if (!(slip_sigma_m >= 0.0) || !(track_m > 0.0) || slip_min_matches < 1 ||
+      !(slip_relative_chi2 >= 0.0)) {
     return core::Status::Error(
-        "smoother slip_sigma_m must be >= 0, track_m > 0 and slip_min_matches >= 1");
+        "smoother slip_sigma_m must be >= 0, track_m > 0, slip_min_matches >= 1 and "
+        "slip_relative_chi2 >= 0");
   }
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
@@ -261,10 +263,25 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   const Clock::time_point start = Clock::now();
   KeyframeHealth health;
   health.stamp_s = stamp_s;
-  const PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
-  const auto odometry_sqrt =
-      SqrtInformationFromCovariance(0.5 * (motion.covariance + motion.covariance.transpose()) +
-                                    OdometryCovarianceFloor(options_));
+  PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
+  core::Matrix3 odometry_covariance =
+      0.5 * (motion.covariance + motion.covariance.transpose()) + OdometryCovarianceFloor(options_);
+  if (relative) {
+    // r^T (C + I^+)^-1 r in the measurement's directions, by Woodbury
+    // (I = L^T L may be singular): r^T (I - I (C^-1 + I)^-1 I) r.
+    const core::Vector3 r = motion.T_start_end.Between(relative->T_prev_curr).Log();
+    const core::Matrix3 I = relative->sqrt_information.transpose() * relative->sqrt_information;
+    const core::Matrix3 inner = odometry_covariance.inverse() + I;
+    health.relative_chi2 = r.dot(I * r - I * inner.ldlt().solve(I * r));
+    if (options_.slip_sigma_m > 0.0 && options_.slip_relative_chi2 > 0.0 &&
+        health.relative_chi2 > options_.slip_relative_chi2) {
+      const core::Matrix3 slip = SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
+      odometry_covariance += slip;
+      predicted.covariance += slip;  // the lines' gate too
+      health.slip_from_relative = true;
+    }
+  }
+  const auto odometry_sqrt = SqrtInformationFromCovariance(odometry_covariance);
   if (!odometry_sqrt.ok()) {
     return odometry_sqrt.status().WithContext("keyframe at " + std::to_string(stamp_s) +
                                               " s: odometry covariance");

@@ -9,6 +9,7 @@
 
 #include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/floor_association.h"
+#include "groundline/localization/lidar/scan_points.h"
 #include "jacobian_check.h"
 
 namespace groundline::localization::lidar {
@@ -274,6 +275,42 @@ TEST(RangePointsAt, DeskewsByTheOdometry) {
   EXPECT_TRUE(points[0].point_m.isApprox(Eigen::Vector2d(0.84, 2.0), 1e-12));
   EXPECT_TRUE(points[1].point_m.isApprox(Eigen::Vector2d(0.89, 2.0), 1e-12));
   EXPECT_TRUE(points[1].ray_direction.isApprox(Eigen::Vector2d(0.0, 1.0), 1e-12));
+}
+
+TEST(ScanPointsFromRanges, EachBeamIsPlacedFromItsOwnLaserPose) {
+  // A wall at y = 2 m, the laser at 0.84 m ahead of the base; beam i is
+  // measured 5 cm further along x than beam i - 1 and turned 0.01 rad more.
+  // Given those poses, every beam lands on the wall at its own x.
+  std::vector<double> ranges;
+  std::vector<core::SE2> T_base_laser_of_beam;
+  const double angle_min = M_PI / 2 - 0.1, increment = 0.02;
+  for (int i = 0; i < 11; ++i) {
+    const core::SE2 T = core::SE2(0.05 * i, 0.0, 0.01 * i) * core::SE2(0.84, 0.0, 0.0);
+    const double a = T.yaw() + angle_min + i * increment;
+    ranges.push_back((2.0 - T.y()) / std::sin(a));
+    T_base_laser_of_beam.push_back(T);
+  }
+  ScanPointsOptions options;
+  options.voxel_size_m = 0.0;
+  const ScanPoints moved = ScanPointsFromRanges(
+      ranges, angle_min, increment, 25.0, core::SE2(0.84, 0.0, 0.0), T_base_laser_of_beam, options);
+  ASSERT_EQ(moved.points.size(), 11u);
+  for (int i = 0; i < 11; ++i) {
+    const double a = 0.01 * i + angle_min + i * increment;
+    const core::Vector2 expected =
+        T_base_laser_of_beam[i].translation() + ranges[i] * core::Vector2(std::cos(a), std::sin(a));
+    EXPECT_NEAR(moved.points[i].point_m.y(), 2.0, 1e-12) << i;
+    EXPECT_TRUE(moved.points[i].point_m.isApprox(expected, 1e-12)) << i;
+    // The wall's normal, from neighbours placed each from its own pose.
+    if (moved.points[i].has_normal()) {
+      EXPECT_NEAR(std::abs(moved.points[i].normal.y()), 1.0, 1e-9) << i;
+    }
+  }
+  // From one pose (an empty span) the same ranges do not lie on a line.
+  const ScanPoints still = ScanPointsFromRanges(ranges, angle_min, increment, 25.0,
+                                                core::SE2(0.84, 0.0, 0.0), {}, options);
+  ASSERT_EQ(still.points.size(), 11u);
+  EXPECT_GT(std::abs(still.points[10].point_m.y() - 2.0), 0.05);
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 
 #include "lidar_test_world.h"
 
+#include "groundline/core/trajectory_association.h"
 #include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/odometry_integrator.h"
 
@@ -83,10 +84,10 @@ TEST(Localizer, BadAndOutOfOrderReadingsAreDroppedAndCountedAndChangeNothing) {
     if (auto out = clean->AddWheelReading(Straight(k))) clean_out.push_back(*out);
     if (auto out = noisy->AddWheelReading(Straight(k))) noisy_out.push_back(*out);
     if (k % 50 == 0) {
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));                       // duplicate
-      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 10)));  // 0.1 s behind: out of order
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k)));               // duplicate
+      EXPECT_FALSE(noisy->AddWheelReading(Straight(k - 10)));          // 0.1 s behind: out of order
       EXPECT_FALSE(noisy->AddWheelReading({k * kPeriodS, nan, 0.0}));  // NaN at a taken stamp
-      EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));                   // NaN stamp
+      EXPECT_FALSE(noisy->AddWheelReading({nan, 0.0, 0.0}));           // NaN stamp
     }
   }
   ASSERT_EQ(noisy_out.size(), clean_out.size());
@@ -328,12 +329,37 @@ core::SE2 CircleTruth(double t) {
   return core::SE2(-0.5 + kR * std::sin(a), kR - kR * std::cos(a), a);
 }
 
+// A scan of the room stamped mid-sweep at stamp_s, 270 deg from -135 deg in
+// steps of increment_rad, each ray cast from pose_at(its own time) as a 15 Hz
+// sweeping scanner (one mirror revolution per scan) sees it.
+core::LaserScan SweepScan(double stamp_s, double increment_rad,
+                          const std::function<core::SE2(double)>& pose_at) {
+  const std::vector<testing::Segment> walls = testing::RoomWorld();
+  core::LaserScan scan;
+  scan.stamp_s = stamp_s;
+  scan.angle_min_rad = -0.75 * std::numbers::pi;
+  scan.angle_increment_rad = increment_rad;
+  scan.range_min_m = 0.05;
+  scan.range_max_m = 20.0;
+  const int rays = static_cast<int>(std::lround(1.5 * std::numbers::pi / increment_rad)) + 1;
+  const double ray_s = increment_rad / (2.0 * std::numbers::pi * 15.0);
+  const double first_ray_s = stamp_s - (rays - 1) * ray_s / 2.0;
+  for (int i = 0; i < rays; ++i) {
+    const core::SE2 T = pose_at(first_ray_s + i * ray_s);
+    const double a = T.yaw() + scan.angle_min_rad + i * increment_rad;
+    const double r = testing::CastRay(walls, T.translation(), {std::cos(a), std::sin(a)});
+    scan.ranges_m.push_back(std::isfinite(r) && r < 20.0 ? r : 0.0);
+  }
+  return scan;
+}
+
 // Drives the circle for 20 s, the wheels over-reading by 2 %, the LiDAR at
-// 15 Hz (mid-sweep stamps); before_reading(t) runs before the reading at t.
+// 15 Hz taking each scan at one instant (mid-sweep stamps; the localizers
+// that take these scans do not deskew them); before_reading(t) runs before
+// the reading at t.
 // Returns the keyframes, each with the truth in the predicted pose's place.
 std::vector<KeyframeOutput> DriveTheCircle(Localizer& localizer,
                                            const std::function<void(double)>& before_reading) {
-  const std::vector<testing::Segment> walls = testing::RoomWorld();
   constexpr double kR = 1.2, kV = 0.5;
   std::vector<KeyframeOutput> keyframes;
   const double w = kV / kR, track = Vehicle().drive.track_m;
@@ -341,19 +367,10 @@ std::vector<KeyframeOutput> DriveTheCircle(Localizer& localizer,
   for (int k = 1; k <= 2000; ++k) {
     const double t = k * kPeriodS;
     while (scan_k / 15.0 <= t) {
-      core::LaserScan scan;
-      scan.stamp_s = scan_k / 15.0;
-      scan.angle_min_rad = -0.75 * std::numbers::pi;
-      scan.angle_increment_rad = std::numbers::pi / 180.0;
-      scan.range_min_m = 0.05;
-      scan.range_max_m = 20.0;
-      const core::SE2 T = CircleTruth(scan.stamp_s);
-      for (int i = 0; i <= 270; ++i) {
-        const double a = T.yaw() + scan.angle_min_rad + i * scan.angle_increment_rad;
-        const double r = testing::CastRay(walls, T.translation(), {std::cos(a), std::sin(a)});
-        scan.ranges_m.push_back(std::isfinite(r) && r < 20.0 ? r : 0.0);
-      }
-      localizer.AddScan(std::move(scan));
+      // Every ray from the scan's pose: a snapshot, nothing to deskew.
+      localizer.AddScan(
+          SweepScan(scan_k / 15.0, std::numbers::pi / 180.0,
+                    [stamp_s = scan_k / 15.0](double) { return CircleTruth(stamp_s); }));
       ++scan_k;
     }
     if (before_reading) before_reading(t);
@@ -374,6 +391,7 @@ LocalizerSetup VehicleWithLidar() {
 // kLidar around the circle; returns the keyframes.
 std::vector<KeyframeOutput> CircleInTheRoom(int local_map_scans, LocalizerCounters* counters) {
   LocalizerOptions options;
+  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLidar;
   options.lidar_local_map_scans = local_map_scans;
   std::unique_ptr<Localizer> localizer =
@@ -415,6 +433,73 @@ TEST(Localizer, ARenewedScanOdometryContinuesFromItsEstimate) {
   // grow a little after it.
   EXPECT_LT(step_b, step_a + 0.02) << "without renewals " << step_a << " m";
   EXPECT_LT(worst_b, 0.10);
+}
+
+// A turn in the room at 0.8 m/s: 2 s straight, the yaw rate ramping to
+// 0.6 rad/s in 0.4 s, held 2.3 s, ramping down, then straight (93 deg in
+// all), with scans of a 15 Hz sweeping scanner (SweepScan); the wheels read
+// the truth's increments. Returns the largest change of the kLidar
+// estimate's heading error from the turn's start, in degrees.
+double HeadingErrorChangeOverATurn(bool deskew) {
+  constexpr double kV = 0.8, kStepS = 0.001, kTurnS = 2.0, kEndS = 7.0;
+  const auto yaw_rate = [](double t) {
+    if (t < kTurnS || t > 5.1) return 0.0;
+    if (t < 2.4) return 0.6 * (t - kTurnS) / 0.4;
+    if (t > 4.7) return 0.6 * (5.1 - t) / 0.4;
+    return 0.6;
+  };
+  core::Trajectory truth{{0.0, core::SE2(-3.0, -1.0, 0.0), std::nullopt}};
+  for (double t = kStepS; t <= kEndS + 0.2; t += kStepS) {
+    const core::SE2& last = truth.back().pose;
+    const double yaw = last.yaw() + yaw_rate(t - kStepS / 2.0) * kStepS;
+    const double mid = 0.5 * (last.yaw() + yaw);
+    truth.push_back({t,
+                     core::SE2(last.x() + kV * kStepS * std::cos(mid),
+                               last.y() + kV * kStepS * std::sin(mid), yaw),
+                     std::nullopt});
+  }
+  const auto pose_at = [&truth](double t) { return core::InterpolatePose(truth, t); };
+  LocalizerOptions options;
+  options.mode = LocalizerMode::kLidar;
+  options.deskew_scan_matching = deskew;
+  std::unique_ptr<Localizer> localizer =
+      std::move(Localizer::Create(options, VehicleWithLidar())).value();
+  EXPECT_TRUE(localizer->SetInitialPose(0.0, truth.front().pose, StartCovariance()).ok());
+  const double track = Vehicle().drive.track_m;
+  std::optional<double> at_turn;
+  double worst = 0.0;
+  int scan_k = 1;
+  for (int k = 1; k * kPeriodS <= kEndS; ++k) {
+    const double t = k * kPeriodS;
+    while (scan_k / 15.0 <= t) {
+      localizer->AddScan(SweepScan(scan_k / 15.0, 0.33 * std::numbers::pi / 180.0, pose_at));
+      ++scan_k;
+    }
+    const core::SE2 delta = pose_at(t - kPeriodS).Inverse() * pose_at(t);
+    const double ds = delta.translation().norm(), dyaw = delta.yaw();
+    const double left = (ds - dyaw * track / 2.0) / kRadiusM;
+    const double right = (ds + dyaw * track / 2.0) / kRadiusM;
+    const std::optional<KeyframeOutput> out = localizer->AddWheelReading({t, left, right});
+    if (!out) continue;
+    const double error = core::WrapAngle(out->pose.T_map_base.yaw() - pose_at(out->stamp_s).yaw());
+    if (out->stamp_s <= kTurnS) {
+      at_turn = error;  // the last keyframe before the turn
+    } else if (at_turn) {
+      worst = std::max(worst, std::abs(error - *at_turn));
+    }
+  }
+  EXPECT_TRUE(at_turn.has_value());
+  return worst * 180.0 / std::numbers::pi;
+}
+
+TEST(Localizer, ScansTakenWhileTheYawRateRampsAreDeskewedBeforeTheyAreMatched) {
+  const double deskewed = HeadingErrorChangeOverATurn(true);
+  const double not_deskewed = HeadingErrorChangeOverATurn(false);
+  // A sweep spans 1.7 deg of heading at 0.6 rad/s. Undeskewed, the turn's
+  // scans are bent against the local map of the straight before it (the
+  // check that the drive shows the effect).
+  EXPECT_LT(deskewed, 0.08) << "without deskewing " << not_deskewed << " deg";
+  EXPECT_GT(not_deskewed, 0.15);
 }
 
 TEST(Localizer, AReinitializationMovesTheDeadReckoningWithItsCovarianceAndKeepsTheOdomFrame) {
@@ -471,6 +556,7 @@ std::pair<double, double> ErrorRange(const std::vector<KeyframeOutput>& ks, doub
 // than its history are dropped and counted first, moving nothing.
 TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose) {
   LocalizerOptions options;
+  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLidar;
   std::unique_ptr<Localizer> localizer =
       std::move(Localizer::Create(options, VehicleWithLidar())).value();
@@ -521,6 +607,7 @@ TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose
 // restarts there and the walls hold the estimate at the given pose.
 TEST(Localizer, AReinitializationAheadOfTheOdometryRestartsTheSmootherAtItsStamp) {
   LocalizerOptions options;
+  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLines;
   options.use_lidar = true;
   LocalizerSetup setup = VehicleWithLidar();

@@ -1,6 +1,7 @@
 #include "groundline/localization/lidar/scan_points.h"
 
 #include <Eigen/Eigenvalues>
+#include <cassert>
 #include <cmath>
 #include <optional>
 #include <unordered_set>
@@ -55,6 +56,16 @@ core::Vector2 NormalAt(const std::vector<std::optional<core::Vector2>>& beams, s
 ScanPoints ScanPointsFromRanges(const std::vector<double>& ranges_m, double angle_min_rad,
                                 double angle_increment_rad, double sensor_max_range_m,
                                 const core::SE2& T_base_laser, const ScanPointsOptions& options) {
+  return ScanPointsFromRanges(ranges_m, angle_min_rad, angle_increment_rad, sensor_max_range_m,
+                              T_base_laser, {}, options);
+}
+
+ScanPoints ScanPointsFromRanges(const std::vector<double>& ranges_m, double angle_min_rad,
+                                double angle_increment_rad, double sensor_max_range_m,
+                                const core::SE2& T_base_laser,
+                                std::span<const core::SE2> T_base_laser_of_beam,
+                                const ScanPointsOptions& options) {
+  assert(T_base_laser_of_beam.empty() || T_base_laser_of_beam.size() == ranges_m.size());
   ScanPoints scan;
   scan.sensor_origin_m = T_base_laser.translation();
   std::vector<std::optional<core::Vector2>> beams(ranges_m.size());
@@ -62,14 +73,16 @@ ScanPoints ScanPointsFromRanges(const std::vector<double>& ranges_m, double angl
     const double r = ranges_m[i];
     const double a = angle_min_rad + static_cast<double>(i) * angle_increment_rad;
     const core::Vector2 dir(std::cos(a), std::sin(a));
+    const core::SE2& T_base_beam =
+        T_base_laser_of_beam.empty() ? T_base_laser : T_base_laser_of_beam[i];
     if (!std::isfinite(r) || r >= sensor_max_range_m) {
       if (options.missing_ray_length_m > 0.0) {
-        scan.misses_m.push_back(T_base_laser * (options.missing_ray_length_m * dir));
+        scan.misses_m.push_back(T_base_beam * (options.missing_ray_length_m * dir));
       }
       continue;
     }
     if (r < options.min_range_m || r > options.max_range_m) continue;
-    beams[i] = T_base_laser * (r * dir);
+    beams[i] = T_base_beam * (r * dir);
   }
   std::unordered_set<long long> voxels;
   for (std::size_t i = 0; i < beams.size(); ++i) {

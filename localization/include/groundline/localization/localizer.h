@@ -92,6 +92,22 @@ struct LocalizerOptions {
   SmootherOptions smoother;
   lidar::ScanOdometryOptions scan_odometry;
   lidar::ScanPointsOptions scan_points;
+  // The scan matcher's points are deskewed: each ray is moved to the
+  // instant the scan describes by the vehicle's motion over the sweep, as the
+  // wall faces' rays are. A sweeping scanner's rays span 50 ms; undeskewed, a
+  // scan taken while the yaw rate ramps (a turn's entry or exit) is bent
+  // against a local map built from straight driving, and the match turns it
+  // by a bias (docs/localization.md, "Scans from a sweeping scanner").
+  // false: every ray from the pose of that instant.
+  bool deskew_scan_matching = true;
+  // The motion over the sweep is one constant twist: the odometry's mean over
+  // this window ending at the scan's instant [s]. Ending there, the scan is
+  // matched as soon as the odometry reaches its instant, as undeskewed: a
+  // window reaching past it would make the scan wait, and the keyframe after
+  // it would compose that much more wheel noise with the match. The mean also
+  // smooths the wheels' noise per 10 ms reading, which per-ray interpolation
+  // would bend into every scan. Below odometry_history_s.
+  double deskew_motion_window_s = 0.1;
   lidar::WallLineOptions walls;
   RelocalizerOptions relocalizer;
   // The scan odometry keeps a record per scan (its pose graph) for as long
@@ -184,11 +200,11 @@ struct LocalizerCounters {
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
-  long frames_skipped = 0;       // no keyframe due when the frame's turn came
-  long frames_superseded = 0;    // a newer frame arrived before this one's turn
-  long frames_unreadable = 0;    // the loader or the front end failed
-  long frames_dropped_late = 0;  // max_frame_lag_s behind, or before the start
-  long frames_dropped_ahead = 0; // max_sensor_lead_s ahead of the odometry
+  long frames_skipped = 0;        // no keyframe due when the frame's turn came
+  long frames_superseded = 0;     // a newer frame arrived before this one's turn
+  long frames_unreadable = 0;     // the loader or the front end failed
+  long frames_dropped_late = 0;   // max_frame_lag_s behind, or before the start
+  long frames_dropped_ahead = 0;  // max_sensor_lead_s ahead of the odometry
   long scans = 0;
   long scans_dropped_bad = 0;
   long scans_dropped_out_of_order = 0;
@@ -199,9 +215,9 @@ struct LocalizerCounters {
   long solve_failures = 0;
   long solves_unconverged = 0;
   long lidar_failures = 0;
-  long lidar_restarts = 0;  // the scan odometry restarted after a gap
-  long lidar_local_map_renewals = 0;  // a fresh scan odometry after lidar_local_map_scans
-  long reinitializations = 0;         // initial poses applied after the start
+  long lidar_restarts = 0;               // the scan odometry restarted after a gap
+  long lidar_local_map_renewals = 0;     // a fresh scan odometry after lidar_local_map_scans
+  long reinitializations = 0;            // initial poses applied after the start
   long initial_poses_dropped_ahead = 0;  // max_sensor_lead_s ahead of the odometry
   long initial_poses_dropped_late = 0;   // before the odometry history (SetInitialPose)
   long initial_poses_superseded = 0;     // replaced before the odometry reached their stamp

@@ -119,7 +119,15 @@ struct SmootherOptions {
   // changes, the odometry factor keeps its covariance.
   double slip_sigma_m = 0.0;
   int slip_min_matches = 2;
-  double track_m = 0.76;           // the wheel track of the slip hypothesis [m]
+  // With slip_sigma_m > 0 and a RelativePoseMeasurement (the LiDAR): when
+  // the odometry's motion and the measurement disagree beyond this
+  // chi-square value (3 dof; the disagreement weighed by both covariances,
+  // in the directions the measurement constrains), the span had a slip: its
+  // odometry factor gets one slip's covariance (SlipCovariance) added, so
+  // that a slip's heading jump is not averaged into the pose (which then
+  // fails the gate of every line after it). 0: never.
+  double slip_relative_chi2 = 21.1;  // the 0.9999 quantile
+  double track_m = 0.76;             // the wheel track of the slip hypothesis [m]
   // Localization mode, on an atlas whose covariances are stated
   // (Atlas::covariances_stated): a line or junction factor's noise includes
   // the landmark's own covariance, propagated into the vehicle frame at the
@@ -168,9 +176,13 @@ struct KeyframeHealth {
   int junctions_observed = 0;
   int junctions_used = 0;
   bool relative_measurement_used = false;  // a RelativePoseMeasurement entered the window
-  bool slip_gate = false;   // associated under the slip hypothesis (SmootherOptions::slip_sigma_m)
-  int landmarks_added = 0;  // mapping mode
-  int window_size = 0;      // keyframes in the window after this update
+  bool slip_gate = false;  // associated under the slip hypothesis (SmootherOptions::slip_sigma_m)
+  // The odometry disagreed with the relative measurement (slip_relative_chi2):
+  // its factor was widened by one slip.
+  bool slip_from_relative = false;
+  double relative_chi2 = 0.0;  // that disagreement (0 without a measurement)
+  int landmarks_added = 0;     // mapping mode
+  int window_size = 0;         // keyframes in the window after this update
   int iterations = 0;
   // The solve met its step tolerance (chain) or Ceres' convergence test;
   // false when it stopped at max_iterations (the estimate is then the last

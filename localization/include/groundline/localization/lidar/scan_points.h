@@ -16,6 +16,7 @@
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_SCAN_POINTS_H_
 #define GROUNDLINE_LOCALIZATION_LIDAR_SCAN_POINTS_H_
 
+#include <span>
 #include <vector>
 
 #include "groundline/core/se2.h"
@@ -53,6 +54,17 @@ struct ScanPointsOptions {
 ScanPoints ScanPointsFromRanges(const std::vector<double>& ranges_m, double angle_min_rad,
                                 double angle_increment_rad, double sensor_max_range_m,
                                 const core::SE2& T_base_laser, const ScanPointsOptions& options);
+
+// The same for a laser that moves during its sweep (deskewing): beam i is
+// measured from T_base_laser_of_beam[i], the laser's pose at that beam's time
+// in the base frame of the instant the scan describes (one pose per range;
+// an empty span: T_base_laser for every beam). T_base_laser is the laser's
+// pose at that instant (sensor_origin_m).
+ScanPoints ScanPointsFromRanges(const std::vector<double>& ranges_m, double angle_min_rad,
+                                double angle_increment_rad, double sensor_max_range_m,
+                                const core::SE2& T_base_laser,
+                                std::span<const core::SE2> T_base_laser_of_beam,
+                                const ScanPointsOptions& options);
 
 }  // namespace groundline::localization::lidar
 
