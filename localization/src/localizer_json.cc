@@ -75,6 +75,11 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
     line["junctions_used"] = health.junctions_used;
     if (health.slip_gate) line["slip_gate"] = true;
     if (health.slip_from_relative) line["slip_from_relative"] = true;
+    if (health.relative_rejected) line["lidar_relative_rejected"] = true;
+    if (health.slip_from_relative || health.relative_rejected) {
+      line["relative_chi2"] = health.relative_chi2;
+      line["slip_residual_chi2"] = health.slip_residual_chi2;
+    }
     line["landmarks_added"] = health.landmarks_added;
     line["window_size"] = health.window_size;
     line["iterations"] = health.iterations;

@@ -3,9 +3,12 @@
 #include <ceres/loss_function.h>
 
 #include <Eigen/QR>
+#include <algorithm>
+#include <array>
 #include <cassert>
 #include <chrono>
 
+#include "groundline/core/covariance.h"
 #include "groundline/core/run_timing.h"
 #include "groundline/core/se2_manifold.h"
 #include "groundline/localization/floor_factors.h"
@@ -39,10 +42,10 @@ core::Status SmootherOptions::Validate() const {
     return core::Status::Error("smoother odometry_sigma_floor_m and _rad must be > 0");
   }
   if (!(slip_sigma_m >= 0.0) || !(track_m > 0.0) || slip_min_matches < 1 ||
-      !(slip_relative_chi2 >= 0.0)) {
+      !(slip_relative_chi2 >= 0.0) || !(slip_residual_chi2 >= 0.0)) {
     return core::Status::Error(
-        "smoother slip_sigma_m must be >= 0, track_m > 0, slip_min_matches >= 1 and "
-        "slip_relative_chi2 >= 0");
+        "smoother slip_sigma_m must be >= 0, track_m > 0, slip_min_matches >= 1, "
+        "slip_relative_chi2 >= 0 and slip_residual_chi2 >= 0");
   }
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
@@ -65,6 +68,28 @@ core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, 
   const core::Matrix3 at_start = core::Vector3(0.25 * v, 0.0, v / (track_m * track_m)).asDiagonal();
   const core::Matrix3 A = motion.T_start_end.Inverse().Adjoint();
   return A * at_start * A.transpose();
+}
+
+double OneWheelSlipResidualChi2(const RelativeMotion& motion, const core::Vector3& r,
+                                const core::Matrix3& W, double track_m) {
+  // The slip's direction in the motion's end frame when it happened at the
+  // start (transported by the motion), half way, or at the end.
+  const core::SE2 half = core::SE2::Exp(0.5 * motion.T_start_end.Log());
+  const std::array<core::Matrix3, 3> transports = {
+      motion.T_start_end.Inverse().Adjoint(),
+      (half.Inverse() * motion.T_start_end).Inverse().Adjoint(), core::Matrix3::Identity()};
+  const double chi2 = r.dot(W * r);
+  double best = chi2;
+  for (const core::Matrix3& A : transports) {
+    for (const double side : {1.0, -1.0}) {
+      const core::Vector3 d = A * core::Vector3(0.5, 0.0, side / track_m);
+      const double dWd = d.dot(W * d);
+      if (!(dWd > 0.0)) continue;
+      const double dWr = d.dot(W * r);
+      best = std::min(best, chi2 - dWr * dWr / dWd);
+    }
+  }
+  return std::max(best, 0.0);
 }
 
 SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atlas atlas)
@@ -266,19 +291,26 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   PoseEstimate predicted = PropagateFromKeyframe(latest_, motion, stamp_s);
   core::Matrix3 odometry_covariance =
       0.5 * (motion.covariance + motion.covariance.transpose()) + OdometryCovarianceFloor(options_);
+  bool use_relative = relative.has_value();
   if (relative) {
-    // r^T (C + I^+)^-1 r in the measurement's directions, by Woodbury
-    // (I = L^T L may be singular): r^T (I - I (C^-1 + I)^-1 I) r.
     const core::Vector3 r = motion.T_start_end.Between(relative->T_prev_curr).Log();
-    const core::Matrix3 I = relative->sqrt_information.transpose() * relative->sqrt_information;
-    const core::Matrix3 inner = odometry_covariance.inverse() + I;
-    health.relative_chi2 = r.dot(I * r - I * inner.ldlt().solve(I * r));
+    const core::Matrix3 W = core::DifferenceInformation<3>(
+        odometry_covariance, relative->sqrt_information.transpose() * relative->sqrt_information);
+    health.relative_chi2 = r.dot(W * r);
     if (options_.slip_sigma_m > 0.0 && options_.slip_relative_chi2 > 0.0 &&
         health.relative_chi2 > options_.slip_relative_chi2) {
-      const core::Matrix3 slip = SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
-      odometry_covariance += slip;
-      predicted.covariance += slip;  // the lines' gate too
-      health.slip_from_relative = true;
+      health.slip_residual_chi2 = OneWheelSlipResidualChi2(motion, r, W, options_.track_m);
+      if (options_.slip_residual_chi2 <= 0.0 ||
+          health.slip_residual_chi2 <= options_.slip_residual_chi2) {
+        const core::Matrix3 slip =
+            SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
+        odometry_covariance += slip;
+        predicted.covariance += slip;  // the lines' gate too
+        health.slip_from_relative = true;
+      } else {
+        use_relative = false;
+        health.relative_rejected = true;
+      }
     }
   }
   const auto odometry_sqrt = SqrtInformationFromCovariance(odometry_covariance);
@@ -291,7 +323,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   keyframe.pose = {predicted.T_map_base.x(), predicted.T_map_base.y(), predicted.T_map_base.yaw()};
   keyframe.between.push_back(
       std::make_unique<RelativePoseFactor>(motion.T_start_end, *odometry_sqrt));
-  if (relative) {
+  if (use_relative) {
     keyframe.between.push_back(
         std::make_unique<RelativePoseFactor>(relative->T_prev_curr, relative->sqrt_information));
     health.relative_measurement_used = true;

@@ -1,5 +1,6 @@
 // core/covariance.h: CovarianceAtLeast is the least upper bound that the
-// header states, on random pairs and the limiting cases.
+// header states, on random pairs and the limiting cases; DifferenceInformation
+// is (C + I^-1)^-1 where I is invertible and its limit where I is singular.
 #include "groundline/core/covariance.h"
 
 #include <gtest/gtest.h>
@@ -64,6 +65,36 @@ TEST(CovarianceAtLeast, KeepsTheLargerWhenOneBoundsTheOther) {
   EXPECT_NEAR(r(0, 0), 1e-4, 1e-12);
   EXPECT_NEAR(r(1, 1), 1e-2, 1e-12);
   EXPECT_NEAR(r(0, 1), 0.0, 1e-12);
+}
+
+// An invertible information: the Woodbury form equals (C + I^-1)^-1 itself.
+TEST(DifferenceInformation, IsTheInverseOfTheSummedCovariances) {
+  std::mt19937_64 rng(17);
+  for (int k = 0; k < 50; ++k) {
+    const Eigen::Matrix3d C = RandomCovariance<3>(rng);
+    const Eigen::Matrix3d I = RandomCovariance<3>(rng).inverse();
+    const Eigen::Matrix3d expected = (C + I.inverse()).inverse();
+    EXPECT_LT((DifferenceInformation<3>(C, I) - expected).norm(), 1e-9 * expected.norm());
+  }
+}
+
+// A measurement blind along x (information 0 there): the distance ignores x
+// and equals the limit of an ever weaker x information; it equals the 2-dof
+// distance under C's y-yaw block plus the measurement's covariance.
+TEST(DifferenceInformation, ASingularInformationWeighsOnlyWhatItConstrains) {
+  std::mt19937_64 rng(5);
+  const Eigen::Matrix3d C = RandomCovariance<3>(rng);
+  Eigen::Matrix3d I = Eigen::Vector3d(0.0, 400.0, 9e4).asDiagonal();
+  const Eigen::Matrix3d W = DifferenceInformation<3>(C, I);
+  EXPECT_LT(W.col(0).norm(), 1e-9 * W.norm());
+  const Eigen::Vector3d r(0.3, 0.01, 0.002);
+  const Eigen::Matrix2d S = C.bottomRightCorner<2, 2>() +
+                            Eigen::Vector2d(1.0 / 400.0, 1.0 / 9e4).asDiagonal().toDenseMatrix();
+  const double expected = SquaredMahalanobis<2>(r.tail<2>(), S);
+  EXPECT_NEAR(r.dot(W * r), expected, 1e-9 * expected);
+  I(0, 0) = 1e-9;
+  const Eigen::Matrix3d weak = (C + I.inverse()).inverse();
+  EXPECT_NEAR(r.dot(weak * r), expected, 1e-6 * expected);
 }
 
 }  // namespace

@@ -239,6 +239,72 @@ TEST(SlidingWindowSmoother, AnOdometrySlipThatTheLidarContradictsWidensItsFactor
   }
 }
 
+// A scan match aliased along an aisle (zone D seed 1 at 538 s: 22 cm long,
+// full rank, heading right) disagrees with the odometry as much as a slip
+// does, but no one-wheel slip explains it: a slip of the 22 cm would turn
+// the heading by 17 deg. The measurement is left out and the pose keeps the
+// odometry's step; a real slip of the same test is still taken for one.
+TEST(SlidingWindowSmoother, AScanMatchThatNoSlipExplainsIsLeftOut) {
+  const core::SE2 step(0.55, 0.0, 0.0);
+  RelativeMotion motion;
+  motion.T_start_end = step;
+  motion.covariance = Eigen::Vector3d(1e-5, 1e-5, 2e-5).asDiagonal();
+  RelativePoseMeasurement scan;
+  scan.sqrt_information = Eigen::Vector3d(30.0, 50.0, 470.0).asDiagonal();
+  for (const double residual_chi2 : {0.0, 18.4}) {
+    SmootherOptions options;
+    options.slip_sigma_m = 0.052;
+    options.slip_residual_chi2 = residual_chi2;
+    SlidingWindowSmoother smoother(options, Atlas());
+    smoother.Initialize(0.0, core::SE2(), core::Matrix3::Identity() * 1e-8);
+    for (int i = 1; i <= 6; ++i) {
+      scan.T_prev_curr = i == 3 ? core::SE2(0.55 + 0.22, 0.0, 0.0) : step;
+      const auto health = smoother.AddKeyframe(0.5 * i, motion, {}, scan);
+      ASSERT_TRUE(health.ok()) << health.status().message();
+      const bool tested = i == 3;
+      EXPECT_EQ(health->relative_rejected, tested && residual_chi2 > 0.0) << "keyframe " << i;
+      EXPECT_EQ(health->slip_from_relative, tested && residual_chi2 == 0.0) << "keyframe " << i;
+      EXPECT_EQ(health->relative_measurement_used, !health->relative_rejected);
+      if (tested) {
+        // Nothing of it is a slip's shape.
+        EXPECT_GT(health->relative_chi2, 21.1);
+        EXPECT_GT(health->slip_residual_chi2, 0.9 * health->relative_chi2);
+      }
+    }
+    const double along_m = smoother.Latest().T_map_base.x();
+    if (residual_chi2 > 0.0) {
+      EXPECT_NEAR(along_m, 6 * 0.55, 0.002);
+    } else {
+      EXPECT_GT(along_m, 6 * 0.55 + 0.05);  // the wrong match pulled the pose along
+    }
+  }
+}
+
+// OneWheelSlipResidualChi2 removes exactly a one-wheel slip, wherever in the
+// span it happened (at the start, half way or at the end), and leaves a
+// disagreement of another shape (lateral) nearly whole.
+TEST(SlidingWindowSmoother, TheSlipResidualRemovesAOneWheelSlipAndNothingElse) {
+  const double track_m = 0.76, s_m = 0.05;
+  RelativeMotion motion;
+  motion.T_start_end = core::SE2::Exp(Eigen::Vector3d(0.6, 0.0, 0.2));
+  const core::SE2 slip = core::SE2::Exp(Eigen::Vector3d(0.5 * s_m, 0.0, -s_m / track_m));
+  const core::SE2 half = core::SE2::Exp(0.5 * motion.T_start_end.Log());
+  const core::Matrix3 W = Eigen::Vector3d(900.0, 2500.0, 2.2e5).asDiagonal();
+  // The true motion and the odometry's (with the slip inserted).
+  const core::SE2 truth = motion.T_start_end;
+  for (const core::SE2& odometry :
+       {slip * truth, half * slip * half.Inverse() * truth, truth * slip}) {
+    RelativeMotion slipped = motion;
+    slipped.T_start_end = odometry;
+    const core::Vector3 r = odometry.Between(truth).Log();
+    EXPECT_GT(r.dot(W * r), 200.0);
+    EXPECT_LT(OneWheelSlipResidualChi2(slipped, r, W, track_m), 1e-2);  // first order
+  }
+  const core::Vector3 lateral(0.0, 0.05, 0.0);
+  EXPECT_NEAR(OneWheelSlipResidualChi2(motion, lateral, W, track_m), lateral.dot(W * lateral),
+              0.2 * lateral.dot(W * lateral));
+}
+
 // Zones A-D at 122.3 s: a 2.8 cm slip of one wheel turned the heading by
 // 2.1 deg within one keyframe; the two tape lines seen next failed the gate
 // and the estimate ran 16 cm off before one passed. Two parallel lines seen

@@ -29,6 +29,22 @@ double SquaredMahalanobis(const Eigen::Matrix<double, N, 1>& r,
   return r.dot(ldlt.solve(r));
 }
 
+// The information of the difference between two estimates of one quantity,
+// one with covariance C (positive definite) and one with information I
+// (positive semi-definite: a measurement blind in some directions has a
+// singular one): (C + I^+)^-1 in the directions I constrains, written by
+// Woodbury as I - I (C^-1 + I)^-1 I so that no inverse of I is needed. The
+// squared Mahalanobis distance of their difference r is r^T W r, with
+// rank(I) degrees of freedom.
+template <int N>
+Eigen::Matrix<double, N, N> DifferenceInformation(const Eigen::Matrix<double, N, N>& C,
+                                                  const Eigen::Matrix<double, N, N>& I) {
+  using Matrix = Eigen::Matrix<double, N, N>;
+  const Matrix inner = C.inverse() + I;
+  const Matrix W = I - I * inner.ldlt().solve(I);
+  return 0.5 * (W + W.transpose());
+}
+
 // The covariance c raised to at least `floor`: the smallest covariance in the
 // generalized-eigenvector sense that is >= both (c and floor in the Loewner
 // order). With c = L L^T and L^-1 floor L^-T = V D V^T, it is

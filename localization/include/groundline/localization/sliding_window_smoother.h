@@ -120,13 +120,22 @@ struct SmootherOptions {
   double slip_sigma_m = 0.0;
   int slip_min_matches = 2;
   // With slip_sigma_m > 0 and a RelativePoseMeasurement (the LiDAR): when
-  // the odometry's motion and the measurement disagree beyond this
-  // chi-square value (3 dof; the disagreement weighed by both covariances,
-  // in the directions the measurement constrains), the span had a slip: its
-  // odometry factor gets one slip's covariance (SlipCovariance) added, so
-  // that a slip's heading jump is not averaged into the pose (which then
-  // fails the gate of every line after it). 0: never.
-  double slip_relative_chi2 = 21.1;  // the 0.9999 quantile
+  // the odometry's motion and the measurement disagree beyond
+  // slip_relative_chi2 (3 dof; the disagreement weighed by both
+  // covariances, in the directions the measurement constrains), one of the
+  // two is wrong. A slip of one wheel by s moves the motion by
+  // (s/2, 0, +-s/track) where it happened; the best such slip (either
+  // wheel; at the span's start, middle or end) is removed from the
+  // disagreement. If what is left is within slip_residual_chi2, the span
+  // had a slip: its odometry factor gets one slip's covariance
+  // (SlipCovariance) added, so that a slip's heading jump is not averaged
+  // into the pose (which then fails the gate of every line after it).
+  // Otherwise no slip explains it and the measurement is taken for the
+  // wrong one (a scan match aliased along an aisle, off by tens of cm): it
+  // is left out of the window. slip_relative_chi2 0: never test;
+  // slip_residual_chi2 0: every disagreement is taken for a slip.
+  double slip_relative_chi2 = 21.1;  // the 0.9999 quantile of 3 dof
+  double slip_residual_chi2 = 18.4;  // the 0.9999 quantile of 2 dof
   double track_m = 0.76;             // the wheel track of the slip hypothesis [m]
   // Localization mode, on an atlas whose covariances are stated
   // (Atlas::covariances_stated): a line or junction factor's noise includes
@@ -158,6 +167,15 @@ PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeM
 // Ad(T_start_end^-1).
 core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, double track_m);
 
+// The disagreement r^T W r between an odometry motion and a relative
+// measurement (r = Log(motion^-1 * measured), W = core::DifferenceInformation
+// of their covariances) that is left once the one-wheel slip that best
+// explains it is removed: the minimum over either wheel and a slip at the
+// start, middle or end of the motion of r^T W r - (d^T W r)^2 / (d^T W d),
+// d the slip's direction (1/2, 0, +-1/track) carried to the motion's end.
+double OneWheelSlipResidualChi2(const RelativeMotion& motion, const core::Vector3& r,
+                                const core::Matrix3& W, double track_m);
+
 // A measured pose of the new keyframe seen from the previous one, T_prev_curr,
 // from a sensor other than the wheels (a LiDAR scan match). S^T S is its
 // information in the tangent space of T_prev_curr; rows of zeros where the
@@ -180,7 +198,13 @@ struct KeyframeHealth {
   // The odometry disagreed with the relative measurement (slip_relative_chi2):
   // its factor was widened by one slip.
   bool slip_from_relative = false;
+  // The disagreement was beyond slip_relative_chi2 and no slip explained it:
+  // the relative measurement was left out.
+  bool relative_rejected = false;
   double relative_chi2 = 0.0;  // that disagreement (0 without a measurement)
+  // What is left of it once the best one-wheel slip is removed (computed
+  // only beyond slip_relative_chi2; 0 otherwise).
+  double slip_residual_chi2 = 0.0;
   int landmarks_added = 0;     // mapping mode
   int window_size = 0;         // keyframes in the window after this update
   int iterations = 0;
