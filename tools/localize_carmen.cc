@@ -16,6 +16,7 @@
 #include "groundline/core/text_parse.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/io/carmen.h"
+#include "groundline/io/carmen_odometry.h"
 #include "groundline/io/carmen_order.h"
 #include "groundline/io/relations.h"
 #include "groundline/localization/lidar/lidar_slam.h"
@@ -85,9 +86,52 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
                                       read.skipped_lines.front().reason +
                                       "); 'groundline convert carmen --strict' stops at each");
   }
-  std::vector<const io::CarmenLaserScan*> read_scans;
+  // Front-laser lines that log no pose (RAWLASER1) get the odometry's pose
+  // at their stamp, interpolated between the ODOM lines around them.
+  std::vector<const io::CarmenLaserScan*> front;
+  bool without_pose = false;
   for (const io::CarmenLaserScan& s : log->scans) {
-    if (s.laser_id == 1 && s.robot_pose && s.laser_pose) read_scans.push_back(&s);
+    if (s.laser_id != 1) continue;
+    front.push_back(&s);
+    without_pose = without_pose || !(s.robot_pose && s.laser_pose);
+  }
+  io::CarmenScansWithOdometry posed;
+  std::vector<const io::CarmenLaserScan*> read_scans;
+  if (without_pose) {
+    core::Result<std::optional<double>> offset = io::CarmenFrontLaserOffset(*log);
+    if (!offset.ok()) return LocalizeFail(flags.log_path + ": " + offset.message());
+    io::CarmenOdometryOptions odometry_options;
+    if (*offset) {
+      odometry_options.T_base_laser = core::SE2(**offset, 0.0, 0.0);
+    } else {
+      warnings.Add("laser_offset", flags.log_path +
+                                       ": RAWLASER1 lines and no PARAM robot_frontlaser_offset: "
+                                       "the laser is taken to sit at the robot's origin");
+    }
+    core::Result<io::CarmenScansWithOdometry> attached =
+        io::AttachOdometryPoses(front, log->odometry, odometry_options);
+    if (!attached.ok()) return LocalizeFail(flags.log_path + ": " + attached.message());
+    posed = std::move(*attached);
+    for (const io::CarmenLaserScan& s : posed.scans) read_scans.push_back(&s);
+    const std::int64_t left_out = posed.scans_outside_odometry + posed.scans_in_gap;
+    if (left_out > 0) {
+      warnings.Add("scans_without_odometry",
+                   flags.log_path + ": front-laser scans without an odometry pose: " +
+                       std::to_string(posed.scans_outside_odometry) +
+                       " outside the ODOM lines' span, " + std::to_string(posed.scans_in_gap) +
+                       " between ODOM lines more than " +
+                       core::FormatShortestDouble(odometry_options.max_gap_s) +
+                       " s apart (first: line " + std::to_string(posed.first_dropped_line) +
+                       "); left out");
+    }
+    if (posed.odometry_dropped > 0) {
+      warnings.Add("odometry_dropped",
+                   flags.log_path + ": " + std::to_string(posed.odometry_dropped) +
+                       (posed.odometry_dropped == 1 ? " ODOM line" : " ODOM lines") +
+                       " stamped no later than the one before; left out");
+    }
+  } else {
+    read_scans = front;
   }
   // The SLAM takes scans in stamp order; a log that wrote some out of order
   // is put in order within a window, and what cannot be is dropped, counted
@@ -115,7 +159,8 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   if (scans.empty()) {
     return LocalizeFail(
         flags.log_path +
-        ": no front-laser scan with odometry (FLASER / ROBOTLASER1 lines) in the log");
+        ": no front-laser scan with odometry in the log (FLASER or ROBOTLASER1 lines, or "
+        "RAWLASER1 lines between ODOM lines)");
   }
   std::vector<core::Relation> relations;
   if (!flags.relations_path.empty()) {
@@ -186,6 +231,9 @@ int RunLocalizeCarmen(const LocalizeCarmenFlags& flags) {
   summary["scans_reordered"] = ordered->reordered;
   summary["scans_dropped_late"] = ordered->dropped_late;
   summary["scans_dropped_duplicate"] = ordered->dropped_duplicate;
+  summary["scans_posed_from_odom"] = posed.attached;
+  summary["scans_without_odometry"] = posed.scans_outside_odometry + posed.scans_in_gap;
+  summary["odometry_dropped"] = posed.odometry_dropped;
   std::printf(
       "%s: %zu scans over %.1f s, %d matched, %d degenerate, %d nodes, %d submaps, "
       "%d of %d loop closures kept (%d more contradicted free space)\n",

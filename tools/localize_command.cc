@@ -90,6 +90,8 @@ Modes:
             summary.json; with --relations FILE also the relation errors. Scans
             written out of order take their place by stamp if at most 1 s late;
             later ones and repeated stamps are dropped (counted and said).
+            RAWLASER1 lines (no pose) get the ODOM lines' pose interpolated at
+            their stamp, the laser placed by PARAM robot_frontlaser_offset.
 
 Start pose: --initial-pose x_m y_m yaw_deg, else the manifest's start_pose (the
 dock the vehicle starts from), else the map origin (with a warning).
@@ -118,7 +120,8 @@ sibling folder and moved into --out at the end, so a run that fails leaves
                                written and exits 1), stream_spans (streams that end or
                                start > 1 s apart), nees_out_of_band (mean NEES against
                                ground truth outside [0.3, 30]), skipped_lines,
-                               scans_reordered and scans_dropped (--carmen)
+                               scans_reordered, scans_dropped, laser_offset,
+                               scans_without_odometry, odometry_dropped (--carmen)
 With ground truth in the dataset it also prints the accuracy, in a block headed
 'diagnostics (ground truth, not available on a vehicle)'; the full table:
 groundline eval --est OUT/trajectory.tum --ref ...

@@ -186,5 +186,90 @@ TEST(LocalizeCarmenCli, ALogWrittenOutOfOrderRunsToTheEndAsInOrder) {
   EXPECT_NEAR(reordered_m, in_order_m, 0.002) << reordered.dump(2);
 }
 
+// The same real minute of ACES with every front-laser line written as a
+// RAWLASER1 line: the ranges and their stamp, no pose. The robot's motion is
+// then only in the log's ODOM lines, which ACES writes at their own stamps
+// between the laser lines. Each scan gets the odometry's pose interpolated
+// at its stamp, and the relation error is that of the FLASER lines' own
+// poses.
+TEST(LocalizeCarmenCli, RawLaserLinesTakeTheirPosesFromTheOdomLines) {
+#ifdef GROUNDLINE_SANITIZED
+  GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
+                  "interpolation's unit tests run there";
+#endif
+  GROUNDLINE_REQUIRE_DATA("lidar2d/aces.clf.bz2");
+  GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
+  const std::filesystem::path data = ::groundline::testing::SharedDataDir() / "lidar2d";
+  const std::filesystem::path dir = ::groundline::testing::ScratchDir("localize_carmen_rawlaser");
+  constexpr double kEndS = 130.0;
+  std::vector<std::string> flaser_log, rawlaser_log;
+  int scans = 0, odom = 0;
+  {
+    core::Result<io::LineReader> reader = io::LineReader::Open(data / "aces.clf.bz2");
+    ASSERT_TRUE(reader.ok()) << reader.message();
+    for (std::string line; reader->ReadLine(&line);) {
+      std::istringstream in(line);
+      std::vector<std::string> t;
+      for (std::string token; in >> token;) t.push_back(token);
+      const bool message = !t.empty() && (t[0] == "FLASER" || t[0] == "ODOM");
+      if (message && t.size() >= 3 && std::stod(t[t.size() - 3]) > kEndS) break;
+      flaser_log.push_back(line);
+      if (t.empty() || t[0] != "FLASER") {
+        odom += !t.empty() && t[0] == "ODOM";
+        rawlaser_log.push_back(line);
+        continue;
+      }
+      // FLASER n r_1..r_n x y theta odom_x odom_y odom_theta ipc host logger
+      const std::size_t n = std::stoul(t[1]);
+      ASSERT_EQ(t.size(), 2 + n + 6 + 3) << line;
+      std::string raw = "RAWLASER1 0 -1.5707963268 3.1415926536 0.0174532925 80.0 0.01 0 " + t[1];
+      for (std::size_t i = 0; i < n; ++i) raw += " " + t[2 + i];
+      raw += " 0 " + t[t.size() - 3] + " " + t[t.size() - 2] + " " + t[t.size() - 1];
+      rawlaser_log.push_back(raw);
+      ++scans;
+    }
+    ASSERT_TRUE(reader->status().ok()) << reader->status().message();
+  }
+  ASSERT_GT(scans, 250);
+  ASSERT_GT(odom, 250);
+  const auto write = [](const std::filesystem::path& path, const std::vector<std::string>& text) {
+    std::ofstream out(path);
+    for (const std::string& l : text) out << l << "\n";
+  };
+  write(dir / "flaser.clf", flaser_log);
+  write(dir / "rawlaser.clf", rawlaser_log);
+  {
+    std::ifstream in(data / "aces.relations");
+    std::ofstream out(dir / "minute.relations");
+    for (std::string line; std::getline(in, line);) {
+      double t1 = 0.0, t2 = 0.0;
+      std::istringstream fields(line);
+      if (fields >> t1 >> t2 && t1 <= kEndS && t2 <= kEndS) out << line << "\n";
+    }
+  }
+  const auto run = [&](const std::string& log, const std::string& out_name) {
+    std::string out;
+    EXPECT_EQ(
+        RunGroundline("localize --carmen " + Quoted(dir / log) + " --relations " +
+                          Quoted(dir / "minute.relations") + " --out " + Quoted(dir / out_name),
+                      dir, &out),
+        0)
+        << out;
+    return ReadJson(dir / out_name / "summary.json");
+  };
+  const nlohmann::json flaser = run("flaser.clf", "flaser");
+  const nlohmann::json raw = run("rawlaser.clf", "rawlaser");
+  EXPECT_EQ(flaser["scans_posed_from_odom"].get<int>(), 0);
+  // Every scan but those before the first ODOM line or after the last.
+  const int posed = raw["scans_posed_from_odom"].get<int>();
+  EXPECT_EQ(posed + raw["scans_without_odometry"].get<int>(), scans);
+  EXPECT_LE(raw["scans_without_odometry"].get<int>(), 2);
+  EXPECT_EQ(raw["n_scans"].get<int>(), posed);
+  const double flaser_m = flaser["accuracy"]["rel_trans_mean_m"].get<double>();
+  const double raw_m = raw["accuracy"]["rel_trans_mean_m"].get<double>();
+  EXPECT_LT(flaser_m, 0.06) << flaser.dump(2);
+  EXPECT_NEAR(raw_m, flaser_m, 0.005) << raw.dump(2);
+}
+
 }  // namespace
 }  // namespace groundline
