@@ -11,7 +11,7 @@ namespace groundline::localization::internal {
 LidarStage::LidarStage(const LidarSetup& setup, const LocalizerOptions& options)
     : setup_(setup),
       points_options_(options.scan_points),
-      deskew_(options.deskew_scan_matching),
+      deskew_(options.deskew_scans),
       deskew_window_s_(options.deskew_motion_window_s),
       wall_options_(options.walls),
       history_s_(options.odometry_history_s),
@@ -86,14 +86,9 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     }
     last_matched_s_ = describes_s;
     beam_poses_.clear();
+    const core::Vector3 twist = SweepTwist(describes_s);
     if (deskew_) {
-      // The sweep's motion: the odometry's mean twist over the window that
-      // ends at the scan's instant, continued over the sweep (so that the
-      // scan is matched as soon as the odometry reaches that instant).
       const SweepTiming sweep = Sweep(scan);
-      const core::Vector3 twist =
-          OdometryAt(describes_s - deskew_window_s_).Between(OdometryAt(describes_s)).Log() /
-          deskew_window_s_;
       for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
         const double dt_s =
             sweep.first_ray_s + static_cast<double>(i) * sweep.time_increment_s - describes_s;
@@ -112,6 +107,8 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     }
     counters->scans_matched += report->matched;
     last_ = std::move(scan);
+    last_describes_s_ = describes_s;
+    last_twist_ = twist;
   }
 }
 
@@ -139,15 +136,29 @@ core::SE2 LidarStage::OdometryAt(double stamp_s) const {
 std::vector<LineObservation> LidarStage::WallObservations(double stamp_s) const {
   if (!last_) return {};
   const core::LaserScan& scan = *last_;
-  // Each ray is moved from its own time.
+  // Each ray is moved from its own time by the sweep's motion the matcher
+  // used (one model of the sweep for both).
   const SweepTiming sweep = Sweep(scan);
   const std::vector<lidar::RangePoint> points = lidar::RangePointsAt(
       scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, sweep.first_ray_s,
       sweep.time_increment_s, setup_.T_base_lidar, OdometryAt(stamp_s),
-      [this](double t) { return OdometryAt(t); },
+      [this](double t) { return LastSweepPose(t); },
       std::max(wall_options_.min_range_m, scan.range_min_m),
       std::min(wall_options_.max_range_m, scan.range_max_m));
   return lidar::WallLineObservations(lidar::ExtractWallLines(points, wall_options_));
+}
+
+core::Vector3 LidarStage::SweepTwist(double describes_s) const {
+  if (!deskew_) return core::Vector3::Zero();
+  // The odometry's mean twist over the window that ends at the scan's
+  // instant, continued over the sweep (so that the scan is matched as soon
+  // as the odometry reaches that instant).
+  return OdometryAt(describes_s - deskew_window_s_).Between(OdometryAt(describes_s)).Log() /
+         deskew_window_s_;
+}
+
+core::SE2 LidarStage::LastSweepPose(double t) const {
+  return OdometryAt(last_describes_s_) * core::SE2::Exp((t - last_describes_s_) * last_twist_);
 }
 
 LidarStage::SweepTiming LidarStage::Sweep(const core::LaserScan& scan) const {

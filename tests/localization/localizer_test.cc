@@ -391,7 +391,7 @@ LocalizerSetup VehicleWithLidar() {
 // kLidar around the circle; returns the keyframes.
 std::vector<KeyframeOutput> CircleInTheRoom(int local_map_scans, LocalizerCounters* counters) {
   LocalizerOptions options;
-  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
+  options.deskew_scans = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLidar;
   options.lidar_local_map_scans = local_map_scans;
   std::unique_ptr<Localizer> localizer =
@@ -461,7 +461,7 @@ double HeadingErrorChangeOverATurn(bool deskew) {
   const auto pose_at = [&truth](double t) { return core::InterpolatePose(truth, t); };
   LocalizerOptions options;
   options.mode = LocalizerMode::kLidar;
-  options.deskew_scan_matching = deskew;
+  options.deskew_scans = deskew;
   std::unique_ptr<Localizer> localizer =
       std::move(Localizer::Create(options, VehicleWithLidar())).value();
   EXPECT_TRUE(localizer->SetInitialPose(0.0, truth.front().pose, StartCovariance()).ok());
@@ -556,7 +556,7 @@ std::pair<double, double> ErrorRange(const std::vector<KeyframeOutput>& ks, doub
 // than its history are dropped and counted first, moving nothing.
 TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose) {
   LocalizerOptions options;
-  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
+  options.deskew_scans = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLidar;
   std::unique_ptr<Localizer> localizer =
       std::move(Localizer::Create(options, VehicleWithLidar())).value();
@@ -607,7 +607,7 @@ TEST(Localizer, AReinitializationMidRunContinuesTheLidarEstimateFromTheGivenPose
 // restarts there and the walls hold the estimate at the given pose.
 TEST(Localizer, AReinitializationAheadOfTheOdometryRestartsTheSmootherAtItsStamp) {
   LocalizerOptions options;
-  options.deskew_scan_matching = false;  // DriveTheCircle's scans are snapshots
+  options.deskew_scans = false;  // DriveTheCircle's scans are snapshots
   options.mode = LocalizerMode::kLines;
   options.use_lidar = true;
   LocalizerSetup setup = VehicleWithLidar();

@@ -92,14 +92,14 @@ struct LocalizerOptions {
   SmootherOptions smoother;
   lidar::ScanOdometryOptions scan_odometry;
   lidar::ScanPointsOptions scan_points;
-  // The scan matcher's points are deskewed: each ray is moved to the
-  // instant the scan describes by the vehicle's motion over the sweep, as the
-  // wall faces' rays are. A sweeping scanner's rays span 50 ms; undeskewed, a
-  // scan taken while the yaw rate ramps (a turn's entry or exit) is bent
+  // The scans are deskewed, for the scan matcher and the wall faces alike:
+  // each ray is moved to the instant the scan describes by the vehicle's
+  // motion over the sweep. A sweeping scanner's rays span 50 ms; undeskewed,
+  // a scan taken while the yaw rate ramps (a turn's entry or exit) is bent
   // against a local map built from straight driving, and the match turns it
   // by a bias (docs/localization.md, "Scans from a sweeping scanner").
   // false: every ray from the pose of that instant.
-  bool deskew_scan_matching = true;
+  bool deskew_scans = true;
   // The motion over the sweep is one constant twist: the odometry's mean over
   // this window ending at the scan's instant [s]. Ending there, the scan is
   // matched as soon as the odometry reaches its instant, as undeskewed: a
