@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "groundline/core/dataset_records.h"
+#include "groundline/io/image_file.h"
 
 namespace groundline::io {
 namespace {
@@ -24,11 +25,12 @@ class FolderFrameSource final : public FrameSource {
   core::Result<std::optional<Frame>> Next(double /*timeout_s*/) override {
     while (next_ < entries_.size()) {
       const FolderEntry& entry = entries_[next_++];
-      cv::Mat grey = cv::imread(entry.path.string(), cv::IMREAD_GRAYSCALE);
-      if (grey.empty()) {
+      // A fresh image per frame: the frame is handed on and may outlive the
+      // next one. The reader keeps the file buffer and says what is wrong.
+      cv::Mat grey;
+      if (core::Status read = reader_.Read(entry.path, &grey); !read.ok()) {
         ++stats_.skipped;
-        stats_.skipped_reasons.push_back(entry.path.string() +
-                                         ": cannot be decoded as an image; skipped");
+        stats_.skipped_reasons.push_back(read.message() + "; skipped");
         continue;
       }
       Frame frame;
@@ -48,6 +50,7 @@ class FolderFrameSource final : public FrameSource {
   std::string description_;
   std::vector<FolderEntry> entries_;
   std::size_t next_ = 0;
+  GreyImageFileReader reader_;
   FrameSourceStats stats_;
 };
 

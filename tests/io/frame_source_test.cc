@@ -63,6 +63,7 @@ TEST(FolderFrameSource, CorruptFileIsSkippedAndCountedNotFatal) {
   ASSERT_TRUE(cv::imwrite((dir / "0.png").string(), TestImage(1)));
   std::ofstream(dir / "1.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";
   ASSERT_TRUE(cv::imwrite((dir / "2.png").string(), TestImage(2)));
+  std::ofstream(dir / "3.png", std::ios::binary);  // empty
   core::Result<std::unique_ptr<FrameSource>> source = OpenFrameSource(dir.string());
   ASSERT_TRUE(source.ok()) << source.message();
   std::vector<std::string> names;
@@ -75,9 +76,15 @@ TEST(FolderFrameSource, CorruptFileIsSkippedAndCountedNotFatal) {
   EXPECT_EQ(names, (std::vector<std::string>{"0.png", "2.png"}));
   const FrameSourceStats& stats = (*source)->stats();
   EXPECT_EQ(stats.delivered, 2u);
-  ASSERT_EQ(stats.skipped, 1u);
-  ASSERT_EQ(stats.skipped_reasons.size(), 1u);
-  EXPECT_NE(stats.skipped_reasons[0].find("1.png"), std::string::npos) << stats.skipped_reasons[0];
+  ASSERT_EQ(stats.skipped, 2u);
+  ASSERT_EQ(stats.skipped_reasons.size(), 2u);
+  // Each reason names the file and what is wrong with it.
+  EXPECT_NE(stats.skipped_reasons[0].find("1.png: cannot be decoded as an image"),
+            std::string::npos)
+      << stats.skipped_reasons[0];
+  EXPECT_NE(stats.skipped_reasons[1].find("3.png: empty file (expected an image)"),
+            std::string::npos)
+      << stats.skipped_reasons[1];
 }
 
 TEST(FolderFrameSource, GlobSelectsFilesAndDatasetIndexGivesStamps) {
