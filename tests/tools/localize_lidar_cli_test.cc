@@ -2,7 +2,8 @@
 // run (no camera): the LiDAR + odometry trajectory beats dead reckoning, and
 // the health carries the degeneracy fields and the ground-truth region, and
 // `eval --zone` prints the degeneracy detector's shares from its summary.
-// `groundline localize --carmen` on a real log written out of order.
+// `groundline localize --carmen` on a real log written out of order, and with
+// its laser lines written without a pose.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -24,6 +25,40 @@ namespace {
 using testing::Quoted;
 using testing::ReadJson;
 using testing::RunGroundline;
+
+// The lines of a test log, one per line.
+void WriteLines(const std::filesystem::path& path, const std::vector<std::string>& text) {
+  std::ofstream out(path);
+  for (const std::string& l : text) out << l << "\n";
+}
+
+// The relations of ACES whose two stamps are both at most end_s, into
+// dir/minute.relations.
+void WriteAcesRelationsUpTo(const std::filesystem::path& data, double end_s,
+                            const std::filesystem::path& dir) {
+  std::ifstream in(data / "aces.relations");
+  std::ofstream out(dir / "minute.relations");
+  for (std::string line; std::getline(in, line);) {
+    double t1 = 0.0, t2 = 0.0;
+    std::istringstream fields(line);
+    if (fields >> t1 >> t2 && t1 <= end_s && t2 <= end_s) out << line << "\n";
+  }
+}
+
+// `localize --carmen dir/log --relations dir/minute.relations --out
+// dir/out_name`: its summary.json and what it printed.
+std::pair<nlohmann::json, std::string> RunCarmen(const std::filesystem::path& dir,
+                                                 const std::string& log,
+                                                 const std::string& out_name) {
+  std::string out;
+  EXPECT_EQ(RunGroundline("localize --carmen " + Quoted(dir / log) + " --relations " +
+                              Quoted(dir / "minute.relations") + " --out " +
+                              Quoted(dir / out_name),
+                          dir, &out),
+            0)
+      << out;
+  return {ReadJson(dir / out_name / "summary.json"), out};
+}
 
 TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
 #ifdef GROUNDLINE_SANITIZED
@@ -139,33 +174,11 @@ TEST(LocalizeCarmenCli, ALogWrittenOutOfOrderRunsToTheEndAsInOrder) {
   }
   rotate(160, 190);
   shuffled.insert(shuffled.begin() + static_cast<long>(flaser[100]) + 1, shuffled[flaser[100]]);
-  const auto write = [](const std::filesystem::path& path, const std::vector<std::string>& text) {
-    std::ofstream out(path);
-    for (const std::string& l : text) out << l << "\n";
-  };
-  write(dir / "in_order.clf", lines);
-  write(dir / "shuffled.clf", shuffled);
-  {
-    std::ifstream in(data / "aces.relations");
-    std::ofstream out(dir / "minute.relations");
-    for (std::string line; std::getline(in, line);) {
-      double t1 = 0.0, t2 = 0.0;
-      std::istringstream fields(line);
-      if (fields >> t1 >> t2 && t1 <= kEndS && t2 <= kEndS) out << line << "\n";
-    }
-  }
-  const auto run = [&](const std::string& log, const std::string& out_name) {
-    std::string out;
-    EXPECT_EQ(
-        RunGroundline("localize --carmen " + Quoted(dir / log) + " --relations " +
-                          Quoted(dir / "minute.relations") + " --out " + Quoted(dir / out_name),
-                      dir, &out),
-        0)
-        << out;
-    return std::make_pair(ReadJson(dir / out_name / "summary.json"), out);
-  };
-  const auto [in_order, in_order_out] = run("in_order.clf", "in_order");
-  const auto [reordered, reordered_out] = run("shuffled.clf", "shuffled");
+  WriteLines(dir / "in_order.clf", lines);
+  WriteLines(dir / "shuffled.clf", shuffled);
+  WriteAcesRelationsUpTo(data, kEndS, dir);
+  const auto [in_order, in_order_out] = RunCarmen(dir, "in_order.clf", "in_order");
+  const auto [reordered, reordered_out] = RunCarmen(dir, "shuffled.clf", "shuffled");
   EXPECT_EQ(in_order["scans_reordered"].get<int>(), 0);
   EXPECT_EQ(in_order["n_scans"].get<std::size_t>(), flaser.size());
   EXPECT_EQ(reordered["scans_reordered"].get<int>(), moved_a_little);
@@ -232,33 +245,11 @@ TEST(LocalizeCarmenCli, RawLaserLinesTakeTheirPosesFromTheOdomLines) {
   }
   ASSERT_GT(scans, 250);
   ASSERT_GT(odom, 250);
-  const auto write = [](const std::filesystem::path& path, const std::vector<std::string>& text) {
-    std::ofstream out(path);
-    for (const std::string& l : text) out << l << "\n";
-  };
-  write(dir / "flaser.clf", flaser_log);
-  write(dir / "rawlaser.clf", rawlaser_log);
-  {
-    std::ifstream in(data / "aces.relations");
-    std::ofstream out(dir / "minute.relations");
-    for (std::string line; std::getline(in, line);) {
-      double t1 = 0.0, t2 = 0.0;
-      std::istringstream fields(line);
-      if (fields >> t1 >> t2 && t1 <= kEndS && t2 <= kEndS) out << line << "\n";
-    }
-  }
-  const auto run = [&](const std::string& log, const std::string& out_name) {
-    std::string out;
-    EXPECT_EQ(
-        RunGroundline("localize --carmen " + Quoted(dir / log) + " --relations " +
-                          Quoted(dir / "minute.relations") + " --out " + Quoted(dir / out_name),
-                      dir, &out),
-        0)
-        << out;
-    return ReadJson(dir / out_name / "summary.json");
-  };
-  const nlohmann::json flaser = run("flaser.clf", "flaser");
-  const nlohmann::json raw = run("rawlaser.clf", "rawlaser");
+  WriteLines(dir / "flaser.clf", flaser_log);
+  WriteLines(dir / "rawlaser.clf", rawlaser_log);
+  WriteAcesRelationsUpTo(data, kEndS, dir);
+  const nlohmann::json flaser = RunCarmen(dir, "flaser.clf", "flaser").first;
+  const nlohmann::json raw = RunCarmen(dir, "rawlaser.clf", "rawlaser").first;
   EXPECT_EQ(flaser["scans_posed_from_odom"].get<int>(), 0);
   // Every scan but those before the first ODOM line or after the last.
   const int posed = raw["scans_posed_from_odom"].get<int>();
