@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 
 #include "groundline/core/text_parse.h"
@@ -15,8 +16,9 @@ core::Status CarmenOdometryOptions::Validate() const {
     return core::Status::Error("CarmenOdometryOptions.T_base_laser: expected a finite pose");
   }
   if (!std::isfinite(max_gap_s) || !(max_gap_s > 0.0)) {
-    return core::Status::Error("CarmenOdometryOptions.max_gap_s: expected a finite value > 0 s, got " +
-                               std::to_string(max_gap_s));
+    return core::Status::Error(
+        "CarmenOdometryOptions.max_gap_s: expected a finite value > 0 s, got " +
+        std::to_string(max_gap_s));
   }
   return core::Status::Ok();
 }
@@ -51,15 +53,16 @@ core::Result<CarmenScansWithOdometry> AttachOdometryPoses(
       continue;
     }
     // The readings around the scan: the first one after it and the one before.
-    const auto after = std::upper_bound(
-        readings.begin(), readings.end(), scan->stamp_s,
-        [](double t, const core::StampedPose& p) { return t < p.stamp_s; });
+    const auto after =
+        std::upper_bound(readings.begin(), readings.end(), scan->stamp_s,
+                         [](double t, const core::StampedPose& p) { return t < p.stamp_s; });
     bool keep = true;
     if (readings.empty() || after == readings.begin() ||
         (after == readings.end() && readings.back().stamp_s != scan->stamp_s)) {
       ++out.scans_outside_odometry;
       keep = false;
-    } else if (after != readings.end() && after->stamp_s - std::prev(after)->stamp_s > options.max_gap_s) {
+    } else if (after != readings.end() &&
+               after->stamp_s - std::prev(after)->stamp_s > options.max_gap_s) {
       ++out.scans_in_gap;
       keep = false;
     }

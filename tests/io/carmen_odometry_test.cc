@@ -101,8 +101,7 @@ TEST(AttachOdometryPoses, BadInputIsAnErrorThatSaysWhat) {
   EXPECT_NE(AttachOdometryPoses(pointers, odom, options).message().find("max_gap_s"),
             std::string::npos);
   odom[4].stamp_s = std::nan("");
-  EXPECT_NE(AttachOdometryPoses(pointers, odom).message().find("line 5: ODOM"),
-            std::string::npos);
+  EXPECT_NE(AttachOdometryPoses(pointers, odom).message().find("line 5: ODOM"), std::string::npos);
 }
 
 TEST(CarmenFrontLaserOffset, ReadsTheParamAndNamesItWhenItIsNotANumber) {

@@ -22,6 +22,7 @@
 #define GROUNDLINE_IO_CARMEN_ODOMETRY_H_
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
