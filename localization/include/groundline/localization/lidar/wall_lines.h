@@ -64,36 +64,14 @@
 // face_alpha_sigma_rad^2), floor = face_rho_sigma_m for a plain wall (4b),
 // recessed_rho_sigma_m for a recessed band (4c): what the point noise does
 // not capture (an upright's side face among the front points, the survey of
-// the face, mixed bands that pass 4c). At the true pose (benchmark
-// localization_wall_rho_bias, 1.2 km per zone, seed 11) plain-wall bands
-// come out -0.1 to +0.1 mm mean, 1.1-4.2 mm RMS (zones A, C, D) and
-// recessed bands +0.9 mm mean, 5.9 mm RMS on zone B's racks (2-3 cm off on
-// the few mixed bands elsewhere). In the localizer (lines + LiDAR, same
-// datasets) the used walls' residual at the true pose is 6.5-13 mm RMS on
-// plain walls (zones A, B, C; 1.3 mm on D) and 9.0 mm on B's racks, hence
-// floors of 8 mm (plain) and 10 mm (recessed): against 15 mm for both,
-// zone C ATE 2.86 -> 1.87 cm, D 1.10 -> 0.38 cm, A 1.73 -> 1.64 cm, B 0.73
-// -> 0.71 cm. A 5 mm plain floor let zone A's 21 cm event (t ~ 560 s) run
-// to 34 cm (ATE 8.7 cm). After the atlas gate fix (survey error about the
-// segment midpoint) and the consistent odometry noise, the recessed floor
-// is 6 mm (B's racks: 5.9 mm RMS at the true pose): zone B NEES in band
-// 89.8 -> 90.6 %, ATE 0.44 -> 0.42 cm, max 2.11 cm unchanged; A and D
-// unchanged; C ATE 1.63 -> 1.60 cm, max 13.28 -> 14.44 cm, NEES 86.7 ->
-// 86.4 % (its mixed dock bands). Plain 5 mm as well moved none of them
-// further. The mixed bands that pass 4c are then kept off solid faces by the
-// association: a recessed band is a kRackFace observation and matches only a
-// rack face of the atlas (floor_association.h); zone C (no racks) lost its
-// 32 recessed uses (+27 mm mean, 37 mm RMS at the true pose), ATE 1.60 ->
-// 0.97 cm, max 14.44 -> 5.83 cm, NEES in band 86.4 -> 89.2 %; zone B
-// unchanged. With the plain bands also kept to solid faces (B's plain bands
-// on rack faces, the loads alone: 12.5 mm RMS), the plain walls' residual at
-// the true pose is 1.5-2.3 mm RMS (A, B, C) and 0.9 mrad, hence a floor of
-// 3 mm (plain). The direction's floor is 2 mrad, twice that residual: a
-// face's direction error is the same from keyframe to keyframe (the same
-// uprights, the same loads), and the smoother's window counts each
-// sighting as independent. With 1 mrad the heading came out ~2.4 times
-// overconfident in the rack zones (heading NEES mean 2.2-2.6; tuning
-// drives B and D seed 21, 400 m), with 2 mrad 0.7-1.0 at the same ATE.
+// the face, mixed bands that pass 4c). The offset floors are set at the
+// residual of the used faces at the true pose (plain walls 1.5-2.3 mm RMS,
+// zone B's rack fronts 5.9 mm). The direction's floor is twice its residual
+// (0.9 mrad): a face's direction error is the same from keyframe to
+// keyframe (the same uprights, the same loads), and the smoother's window
+// counts each sighting as independent; at the residual itself the heading
+// came out about 2.4 times overconfident in the rack zones. How each floor
+// was measured, and what the others did: docs/2026-12-06-wall-face-floors.md.
 //
 // Pure functions; thread-safe.
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_WALL_LINES_H_
