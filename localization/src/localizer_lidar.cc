@@ -86,7 +86,8 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     }
     last_matched_s_ = describes_s;
     beam_poses_.clear();
-    const core::Vector3 twist = SweepTwist(describes_s);
+    const core::SE2 T_odom_base = OdometryAt(describes_s);
+    const core::Vector3 twist = SweepTwist(describes_s, T_odom_base);
     if (deskew_) {
       const SweepTiming sweep = Sweep(scan);
       for (std::size_t i = 0; i < scan.ranges_m.size(); ++i) {
@@ -100,7 +101,7 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
         setup_.T_base_lidar, beam_poses_, points_options_);
     ++scans_in_local_map_;
     core::Result<lidar::ScanReport> report =
-        scan_odometry_->AddScan(describes_s, T_fix_ * OdometryAt(describes_s), points);
+        scan_odometry_->AddScan(describes_s, T_fix_ * T_odom_base, points);
     if (!report.ok()) {
       ++counters->lidar_failures;
       continue;
@@ -108,6 +109,7 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
     counters->scans_matched += report->matched;
     last_ = std::move(scan);
     last_describes_s_ = describes_s;
+    last_T_odom_base_ = T_odom_base;
     last_twist_ = twist;
   }
 }
@@ -148,17 +150,16 @@ std::vector<LineObservation> LidarStage::WallObservations(double stamp_s) const 
   return lidar::WallLineObservations(lidar::ExtractWallLines(points, wall_options_));
 }
 
-core::Vector3 LidarStage::SweepTwist(double describes_s) const {
+core::Vector3 LidarStage::SweepTwist(double describes_s, const core::SE2& T_odom_base) const {
   if (!deskew_) return core::Vector3::Zero();
   // The odometry's mean twist over the window that ends at the scan's
   // instant, continued over the sweep (so that the scan is matched as soon
   // as the odometry reaches that instant).
-  return OdometryAt(describes_s - deskew_window_s_).Between(OdometryAt(describes_s)).Log() /
-         deskew_window_s_;
+  return OdometryAt(describes_s - deskew_window_s_).Between(T_odom_base).Log() / deskew_window_s_;
 }
 
 core::SE2 LidarStage::LastSweepPose(double t) const {
-  return OdometryAt(last_describes_s_) * core::SE2::Exp((t - last_describes_s_) * last_twist_);
+  return last_T_odom_base_ * core::SE2::Exp((t - last_describes_s_) * last_twist_);
 }
 
 LidarStage::SweepTiming LidarStage::Sweep(const core::LaserScan& scan) const {

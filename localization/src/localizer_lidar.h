@@ -51,9 +51,9 @@ class LidarStage {
     double time_increment_s = 0.0;
   };
   SweepTiming Sweep(const core::LaserScan& scan) const;
-  // The vehicle's motion over a sweep that describes describes_s: one
-  // constant twist (zero without deskewing).
-  core::Vector3 SweepTwist(double describes_s) const;
+  // The vehicle's motion over a sweep that describes describes_s, where the
+  // odometry is T_odom_base: one constant twist (zero without deskewing).
+  core::Vector3 SweepTwist(double describes_s, const core::SE2& T_odom_base) const;
   // T_odom_base at time t of the last matched scan's sweep, by that twist.
   core::SE2 LastSweepPose(double t) const;
 
@@ -79,8 +79,9 @@ class LidarStage {
   bool started_ = false;
   // Queued scans and the instant each describes (mid-sweep), in time order.
   std::deque<std::pair<double, core::LaserScan>> queue_;
-  std::optional<core::LaserScan> last_;  // the last scan matched
-  double last_describes_s_ = 0.0;        // the instant last_ describes
+  std::optional<core::LaserScan> last_;               // the last scan matched
+  double last_describes_s_ = 0.0;                     // the instant last_ describes
+  core::SE2 last_T_odom_base_;                        // the odometry at that instant
   core::Vector3 last_twist_ = core::Vector3::Zero();  // its sweep's twist
   double last_received_s_;
 };
