@@ -79,7 +79,14 @@ Modes:
             scan-match factor between keyframes, which keeps only the directions
             the scan constrains (not along an aisle), and the scans' straight
             faces as line observations against the atlas' faces.
-  mapping   the same, building the atlas (--atlas-out).
+  mapping   the same, building the atlas (--atlas-out). With --lidar the atlas is
+            of the whole drive: the LiDAR SLAM (submaps, loop closures) closes
+            the trajectory, then floor lines, junctions and the wall and rack
+            faces are solved jointly with it as landmarks, each with its
+            covariance; the atlas is in the map frame of the start pose
+            (docs/atlas.md, "Mapping with the LiDAR"). Also writes
+            trajectory_mapped.tum (the keyframes after the joint solve) and
+            trajectory_mapped_lidar.tum (the LiDAR pose graph's, before it).
   lidar     LiDAR + odometry only: scan-to-submap matching with the odometry as
             the initial guess, keyframes every 0.20 m or 5 deg; health per
             keyframe: lidar_degenerate, the scaled information eigenvalues
@@ -131,7 +138,8 @@ Examples:
   groundline localize --dataset sample_zone_b --mode lines --lidar --out run_full
   groundline localize --dataset sample_zone_b --mode lines --relocalize --near 2 40 --out run_reloc
   groundline localize --dataset sample_zone_b --mode lidar --out run_lidar
-  groundline localize --dataset survey_drive --mode mapping --atlas-out atlas.json --out run_map
+  groundline localize --dataset survey_drive --mode mapping --lidar --atlas-out atlas.json --out run_map
+  groundline localize --dataset second_drive --mode lines --lidar --atlas atlas.json --out run_on_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
 int Usage(const std::string& message) {
@@ -416,7 +424,29 @@ int RunLocalize(const LocalizeFlags& flags) {
         flags.atlas_out_path.empty() ? out / "atlas.json" : fs::path(flags.atlas_out_path);
     const fs::path atlas_shown =
         flags.atlas_out_path.empty() ? final_out / "atlas.json" : atlas_out;
-    const loc::Atlas built = localizer.CurrentAtlas();
+    loc::AtlasMapperReport report;
+    ProgressLine building("[localize]");
+    building.Update("building the atlas", 0.0);
+    core::Result<loc::Atlas> built_or = localizer.BuildAtlas(&report);
+    building.Update("building the atlas", 1.0);
+    if (!built_or.ok()) return LocalizeFail(flags.dataset_dir + ": " + built_or.message());
+    const loc::Atlas& built = *built_or;
+    if (options.use_lidar) {
+      summary["mapping"] = loc::AtlasMapperReportJson(report);
+      std::printf(
+          "mapping: %d keyframes, %d scans, %d loop closures (%d rejected); %ld sightings in "
+          "the joint solve (%ld ambiguous left out), %d landmarks seen too rarely dropped; "
+          "cost %.4g -> %.4g\n",
+          report.keyframes, report.scans, report.loops, report.loops_rejected, report.sightings,
+          report.sightings_ambiguous, report.landmarks_dropped, report.initial_cost,
+          report.final_cost);
+      for (const core::Status& s :
+           {core::WriteTumTrajectory(out / "trajectory_mapped.tum", localizer.MappedTrajectory()),
+            core::WriteTumTrajectory(out / "trajectory_mapped_lidar.tum",
+                                     localizer.MappedTrajectory(true))}) {
+        if (!s.ok()) return LocalizeFail(s.message());
+      }
+    }
     const std::size_t floor_lines = built.lines.size() - loc::CountWallLines(built);
     summary["atlas_lines"] = built.lines.size();
     summary["atlas_junctions"] = built.junctions.size();

@@ -7,19 +7,13 @@
 #include <limits>
 
 namespace groundline::localization {
-namespace {
-
-// Information-weighted fusion of two estimates x (cov P) and z (cov R) with
-// innovation nu = z - x: x += P (P + R)^-1 nu, P -= P (P + R)^-1 P.
-void Fuse(const Eigen::Vector2d& innovation, const Eigen::Matrix2d& R, Eigen::Vector2d* x,
-          Eigen::Matrix2d* P) {
+void FuseGaussian2(const Eigen::Vector2d& innovation, const Eigen::Matrix2d& R, Eigen::Vector2d* x,
+                   Eigen::Matrix2d* P) {
   const Eigen::Matrix2d K = *P * (*P + R).inverse();
   *x += K * innovation;
   *P = (Eigen::Matrix2d::Identity() - K) * *P;
   *P = 0.5 * (*P + P->transpose());
 }
-
-}  // namespace
 
 AtlasLine LineInMap(const LineObservation& observation, const core::SE2& T_map_base,
                     const core::Matrix3& pose_covariance) {
@@ -86,10 +80,10 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
     }
     LineTrack& track = lines_[best];
     Eigen::Vector2d x(track.estimate.line_map.rho_m, track.estimate.line_map.alpha_rad);
-    Fuse(perception::LineDifference(seen.line_map, track.estimate.line_map),
-         perception::CovarianceInDescriptionOf(seen.line_map, track.estimate.line_map,
-                                               seen.covariance),
-         &x, &track.estimate.covariance);
+    FuseGaussian2(perception::LineDifference(seen.line_map, track.estimate.line_map),
+                  perception::CovarianceInDescriptionOf(seen.line_map, track.estimate.line_map,
+                                                        seen.covariance),
+                  &x, &track.estimate.covariance);
     track.estimate.line_map = perception::NormalizeLine(x(0), x(1), &track.estimate.covariance);
     ExtendLineExtent(seen.endpoint_a_m, &track.estimate);
     ExtendLineExtent(seen.endpoint_b_m, &track.estimate);
@@ -116,8 +110,8 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
       continue;
     }
     JunctionTrack& track = junctions_[best];
-    Fuse(seen.point_m - track.estimate.point_m, seen.covariance, &track.estimate.point_m,
-         &track.estimate.covariance);
+    FuseGaussian2(seen.point_m - track.estimate.point_m, seen.covariance, &track.estimate.point_m,
+                  &track.estimate.covariance);
     track.last_keyframe = keyframe_index;
     if (++track.sightings == options_.min_keyframes) {
       confirmed.junctions.push_back({track.estimate, static_cast<int>(i)});

@@ -18,6 +18,7 @@ core::Status LocalizerOptions::Validate() const {
   if (core::Status s = scan_odometry.Validate(); !s.ok()) return s.WithContext("scan_odometry");
   if (core::Status s = scan_points.Validate(); !s.ok()) return s.WithContext("scan_points");
   if (core::Status s = relocalizer.Validate(); !s.ok()) return s.WithContext("relocalizer");
+  if (core::Status s = mapper.Validate(); !s.ok()) return s;
   const std::pair<const char*, double> positive[] = {
       {"blind_keyframe_m", blind_keyframe_m},
       {"odometry_history_s", odometry_history_s},
@@ -147,6 +148,16 @@ std::optional<PoseEstimate> Localizer::PoseAt(double stamp_s) const {
 RelativeMotion Localizer::SinceKeyframe() const {
   return impl_->odometry ? impl_->odometry->SinceKeyframe() : RelativeMotion();
 }
+core::Result<Atlas> Localizer::BuildAtlas(AtlasMapperReport* report) {
+  if (!impl_->mapper) return CurrentAtlas();
+  return impl_->mapper->Build(report);
+}
+
+core::Trajectory Localizer::MappedTrajectory(bool lidar_only) const {
+  if (!impl_->mapper) return {};
+  return lidar_only ? impl_->mapper->lidar_trajectory() : impl_->mapper->keyframe_trajectory();
+}
+
 Atlas Localizer::CurrentAtlas() const {
   return impl_->smoother ? impl_->smoother->CurrentAtlas() : impl_->setup.atlas;
 }

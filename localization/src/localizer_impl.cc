@@ -49,6 +49,16 @@ core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const Localiz
     impl->smoother = std::make_unique<SlidingWindowSmoother>(smoother, std::move(atlas));
   }
   if (needs_lidar) impl->lidar = std::make_unique<LidarStage>(*setup.lidar, impl->options);
+  if (needs_lidar && options.mode == LocalizerMode::kMapping) {
+    impl->mapper = std::make_unique<AtlasMapper>(options.mapper);
+    AtlasMapper* mapper = impl->mapper.get();
+    impl->lidar->SetScanSink(
+        [mapper](double stamp_s, const core::SE2& T_odom_base, const lidar::ScanPoints& points) {
+          // A scan the SLAM refuses (stamps not increasing) is counted in
+          // its report; mapping goes on.
+          (void)mapper->AddScan(stamp_s, T_odom_base, points);
+        });
+  }
   impl->setup = std::move(setup);
   return impl;
 }
@@ -107,6 +117,7 @@ void LocalizerImpl::Start(double stamp_s, const core::SE2& T_map_base,
   pending_pose.reset();
   if (smoother) smoother->Initialize(stamp_s, T_map_base, covariance);
   if (lidar) lidar->Start(stamp_s, T_map_base);
+  if (mapper) mapper->SetAnchor(T_map_base, covariance);
   if (pending && pending->stamp_s < stamp_s - kSameInstantS) {
     ++counters.frames_dropped_late;
     pending.reset();
@@ -401,6 +412,11 @@ std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
     CountLidar(scan);
     relative = scan.relative;
     k.lidar = std::move(scan);
+    if (mapper) {
+      mapper->AddKeyframe(stamp_s, lidar->OdometryAt(stamp_s), converted.observations,
+                          options.use_wall_lines ? lidar->WallObservations(stamp_s)
+                                                 : std::vector<LineObservation>());
+    }
     if (options.use_wall_lines && options.mode == LocalizerMode::kLines) {
       const std::vector<LineObservation> seen = lidar->WallObservations(stamp_s);
       WallCounts counts;

@@ -12,6 +12,7 @@
 #include "groundline/localization/localizer.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "groundline/perception/line_extractor.h"
+#include "groundline/localization/atlas_mapper.h"
 #include "localizer_lidar.h"
 
 namespace groundline::localization::internal {
@@ -48,6 +49,7 @@ class LocalizerImpl {
   LocalizerCounters counters;
   std::unique_ptr<SlidingWindowSmoother> smoother;  // kLines, kMapping
   std::unique_ptr<LidarStage> lidar;
+  std::unique_ptr<AtlasMapper> mapper;  // kMapping with the LiDAR
   Atlas walls;  // the atlas' face lines (wall counts)
   std::unique_ptr<Relocalizer> relocalizer;
   std::optional<OdometryIntegrator> relocalizer_odometry;

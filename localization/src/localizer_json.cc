@@ -105,6 +105,23 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
   return line;
 }
 
+nlohmann::ordered_json AtlasMapperReportJson(const AtlasMapperReport& r) {
+  return {{"keyframes", r.keyframes},
+          {"scans", r.scans},
+          {"scans_failed", r.scans_failed},
+          {"loop_closures", r.loops},
+          {"loop_closures_rejected", r.loops_rejected},
+          {"sightings", r.sightings},
+          {"sightings_ambiguous", r.sightings_ambiguous},
+          {"floor_lines", r.lines},
+          {"faces", r.faces},
+          {"junctions", r.junctions},
+          {"landmarks_dropped", r.landmarks_dropped},
+          {"initial_cost", r.initial_cost},
+          {"final_cost", r.final_cost},
+          {"covariances", r.covariances}};
+}
+
 nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
   return {{"wheel_readings", c.wheel_readings},
           {"wheel_dropped_non_finite", c.wheel_dropped_non_finite},

@@ -100,6 +100,7 @@ void LidarStage::MatchCovered(double up_to_s, LocalizerCounters* counters) {
         scan.ranges_m, scan.angle_min_rad, scan.angle_increment_rad, scan.range_max_m,
         setup_.T_base_lidar, beam_poses_, points_options_);
     ++scans_in_local_map_;
+    if (sink_) sink_(describes_s, T_odom_base, points);
     core::Result<lidar::ScanReport> report =
         scan_odometry_->AddScan(describes_s, T_fix_ * T_odom_base, points);
     if (!report.ok()) {

@@ -7,6 +7,7 @@
 #define GROUNDLINE_LOCALIZATION_SRC_LOCALIZER_LIDAR_H_
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -36,6 +37,11 @@ class LidarStage {
   // scan odometry continues from T_map_base at stamp_s (the odometry must
   // cover it), so that the old local map does not pull the estimate back.
   void Renew(double stamp_s, const core::SE2& T_map_base);
+  // Also given every deskewed scan matched, with the instant it describes and
+  // the odometry there (T_odom_base as given to AddOdometry): the mapper's
+  // LiDAR SLAM.
+  using ScanSink = std::function<void(double, const core::SE2&, const lidar::ScanPoints&)>;
+  void SetScanSink(ScanSink sink) { sink_ = std::move(sink); }
   // The straight faces of the last matched scan in base_link at stamp_s.
   std::vector<LineObservation> WallObservations(double stamp_s) const;
   // T_odom_base at stamp_s, interpolated in the history (clamped).
@@ -84,6 +90,7 @@ class LidarStage {
   core::SE2 last_T_odom_base_;                        // the odometry at that instant
   core::Vector3 last_twist_ = core::Vector3::Zero();  // its sweep's twist
   double last_received_s_;
+  ScanSink sink_;
 };
 
 }  // namespace groundline::localization::internal

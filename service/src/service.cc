@@ -32,7 +32,12 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   if (!dataset.ok()) return dataset.status();
   impl->dataset = std::move(dataset).value();
   DatasetLocalizerOptions options;
+  // GCC 12 takes the move of a disengaged std::optional<Eigen::Vector2d>
+  // (RelocalizerOptions::near_m) for a read of uninitialized storage.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
   options.localizer = PresetOptions(config.preset);
+#pragma GCC diagnostic pop
   options.front_end.bev = config.Bev();
   options.atlas_path = config.atlas;
   core::Result<DatasetSetup> setup =

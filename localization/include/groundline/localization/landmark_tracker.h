@@ -63,6 +63,11 @@ class LandmarkTracker {
   std::vector<JunctionTrack> junctions_;
 };
 
+// Information-weighted fusion of two estimates x (cov P) and z (cov R) with
+// innovation nu = z - x: x += P (P + R)^-1 nu, P -= P (P + R)^-1 P.
+void FuseGaussian2(const Eigen::Vector2d& innovation, const Eigen::Matrix2d& R, Eigen::Vector2d* x,
+                   Eigen::Matrix2d* P);
+
 // The observation mapped into the map frame, with the pose covariance
 // propagated into the line covariance (first order).
 AtlasLine LineInMap(const LineObservation& observation, const core::SE2& T_map_base,

@@ -54,6 +54,7 @@
 #include "groundline/core/se2.h"
 #include "groundline/core/status.h"
 #include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_mapper.h"
 #include "groundline/localization/diff_drive_odometry.h"
 #include "groundline/localization/floor_front_end.h"
 #include "groundline/localization/keyframe_selector.h"
@@ -109,6 +110,9 @@ struct LocalizerOptions {
   // would bend into every scan. Below odometry_history_s.
   double deskew_motion_window_s = 0.1;
   lidar::WallLineOptions walls;
+  // kMapping with the LiDAR: the atlas of the whole drive (atlas_mapper.h),
+  // read by BuildAtlas.
+  AtlasMapperOptions mapper;
   RelocalizerOptions relocalizer;
   // The scan odometry keeps a record per scan (its pose graph) for as long
   // as it runs; after this many scans a fresh one takes over at a keyframe,
@@ -347,6 +351,15 @@ class Localizer {
   RelativeMotion SinceKeyframe() const;
   // The atlas with the current landmark estimates.
   Atlas CurrentAtlas() const;
+  // kMapping with the LiDAR: the atlas of the drive so far, built by the
+  // mapper (atlas_mapper.h: the pose graph closed, every landmark solved
+  // jointly with the trajectory); report, if given, says what went in.
+  // Other modes: CurrentAtlas(). Errors: those of AtlasMapper::Build.
+  core::Result<Atlas> BuildAtlas(AtlasMapperReport* report = nullptr);
+  // The keyframe trajectory of the last BuildAtlas (empty in other modes);
+  // lidar_only: before the joint solve with the landmarks (the odometry
+  // corrected by the LiDAR pose graph).
+  core::Trajectory MappedTrajectory(bool lidar_only = false) const;
   const LocalizerCounters& counters() const;
   SensorState Sensors() const;
   double path_length_m() const;

@@ -19,6 +19,8 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& keyframe, LocalizerMod
 void AddLidarJson(const lidar::ScanOdometryKeyframe& keyframe, nlohmann::ordered_json* line);
 // Every counter by name.
 nlohmann::ordered_json CountersJson(const LocalizerCounters& counters);
+// What went into a mapping run's atlas, by name (AtlasMapperReport).
+nlohmann::ordered_json AtlasMapperReportJson(const AtlasMapperReport& report);
 // "odometry", "lines", "lines+lidar", "mapping", "mapping+lidar", "lidar".
 std::string ModeName(const LocalizerOptions& options);
 

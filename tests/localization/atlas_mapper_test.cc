@@ -1,0 +1,181 @@
+#include "groundline/localization/atlas_mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "groundline/core/covariance.h"
+#include "groundline/core/trajectory_association.h"
+#include "lidar_test_world.h"
+
+namespace groundline::localization {
+namespace {
+
+// Two laps of a 1.2 m circle in the room of lidar_test_world.h at 0.5 m/s.
+constexpr double kRadius = 1.2, kSpeed = 0.5;
+constexpr double kDuration = 2.0 * 2.0 * std::numbers::pi * kRadius / kSpeed;
+
+core::SE2 Truth(double t) {
+  const double a = kSpeed * t / kRadius;
+  return core::SE2(-0.5 + kRadius * std::sin(a), kRadius - kRadius * std::cos(a), a);
+}
+
+// Odometry that reads the distance 2 % long and the turn 1 % short: after
+// two laps the dead reckoning is decimetres off.
+core::SE2 Odometry(double t) {
+  const double a = 0.99 * kSpeed * t / kRadius;
+  const double r = 1.02 * kRadius / 0.99;
+  return core::SE2(-0.5 + r * std::sin(a), r - r * std::cos(a), a);
+}
+
+struct FloorSegment {
+  Eigen::Vector2d a, b;
+};
+// Tape on the room's floor: two long lines across the circle, one L.
+std::vector<FloorSegment> FloorMarkings() {
+  return {{{-3.0, 0.6}, {2.5, 0.6}},
+          {{0.3, -1.5}, {0.3, 3.0}},
+          {{1.6, 1.4}, {2.6, 1.4}},
+          {{1.6, 1.4}, {1.6, 3.0}}};
+}
+
+// What the camera (1.5 m ahead, 1 m across) and the LiDAR's face extraction
+// (every room wall within 6 m) see from the true pose, with noise.
+FloorObservations SeeFloor(const core::SE2& T, std::mt19937* rng,
+                           std::vector<LineObservation>* faces) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  FloorObservations out;
+  const auto observe = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b, double sigma_m,
+                           double sigma_rad, core::MarkingKind kind) {
+    LineObservation o;
+    const perception::HesseLine world = *perception::LineFromPoints(a, b);
+    const perception::HesseLine base = perception::InverseTransformLine(T, world);
+    o.line_base = perception::NormalizeLine(base.rho_m + sigma_m * n(*rng),
+                                            base.alpha_rad + sigma_rad * n(*rng));
+    o.covariance = Eigen::Vector2d(sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+    o.kind = kind;
+    o.endpoint_a_base_m = T.Inverse() * a;
+    o.endpoint_b_base_m = T.Inverse() * b;
+    return o;
+  };
+  const auto in_view = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d q = T.Inverse() * p;
+    return q.x() > 0.6 && q.x() < 2.1 && std::abs(q.y()) < 1.0;
+  };
+  for (const FloorSegment& s : FloorMarkings()) {
+    // The visible part: the segment clipped to the view, sampled.
+    std::vector<Eigen::Vector2d> seen;
+    for (int i = 0; i <= 100; ++i) {
+      const Eigen::Vector2d p = s.a + (s.b - s.a) * (i / 100.0);
+      if (in_view(p)) seen.push_back(p);
+    }
+    if (seen.size() < 5) continue;
+    out.lines.push_back(
+        observe(seen.front(), seen.back(), 0.003, 0.003, core::MarkingKind::kTapeSolid));
+  }
+  if (in_view({1.6, 1.4})) {
+    JunctionObservation j;
+    j.point_base_m =
+        T.Inverse() * Eigen::Vector2d(1.6, 1.4) + Eigen::Vector2d(0.004 * n(*rng), 0.004 * n(*rng));
+    j.covariance = Eigen::Matrix2d::Identity() * 0.004 * 0.004;
+    out.junctions.push_back(j);
+  }
+  faces->clear();
+  for (const testing::Segment& w : testing::RoomWorld()) {
+    if ((w.b - w.a).norm() < 2.0) continue;  // pillars: too short to extract
+    faces->push_back(observe(w.a, w.b, 0.005, 0.002, core::MarkingKind::kWall));
+  }
+  return out;
+}
+
+TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance) {
+  AtlasMapperOptions options;
+  AtlasMapper mapper(options);
+  std::mt19937 rng(7);
+  const std::vector<testing::Segment> walls = testing::RoomWorld();
+  double next_keyframe_s = 0.0;
+  for (int k = 1; k * (1.0 / 15.0) <= kDuration; ++k) {
+    const double t = k / 15.0;
+    ASSERT_TRUE(
+        mapper.AddScan(t, Odometry(t), testing::SimulateScan(walls, Truth(t), 0.01, k)).ok());
+    if (t >= next_keyframe_s) {
+      std::vector<LineObservation> faces;
+      const FloorObservations floor = SeeFloor(Truth(t), &rng, &faces);
+      mapper.AddKeyframe(t, Odometry(t), floor, faces);
+      next_keyframe_s = t + 0.3;
+    }
+  }
+  AtlasMapperReport report;
+  core::Result<Atlas> atlas = mapper.Build(&report);
+  ASSERT_TRUE(atlas.ok()) << atlas.message();
+  EXPECT_TRUE(report.covariances);
+  // The wheels alone end decimetres off; the mapped trajectory does not.
+  EXPECT_GT((Odometry(kDuration).translation() - Truth(kDuration).translation()).norm(), 0.15);
+  double worst_m = 0.0;
+  for (const core::StampedPose& p : mapper.keyframe_trajectory()) {
+    worst_m = std::max(worst_m, (p.pose.translation() - Truth(p.stamp_s).translation()).norm());
+  }
+  EXPECT_LT(worst_m, 0.03);
+
+  // Each marking is in the atlas, as one line or as collinear pieces where a
+  // part of it was never in view (the long line across the circle), but
+  // never twice over the same stretch; each room wall once (the pillars are
+  // too short for faces).
+  const std::vector<FloorSegment> markings = FloorMarkings();
+  EXPECT_EQ(report.faces, 5);
+  EXPECT_EQ(report.junctions, 1);
+  std::vector<std::vector<std::pair<double, double>>> pieces(markings.size());
+  int inside_3_sigma = 0, checked = 0;
+  for (const AtlasLine& line : atlas->lines) {
+    if (core::IsFaceKind(line.kind)) continue;
+    std::size_t marking = 0;
+    double best = 1e9;
+    Eigen::Vector2d error;
+    for (std::size_t m = 0; m < markings.size(); ++m) {
+      const Eigen::Vector2d e = perception::LineError(
+          line.line_map, *perception::LineFromPoints(markings[m].a, markings[m].b));
+      if (std::abs(e(0)) + std::abs(e(1)) < best) {
+        best = std::abs(e(0)) + std::abs(e(1)), error = e, marking = m;
+      }
+    }
+    EXPECT_LT(std::abs(error(0)), 0.005) << "line " << line.id;
+    EXPECT_LT(std::abs(error(1)), 0.2 * std::numbers::pi / 180.0) << "line " << line.id;
+    ++checked;
+    inside_3_sigma += core::SquaredMahalanobis<2>(error, line.covariance) <= 11.8;
+    const Eigen::Vector2d d = (markings[marking].b - markings[marking].a).normalized();
+    const double s_a = d.dot(line.endpoint_a_m - markings[marking].a);
+    const double s_b = d.dot(line.endpoint_b_m - markings[marking].a);
+    pieces[marking].push_back({std::min(s_a, s_b), std::max(s_a, s_b)});
+  }
+  for (std::size_t m = 0; m < markings.size(); ++m) {
+    EXPECT_FALSE(pieces[m].empty()) << "marking " << m << " is missing";
+    std::sort(pieces[m].begin(), pieces[m].end());
+    for (std::size_t i = 1; i < pieces[m].size(); ++i) {
+      EXPECT_GT(pieces[m][i].first, pieces[m][i - 1].second) << "marking " << m << " twice";
+    }
+  }
+  EXPECT_EQ(inside_3_sigma, checked);
+  const double junction_error = (atlas->junctions.at(0).point_m - Eigen::Vector2d(1.6, 1.4)).norm();
+  EXPECT_LT(junction_error, 0.01);
+}
+
+TEST(AtlasMapper, WithoutKeyframesThereIsNoAtlas) {
+  AtlasMapper mapper{AtlasMapperOptions()};
+  EXPECT_FALSE(mapper.Build().ok());
+}
+
+TEST(AtlasMapper, RefusesInvalidOptions) {
+  AtlasMapperOptions options;
+  options.min_line_sightings = 0;
+  EXPECT_FALSE(options.Validate().ok());
+  options = AtlasMapperOptions();
+  options.pose_sigma_m = 0.0;
+  EXPECT_FALSE(options.Validate().ok());
+}
+
+}  // namespace
+}  // namespace groundline::localization
