@@ -24,6 +24,8 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/io/relations.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/atlas_accuracy.h"
 
 namespace groundline::tools {
 namespace {
@@ -43,6 +45,7 @@ struct EvalFlags {
   std::string dataset_dir;
   std::string zone;
   std::string floor_map_path;
+  std::string atlas_path;
   // Only the estimate poses with stamps in [from, to) (a window after a fault).
   std::optional<double> from_s;
   std::optional<double> to_s;
@@ -86,12 +89,23 @@ targets of the zone (B: ATE rmse <= 1.5 cm, max <= 5 cm, along <= 1 cm, heading
 keyframes its degeneracy detector flagged per region (aisle >= 95 %, open < 5 %).
 scripts/eval_zones.sh runs every mode on every zone.
 
+--atlas FILE (with --dataset DIR or --floor-map FILE, no --est or --run)
+compares a built atlas with the atlas of the floor map: each built line is
+paired with the nearest map line of its family (floor marking, or wall and
+rack face) whose extent overlaps it, within 30 cm (its middle's offset from
+the map line) and 2 deg, each junction with the nearest map junction within
+30 cm; per family the median offset ('rho') and |alpha| error, the largest
+offset, and the share of paired landmarks
+whose error is inside their reported 3 sigma. A floor map written with
+--survey-noise is itself off by its survey errors. Exit 1 when nothing pairs.
+
 Examples:
   groundline eval --dataset sim/B --zone B --run odometry=runs/B/odometry \
       --run lines=runs/B/lines
   groundline eval --est run1/trajectory.tum --est run2/trajectory.tum \
       --label floor --label lidar_only --ref gt.tum --align --json eval.json
   groundline eval --est aces_odom.tum --relations aces.relations
+  groundline eval --dataset sim/B --atlas run_map/atlas.json
 Exit codes: 0 ok, 1 unreadable input or no match, 2 usage error.)";
 
 std::string DefaultLabel(const std::string& path, const std::vector<std::string>& all) {
@@ -158,7 +172,76 @@ void PrintTable(const std::vector<EvalRun>& runs) {
   }
 }
 
+// --atlas: a built atlas against the floor map's (the dataset's or --floor-map).
+int RunAtlasEval(const EvalFlags& flags) {
+  if (!flags.est_paths.empty() || !flags.runs.empty()) {
+    std::fprintf(stderr, "groundline eval: --atlas takes no --est or --run\n");
+    return 2;
+  }
+  std::optional<core::FloorMap> map;
+  std::string map_name = flags.floor_map_path;
+  if (!flags.floor_map_path.empty()) {
+    core::Result<core::FloorMap> read = core::ReadFloorMap(flags.floor_map_path);
+    if (!read.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", read.message().c_str());
+      return 1;
+    }
+    map = std::move(read).value();
+  } else if (!flags.dataset_dir.empty()) {
+    core::DatasetReadOptions read_options;
+    read_options.load_images = false;
+    read_options.check_image_files = false;
+    read_options.load_wheel_encoders = false;
+    read_options.load_scans = false;
+    core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
+    if (!dataset.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", dataset.message().c_str());
+      return 1;
+    }
+    map = std::move(dataset->floor_map);
+    map_name = flags.dataset_dir + "'s floor map";
+  }
+  if (!map) {
+    std::fprintf(stderr, "groundline eval: --atlas needs --dataset DIR or --floor-map FILE\n");
+    return 2;
+  }
+  core::Result<localization::Atlas> built = localization::ReadAtlas(flags.atlas_path);
+  if (!built.ok()) {
+    std::fprintf(stderr, "groundline eval: %s\n", built.message().c_str());
+    return 1;
+  }
+  const localization::Atlas reference =
+      localization::AtlasFromFloorMap(*map, localization::AtlasFromFloorMapOptions{});
+  const localization::AtlasAccuracy a = localization::CompareAtlases(*built, reference);
+  std::printf("%s against %s:\n", flags.atlas_path.c_str(), map_name.c_str());
+  std::printf("%-12s %7s %7s %14s %16s %13s %12s\n", "landmarks", "built", "paired", "median |rho|",
+              "median |alpha|", "max |rho|", "within 3 sd");
+  nlohmann::ordered_json json;
+  for (const auto& [name, l] :
+       {std::pair<const char*, const localization::LandmarkAccuracy&>{"floor lines", a.floor_lines},
+        {"faces", a.faces},
+        {"junctions", a.junctions}}) {
+    std::printf("%-12s %7d %7d %11.1f mm %12.3f deg %10.1f mm %11.1f %%\n", name, l.built, l.paired,
+                1e3 * l.median_abs_rho_m, l.median_abs_alpha_rad * 180.0 / 3.14159265358979,
+                1e3 * l.max_abs_rho_m, 100.0 * l.within_3_sigma);
+    json[name] = {{"built", l.built},
+                  {"paired", l.paired},
+                  {"median_abs_rho_m", l.median_abs_rho_m},
+                  {"median_abs_alpha_rad", l.median_abs_alpha_rad},
+                  {"max_abs_rho_m", l.max_abs_rho_m},
+                  {"within_3_sigma", l.within_3_sigma}};
+  }
+  if (!flags.json_path.empty()) {
+    if (core::Status s = core::WriteFileAtomically(flags.json_path, json.dump(2) + "\n"); !s.ok()) {
+      std::fprintf(stderr, "groundline eval: %s\n", s.message().c_str());
+      return 1;
+    }
+  }
+  return a.floor_lines.paired + a.faces.paired > 0 ? 0 : 1;
+}
+
 int RunEval(EvalFlags flags) {
+  if (!flags.atlas_path.empty()) return RunAtlasEval(flags);
   if (flags.est_paths.empty() && flags.runs.empty()) {
     std::fprintf(stderr, "groundline eval: give --est FILE or --run LABEL=DIR\n");
     return 2;
@@ -356,6 +439,10 @@ CLI::App* AddEvalCommand(CLI::App& parent, CommandRunner* run) {
                   "print the compact zone table (one row per run) checked against this zone's "
                   "accuracy targets (docs/metrics.md): A, B, C or D")
       ->check(CLI::IsMember({"A", "B", "C", "D"}));
+  cmd->add_option("--atlas", flags->atlas_path,
+                  "a built atlas (a mapping run's) to compare with the floor map of --dataset "
+                  "or --floor-map, landmark by landmark")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--ref", flags->ref_path, "reference trajectory (TUM, or EuRoC if .csv)");
   cmd->add_option("--relations", flags->relations_path,
                   "Kuemmerle relations file ('t1 t2 x y z roll pitch yaw' per line)");

@@ -218,6 +218,16 @@ TEST_F(LocalizeTrust, MappingWithTheLidarBuildsAnAtlasThatTheSameFloorLocalizesO
                               .norm());
   }
   EXPECT_LT(worst_m, kMappedMaxErrorM);
+  // The atlas against the floor map, landmark by landmark.
+  ASSERT_EQ(RunGroundline("eval --dataset " + Quoted(dataset_) + " --atlas " + Quoted(atlas) +
+                              " --json " + Quoted(dir_ / "atlas_accuracy.json"),
+                          dir_, &out),
+            0)
+      << out;
+  const nlohmann::json accuracy = ReadJson(dir_ / "atlas_accuracy.json");
+  EXPECT_GE(accuracy["floor lines"]["paired"].get<int>(), 4) << accuracy.dump(2);
+  EXPECT_LT(accuracy["floor lines"]["median_abs_rho_m"].get<double>(), kMappedMaxErrorM)
+      << accuracy.dump(2);
   // The drive localized on its own atlas, nothing taken from the floor map.
   const fs::path on_atlas = dir_ / "on_mapped_atlas";
   ASSERT_EQ(
