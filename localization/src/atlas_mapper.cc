@@ -122,6 +122,12 @@ lidar::LidarSlamOptions AtlasMapperOptions::DefaultSlam() {
   const lidar::LidarSlamOptions loops;  // lidar_slam.h's loop search
   slam.loop_search_every_n_nodes = loops.loop_search_every_n_nodes;
   slam.retain_finished_submaps = true;
+  // A poor match is retried near the odometry's prediction only: a
+  // calibrated AGV's wheels are not a log's stale odometry, and in an aisle
+  // that looks the same both ways a search over every heading finds the
+  // scan turned by 180 deg.
+  slam.recovery_search.linear_window_m = 0.3;
+  slam.recovery_search.angular_window_rad = 0.1;
   return slam;
 }
 
@@ -290,15 +296,13 @@ core::Result<std::unique_ptr<ceres::Problem>> AtlasMapper::SolveJointly(
   const double floor_m2 = options_.motion_floor_sigma_m * options_.motion_floor_sigma_m;
   const double floor_rad2 = options_.motion_floor_sigma_rad * options_.motion_floor_sigma_rad;
   for (std::size_t k = 1; k < poses.size(); ++k) {
-    const core::SE2 motion =
-        core::PoseFromAmbient(poses[k - 1]).Between(core::PoseFromAmbient(poses[k]));
     const core::SE2 wheels = keyframes_[k - 1].T_odom_base.Between(keyframes_[k].T_odom_base);
     const core::Matrix3 covariance =
         IncrementCovariance(options_.odometry_noise, wheels.translation().norm(), wheels.yaw()) +
         core::Vector3(floor_m2, floor_m2, floor_rad2).asDiagonal().toDenseMatrix();
     core::Result<Eigen::Matrix3d> S = SqrtInformationFromCovariance(covariance);
     if (!S.ok()) return core::Status::Error("mapping: keyframe motion: " + S.message());
-    problem->AddResidualBlock(new RelativePoseFactor(motion, *S), nullptr, poses[k - 1].data(),
+    problem->AddResidualBlock(new RelativePoseFactor(wheels, *S), nullptr, poses[k - 1].data(),
                               poses[k].data());
   }
   line_params.clear();

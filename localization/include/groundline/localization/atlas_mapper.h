@@ -23,9 +23,11 @@
 //      one line whose extents grew together are merged; landmarks seen in
 //      fewer than min_*_sightings keyframes are dropped (a stain, a shadow, a
 //      pallet seen once);
-//   3. solves keyframe poses and landmarks jointly (Ceres): a relative-pose
-//      factor between consecutive keyframes (the corrected trajectory's
-//      motion, weighted as wheel odometry over it plus a floor), a
+//   3. solves keyframe poses and landmarks jointly (Ceres), from the
+//      corrected poses: a relative-pose factor between consecutive keyframes
+//      (the wheel odometry's motion and covariance, plus a floor; the graph's
+//      correction is not a measurement of its own: where it turns abruptly,
+//      as over the first scans, it would hold the whole map turned), a
 //      GroundLineFactor per line or face sighting and a JunctionFactor per
 //      junction sighting (robust loss), the first keyframe held at its
 //      pose (the atlas' frame is that of the start pose: anchoring);
@@ -85,7 +87,7 @@ struct AtlasMapperOptions {
   int min_face_sightings = 3;
   int min_junction_sightings = 2;
   // Relative-pose factors of the joint solve: the wheel odometry's noise
-  // over the keyframe's motion plus this floor (the graph's correction).
+  // over the keyframe's motion plus this floor.
   OdometryNoiseParams odometry_noise;
   double motion_floor_sigma_m = 0.002;
   double motion_floor_sigma_rad = 0.0005;
