@@ -172,6 +172,16 @@ void PrintTable(const std::vector<EvalRun>& runs) {
   }
 }
 
+// A dataset's ground truth and floor map (no sensor streams).
+core::Result<core::Dataset> ReadTruth(const std::string& dir) {
+  core::DatasetReadOptions read_options;
+  read_options.load_images = false;
+  read_options.check_image_files = false;
+  read_options.load_wheel_encoders = false;
+  read_options.load_scans = false;
+  return core::ReadDataset(dir, read_options);
+}
+
 // --atlas: a built atlas against the floor map's (the dataset's or --floor-map).
 int RunAtlasEval(const EvalFlags& flags) {
   if (!flags.est_paths.empty() || !flags.runs.empty()) {
@@ -188,12 +198,7 @@ int RunAtlasEval(const EvalFlags& flags) {
     }
     map = std::move(read).value();
   } else if (!flags.dataset_dir.empty()) {
-    core::DatasetReadOptions read_options;
-    read_options.load_images = false;
-    read_options.check_image_files = false;
-    read_options.load_wheel_encoders = false;
-    read_options.load_scans = false;
-    core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
+    core::Result<core::Dataset> dataset = ReadTruth(flags.dataset_dir);
     if (!dataset.ok()) {
       std::fprintf(stderr, "groundline eval: %s\n", dataset.message().c_str());
       return 1;
@@ -295,12 +300,7 @@ int RunEval(EvalFlags flags) {
   std::optional<core::Trajectory> reference;
   std::optional<core::FloorMap> floor_map;
   if (!flags.dataset_dir.empty()) {
-    core::DatasetReadOptions read_options;
-    read_options.load_images = false;
-    read_options.check_image_files = false;
-    read_options.load_wheel_encoders = false;
-    read_options.load_scans = false;
-    core::Result<core::Dataset> dataset = core::ReadDataset(flags.dataset_dir, read_options);
+    core::Result<core::Dataset> dataset = ReadTruth(flags.dataset_dir);
     if (!dataset.ok()) {
       std::fprintf(stderr, "groundline eval: %s\n", dataset.message().c_str());
       return 1;
