@@ -7,17 +7,10 @@
 
 #include "groundline/core/covariance.h"
 #include "groundline/core/statistics.h"
+#include "groundline/localization/floor_association.h"
 
 namespace groundline::localization {
 namespace {
-
-bool Overlap(const AtlasLine& a, const AtlasLine& b, double margin_m) {
-  const Eigen::Vector2d d = b.line_map.Direction();
-  const double a0 = d.dot(a.endpoint_a_m), a1 = d.dot(a.endpoint_b_m);
-  const double b0 = d.dot(b.endpoint_a_m), b1 = d.dot(b.endpoint_b_m);
-  return std::max(a0, a1) >= std::min(b0, b1) - margin_m &&
-         std::min(a0, a1) <= std::max(b0, b1) + margin_m;
-}
 
 LandmarkAccuracy Summarize(int built, const std::vector<double>& rho,
                            const std::vector<double>& alpha, const std::vector<double>& nees) {
@@ -51,7 +44,8 @@ AtlasAccuracy CompareAtlases(const Atlas& built, const Atlas& reference,
       double offset = 0.0;
       const Eigen::Vector2d middle = 0.5 * (b.endpoint_a_m + b.endpoint_b_m);
       for (const AtlasLine& r : reference.lines) {
-        if (core::IsFaceKind(r.kind) != faces || !Overlap(b, r, options.extent_margin_m)) continue;
+        if (core::IsFaceKind(r.kind) != faces || !ExtentsOverlap(b, r, options.extent_margin_m))
+          continue;
         const Eigen::Vector2d e = perception::LineError(b.line_map, r.line_map);
         const double d = std::abs(perception::SignedDistance(r.line_map, middle));
         if (d > options.gate_rho_m || std::abs(e(1)) > options.gate_alpha_rad) continue;

@@ -67,11 +67,7 @@ void MergeDuplicates(const AtlasMapperOptions& options, std::vector<LineTrack>* 
         AtlasLine& a = (*lines)[i].estimate;
         const AtlasLine& b = (*lines)[j].estimate;
         if (!KindsCompatible(b.kind, a.kind) || !KindsCompatible(a.kind, b.kind)) continue;
-        LineObservation b_seen;
-        b_seen.line_base = b.line_map;
-        b_seen.endpoint_a_base_m = b.endpoint_a_m;
-        b_seen.endpoint_b_base_m = b.endpoint_b_m;
-        if (!ExtentsOverlap(b_seen, a, core::SE2(), options.association.extent_margin_m)) continue;
+        if (!ExtentsOverlap(b, a, options.association.extent_margin_m)) continue;
         const Eigen::Vector2d nu = perception::LineDifference(b.line_map, a.line_map);
         const Eigen::Matrix2d b_cov =
             perception::CovarianceInDescriptionOf(b.line_map, a.line_map, b.covariance);

@@ -100,6 +100,14 @@ bool ExtentsOverlap(const LineObservation& observation, const AtlasLine& landmar
          std::min(o_a, o_b) <= std::max(s_a, s_b) + margin_m;
 }
 
+bool ExtentsOverlap(const AtlasLine& a, const AtlasLine& b, double margin_m) {
+  LineObservation seen;
+  seen.line_base = a.line_map;
+  seen.endpoint_a_base_m = a.endpoint_a_m;
+  seen.endpoint_b_base_m = a.endpoint_b_m;
+  return ExtentsOverlap(seen, b, core::SE2(), margin_m);
+}
+
 std::vector<Match> AssociateLines(const std::vector<LineObservation>& observations,
                                   const Atlas& atlas, const core::SE2& T_map_base,
                                   const core::Matrix3& pose_covariance,

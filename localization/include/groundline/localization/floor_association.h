@@ -60,6 +60,8 @@ double JunctionMahalanobis2(const JunctionObservation& observation, const AtlasJ
 // segment extended by margin_m at both ends.
 bool ExtentsOverlap(const LineObservation& observation, const AtlasLine& landmark,
                     const core::SE2& T_map_base, double margin_m);
+// The same for two landmarks: a's extent against b's, along b's direction.
+bool ExtentsOverlap(const AtlasLine& a, const AtlasLine& b, double margin_m);
 
 // A LiDAR face observation may match only a face landmark (kWall or
 // kRackFace), a floor-marking observation only a floor-marking landmark: a
