@@ -71,7 +71,10 @@ core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, 
 }
 
 double OneWheelSlipResidualChi2(const RelativeMotion& motion, const core::Vector3& r,
-                                const core::Matrix3& W, double track_m) {
+                                const core::Matrix3& W, double track_m, double max_slip_margin_m) {
+  const core::Vector3 xi = motion.T_start_end.Log();
+  const double max_slip_m =
+      xi.head<2>().norm() + std::abs(xi(2)) * 0.5 * track_m + max_slip_margin_m;
   // The slip's direction in the motion's end frame when it happened at the
   // start (transported by the motion), half way, or at the end.
   const core::SE2 half = core::SE2::Exp(0.5 * motion.T_start_end.Log());
@@ -85,8 +88,9 @@ double OneWheelSlipResidualChi2(const RelativeMotion& motion, const core::Vector
       const core::Vector3 d = A * core::Vector3(0.5, 0.0, side / track_m);
       const double dWd = d.dot(W * d);
       if (!(dWd > 0.0)) continue;
-      const double dWr = d.dot(W * r);
-      best = std::min(best, chi2 - dWr * dWr / dWd);
+      // r^T W r - 2 s d^T W r + s^2 d^T W d at the best slip s within the bound.
+      const double s = std::clamp(d.dot(W * r) / dWd, -max_slip_m, max_slip_m);
+      best = std::min(best, chi2 - 2.0 * s * d.dot(W * r) + s * s * dWd);
     }
   }
   return std::max(best, 0.0);
@@ -299,11 +303,11 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
     health.relative_chi2 = r.dot(W * r);
     if (options_.slip_sigma_m > 0.0 && options_.slip_relative_chi2 > 0.0 &&
         health.relative_chi2 > options_.slip_relative_chi2) {
-      health.slip_residual_chi2 = OneWheelSlipResidualChi2(motion, r, W, options_.track_m);
+      health.slip_residual_chi2 =
+          OneWheelSlipResidualChi2(motion, r, W, options_.track_m, 3.0 * options_.slip_sigma_m);
       if (options_.slip_residual_chi2 <= 0.0 ||
           health.slip_residual_chi2 <= options_.slip_residual_chi2) {
-        const core::Matrix3 slip =
-            SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
+        const core::Matrix3 slip = SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
         odometry_covariance += slip;
         predicted.covariance += slip;  // the lines' gate too
         health.slip_from_relative = true;

@@ -298,11 +298,27 @@ TEST(SlidingWindowSmoother, TheSlipResidualRemovesAOneWheelSlipAndNothingElse) {
     slipped.T_start_end = odometry;
     const core::Vector3 r = odometry.Between(truth).Log();
     EXPECT_GT(r.dot(W * r), 200.0);
-    EXPECT_LT(OneWheelSlipResidualChi2(slipped, r, W, track_m), 1e-2);  // first order
+    EXPECT_LT(OneWheelSlipResidualChi2(slipped, r, W, track_m, 0.15), 1e-2);  // first order
   }
   const core::Vector3 lateral(0.0, 0.05, 0.0);
-  EXPECT_NEAR(OneWheelSlipResidualChi2(motion, lateral, W, track_m), lateral.dot(W * lateral),
+  EXPECT_NEAR(OneWheelSlipResidualChi2(motion, lateral, W, track_m, 0.15), lateral.dot(W * lateral),
               0.2 * lateral.dot(W * lateral));
+}
+
+// A rotation no wheel can slip over the span (a quarter turn within 0.66 m
+// driven straight: a wheel would have to slip 1.19 m) is not explained away:
+// with the bound, the disagreement stays; without it, it would vanish.
+TEST(SlidingWindowSmoother, TheSlipResidualKeepsARotationNoWheelCanSlip) {
+  const double track_m = 0.76;
+  RelativeMotion motion;
+  motion.T_start_end = core::SE2::Exp(Eigen::Vector3d(0.66, 0.0, 0.0));
+  const core::Matrix3 W = Eigen::Vector3d(0.0, 0.0, 2.2e5).asDiagonal();  // heading only
+  const core::Vector3 r(0.0, 0.0, -1.57);
+  EXPECT_LT(OneWheelSlipResidualChi2(motion, r, W, track_m, 1e3), 1e-6);  // unbounded
+  // At most 0.66 + 0.15 m of slip: 0.81 / 0.76 = 1.07 rad of the 1.57 removed.
+  const double left = 1.57 - 0.81 / track_m;
+  EXPECT_NEAR(OneWheelSlipResidualChi2(motion, r, W, track_m, 0.15), 2.2e5 * left * left,
+              0.01 * 2.2e5 * left * left);
 }
 
 // Zones A-D at 122.3 s: a 2.8 cm slip of one wheel turned the heading by

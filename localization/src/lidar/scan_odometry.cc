@@ -44,6 +44,12 @@ LidarSlamOptions ScanOdometryOptions::DefaultSlam() {
   slam.odometry_noise = OdometryNoiseParams();
   slam.loop_search_every_n_nodes = std::numeric_limits<int>::max();  // node 0 only: no loops
   slam.retain_finished_submaps = false;  // no loops: memory stays flat over a shift
+  // A poor match is retried near the odometry's prediction only: a
+  // calibrated AGV's wheels are not a log's stale odometry, and in an aisle
+  // or at an aisle's corner, which look alike turned by 90 or 180 deg, a
+  // search over every heading finds the scan turned.
+  slam.recovery_search.linear_window_m = 0.3;
+  slam.recovery_search.angular_window_rad = 0.1;
   return slam;
 }
 

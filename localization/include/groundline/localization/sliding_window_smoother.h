@@ -173,8 +173,13 @@ core::Matrix3 SlipCovariance(const RelativeMotion& motion, double slip_sigma_m, 
 // explains it is removed: the minimum over either wheel and a slip at the
 // start, middle or end of the motion of r^T W r - (d^T W r)^2 / (d^T W d),
 // d the slip's direction (1/2, 0, +-1/track) carried to the motion's end.
+// The slip's size is bounded by what a wheel can slip over the motion: a
+// spinning wheel slips at most what it read, a locked one what the vehicle
+// drove; both are at most the outer wheel's travel, |ds| + |dtheta| track/2,
+// plus max_slip_margin_m (a slip larger than that, say a quarter turn in
+// half a metre, is no slip: it is the other measurement that is wrong).
 double OneWheelSlipResidualChi2(const RelativeMotion& motion, const core::Vector3& r,
-                                const core::Matrix3& W, double track_m);
+                                const core::Matrix3& W, double track_m, double max_slip_margin_m);
 
 // A measured pose of the new keyframe seen from the previous one, T_prev_curr,
 // from a sensor other than the wheels (a LiDAR scan match). S^T S is its
@@ -205,8 +210,8 @@ struct KeyframeHealth {
   // What is left of it once the best one-wheel slip is removed (computed
   // only beyond slip_relative_chi2; 0 otherwise).
   double slip_residual_chi2 = 0.0;
-  int landmarks_added = 0;     // mapping mode
-  int window_size = 0;         // keyframes in the window after this update
+  int landmarks_added = 0;  // mapping mode
+  int window_size = 0;      // keyframes in the window after this update
   int iterations = 0;
   // The solve met its step tolerance (chain) or Ceres' convergence test;
   // false when it stopped at max_iterations (the estimate is then the last
