@@ -48,6 +48,7 @@ struct LocalizeFlags {
   std::vector<double> initial_pose;  // x_m y_m yaw_deg
   std::string atlas_path;
   std::string atlas_out_path;
+  std::string surveyed_path;
   bool diagnose = false;
   bool lidar = false;
   bool wall_lines = true;
@@ -84,9 +85,12 @@ Modes:
             the trajectory, then floor lines, junctions and the wall and rack
             faces are solved jointly with it as landmarks, each with its
             covariance; the atlas is in the map frame of the start pose
-            (docs/atlas.md, "Mapping with the LiDAR"). Also writes
-            trajectory_mapped.tum (the keyframes after the joint solve) and
-            trajectory_mapped_lidar.tum (the LiDAR pose graph's, before it).
+            (docs/atlas.md, "Mapping with the LiDAR"), or with --surveyed FILE
+            on the site's frame: a handful of surveyed markings far apart (a
+            floor map .yaml with its survey block, or an atlas .json) that the
+            built landmarks are tied to. Also writes trajectory_mapped.tum (the
+            keyframes after the joint solve) and trajectory_mapped_lidar.tum
+            (the LiDAR pose graph's, before it).
   lidar     LiDAR + odometry only: scan-to-submap matching with the odometry as
             the initial guess, keyframes every 0.20 m or 5 deg; health per
             keyframe: lidar_degenerate, the scaled information eigenvalues
@@ -139,6 +143,7 @@ Examples:
   groundline localize --dataset sample_zone_b --mode lines --relocalize --near 2 40 --out run_reloc
   groundline localize --dataset sample_zone_b --mode lidar --out run_lidar
   groundline localize --dataset survey_drive --mode mapping --lidar --atlas-out atlas.json --out run_map
+  groundline localize --dataset survey_drive --mode mapping --lidar --surveyed site_lines.yaml --atlas-out atlas.json --out run_map
   groundline localize --dataset second_drive --mode lines --lidar --atlas atlas.json --out run_on_map
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
@@ -192,6 +197,7 @@ int RunLocalize(const LocalizeFlags& flags) {
   service::DatasetLocalizerOptions setup_options;
   setup_options.localizer = OptionsFromFlags(flags);
   setup_options.atlas_path = flags.atlas_path;
+  setup_options.surveyed_landmarks_path = flags.surveyed_path;
   const loc::LocalizerOptions& options = setup_options.localizer;
   if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
     return Usage("--relocalize needs an atlas to recognize: use it with --mode lines");
@@ -506,6 +512,11 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
       ->expected(3);
   cmd->add_option("--atlas", flags->atlas_path,
                   "--mode lines: the atlas to localize on (default: the dataset's floor map)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--surveyed", flags->surveyed_path,
+                  "--mode mapping --lidar: surveyed landmarks in the site frame (a floor map "
+                  ".yaml of a few markings far apart, or an atlas .json) that tie the built "
+                  "atlas to the site")
       ->check(CLI::ExistingFile);
   cmd->add_option("--atlas-out", flags->atlas_out_path,
                   "--mode mapping: where to write the atlas (default OUT/atlas.json)");

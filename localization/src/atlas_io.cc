@@ -82,6 +82,14 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
   }
   Atlas atlas;
   atlas.frame = reader.String(root, "", "frame");
+  // Optional: absent in files written before it, which read as not stated.
+  if (const auto stated = root.find("covariances_stated"); stated != root.end()) {
+    if (stated->is_boolean()) {
+      atlas.covariances_stated = stated->get<bool>();
+    } else {
+      reader.Fail("covariances_stated", "true or false", stated->dump());
+    }
+  }
   const json* lines = reader.Get(root, "", "lines");
   const json* junctions = reader.Get(root, "", "junctions");
   if (!reader.status().ok()) return reader.status();
@@ -128,6 +136,7 @@ core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
   root["format"] = kAtlasFormatName;
   root["version_major"] = kAtlasFormatMajor;
   root["frame"] = atlas.frame;
+  root["covariances_stated"] = atlas.covariances_stated;
   root["lines"] = json::array();
   for (const AtlasLine& line : atlas.lines) {
     root["lines"].push_back(

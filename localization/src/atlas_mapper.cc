@@ -111,6 +111,24 @@ void MergeDuplicates(const AtlasMapperOptions& options, std::vector<LineTrack>* 
   }
 }
 
+// Solves the problem as it stands. The report keeps the first solve's
+// initial cost and the last one's final cost.
+core::Status Solve(const AtlasMapperOptions& options, ceres::Problem* problem, bool first,
+                   AtlasMapperReport* r) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, problem, &summary);
+  if (!summary.IsSolutionUsable()) {
+    return core::Status::Error("mapping: joint solve failed: " + summary.message);
+  }
+  if (first) r->initial_cost = summary.initial_cost;
+  r->final_cost = summary.final_cost;
+  return core::Status::Ok();
+}
+
 }  // namespace
 
 lidar::LidarSlamOptions AtlasMapperOptions::DefaultSlam() {
@@ -118,12 +136,6 @@ lidar::LidarSlamOptions AtlasMapperOptions::DefaultSlam() {
   const lidar::LidarSlamOptions loops;  // lidar_slam.h's loop search
   slam.loop_search_every_n_nodes = loops.loop_search_every_n_nodes;
   slam.retain_finished_submaps = true;
-  // A poor match is retried near the odometry's prediction only: a
-  // calibrated AGV's wheels are not a log's stale odometry, and in an aisle
-  // that looks the same both ways a search over every heading finds the
-  // scan turned by 180 deg.
-  slam.recovery_search.linear_window_m = 0.3;
-  slam.recovery_search.angular_window_rad = 0.1;
   return slam;
 }
 
@@ -135,6 +147,9 @@ core::Status AtlasMapperOptions::Validate() const {
   if (!(pose_sigma_m > 0.0 && pose_sigma_rad > 0.0 && motion_floor_sigma_m > 0.0 &&
         motion_floor_sigma_rad > 0.0 && sighting_huber > 0.0)) {
     return core::Status::Error("AtlasMapperOptions: sigmas and the Huber scale must be > 0");
+  }
+  if (!(anchor_gate_m > 0.0 && anchor_gate_rad > 0.0 && anchor_same_line_m > 0.0)) {
+    return core::Status::Error("AtlasMapperOptions: the survey's match gates must be > 0");
   }
   if (!(along_track_sigma_m >= 0.0)) {
     return core::Status::Error("AtlasMapperOptions: along_track_sigma_m must be >= 0");
@@ -153,6 +168,12 @@ AtlasMapper::AtlasMapper(const AtlasMapperOptions& options)
 
 void AtlasMapper::SetAnchor(const core::SE2& T_map_base, const core::Matrix3& covariance) {
   anchor_.emplace(T_map_base, covariance);
+}
+
+core::Status AtlasMapper::SetSurveyedLandmarks(Atlas survey) {
+  if (core::Status s = survey.Validate(); !s.ok()) return s.WithContext("surveyed landmarks");
+  survey_ = std::move(survey);
+  return core::Status::Ok();
 }
 
 core::Status AtlasMapper::AddScan(double stamp_s, const core::SE2& T_odom_base,
@@ -279,7 +300,11 @@ core::Result<std::unique_ptr<ceres::Problem>> AtlasMapper::SolveJointly(
     // against a submap of a scan or two, may turn the whole graph by
     // milliradians, which at 45 m are centimetres.
     core::SE2 T = core::PoseFromAmbient(poses[0]);
-    Eigen::Matrix3d S = core::Vector3(1e4, 1e4, 1e5).asDiagonal();
+    // Without a start pose the first keyframe is held where the graph put
+    // it; loosely (1 m, 0.1 rad) when surveyed landmarks will place the atlas.
+    const bool surveyed = !survey_.lines.empty() || !survey_.junctions.empty();
+    Eigen::Matrix3d S = surveyed ? core::Vector3(1.0, 1.0, 10.0).asDiagonal()
+                                 : core::Vector3(1e4, 1e4, 1e5).asDiagonal();
     if (anchor_) {
       T = keyframes_[0].T_odom_base;
       core::Result<Eigen::Matrix3d> from_start = SqrtInformationFromCovariance(anchor_->second);
@@ -331,18 +356,101 @@ core::Result<std::unique_ptr<ceres::Problem>> AtlasMapper::SolveJointly(
       ++r->sightings;
     }
   }
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = options_.max_iterations;
-  solver_options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, problem.get(), &summary);
-  if (!summary.IsSolutionUsable()) {
-    return core::Status::Error("mapping: joint solve failed: " + summary.message);
-  }
-  r->initial_cost = summary.initial_cost;
-  r->final_cost = summary.final_cost;
+  if (core::Status s = Solve(options_, problem.get(), /*first=*/true, r); !s.ok()) return s;
   return problem;
+}
+
+core::Status AtlasMapper::AnchorToSurvey(const std::vector<LineTrack>& line_tracks,
+                                         std::vector<std::array<double, 2>>* line_params,
+                                         std::vector<std::array<double, 2>>* junction_params,
+                                         double* site_origin, ceres::Problem* problem,
+                                         AtlasMapperReport* r) const {
+  // The priors are GroundLineFactor / JunctionFactor seen from the survey's
+  // origin: a surveyed line is a sighting from the identity pose.
+  problem->AddParameterBlock(site_origin, 3);
+  problem->SetParameterBlockConstant(site_origin);
+  auto* huber = new ceres::HuberLoss(options_.sighting_huber);  // owned by the problem
+  bool huber_used = false;
+  for (const AtlasLine& surveyed : survey_.lines) {
+    ++r->surveyed;
+    const Eigen::Vector2d middle = 0.5 * (surveyed.endpoint_a_m + surveyed.endpoint_b_m);
+    std::vector<std::pair<double, std::size_t>> candidates;  // (|offset| at the middle, track)
+    for (std::size_t i = 0; i < line_tracks.size(); ++i) {
+      AtlasLine built = line_tracks[i].estimate;
+      if (!KindsCompatible(built.kind, surveyed.kind)) continue;
+      built.line_map = perception::NormalizeLine((*line_params)[i][0], (*line_params)[i][1]);
+      if (!ExtentsOverlap(built, surveyed, options_.anchor_gate_m)) continue;
+      const Eigen::Vector2d d = perception::LineDifference(built.line_map, surveyed.line_map);
+      const double offset = std::abs(perception::SignedDistance(built.line_map, middle));
+      if (std::abs(d(1)) > options_.anchor_gate_rad || offset > options_.anchor_gate_m) continue;
+      candidates.emplace_back(offset, i);
+    }
+    if (candidates.empty()) continue;
+    std::sort(candidates.begin(), candidates.end());
+    const perception::HesseLine nearest = perception::NormalizeLine(
+        (*line_params)[candidates[0].second][0], (*line_params)[candidates[0].second][1]);
+    const Eigen::Vector2d foot =
+        middle - perception::SignedDistance(nearest, middle) * nearest.Normal();
+    const bool ambiguous = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
+      const perception::HesseLine other =
+          perception::NormalizeLine((*line_params)[c.second][0], (*line_params)[c.second][1]);
+      return std::abs(perception::SignedDistance(other, foot)) > options_.anchor_same_line_m;
+    });
+    if (ambiguous) {
+      ++r->surveyed_ambiguous;
+      continue;
+    }
+    core::Result<Eigen::Matrix2d> S = SqrtInformationFromCovariance2(surveyed.covariance);
+    if (!S.ok()) {
+      return core::Status::Error("mapping: surveyed line " + std::to_string(surveyed.id) + ": " +
+                                 S.message());
+    }
+    for (const auto& [offset, i] : candidates) {
+      problem->AddResidualBlock(new GroundLineFactor(surveyed.line_map, *S), huber, site_origin,
+                                (*line_params)[i].data());
+    }
+    huber_used = true;
+    ++r->surveyed_matched;
+  }
+  for (const AtlasJunction& surveyed : survey_.junctions) {
+    ++r->surveyed;
+    std::vector<std::pair<double, std::size_t>> candidates;
+    for (std::size_t i = 0; i < junction_params->size(); ++i) {
+      const Eigen::Vector2d p((*junction_params)[i][0], (*junction_params)[i][1]);
+      const double distance = (p - surveyed.point_m).norm();
+      if (distance <= options_.anchor_gate_m) candidates.emplace_back(distance, i);
+    }
+    if (candidates.empty()) continue;
+    std::sort(candidates.begin(), candidates.end());
+    const auto point = [&](std::size_t i) {
+      return Eigen::Vector2d((*junction_params)[i][0], (*junction_params)[i][1]);
+    };
+    // Built junctions within anchor_same_line_m of the nearest are one
+    // junction seen twice; any other within the gate: ambiguous.
+    const bool ambiguous = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
+      return (point(c.second) - point(candidates[0].second)).norm() > options_.anchor_same_line_m;
+    });
+    if (ambiguous) {
+      ++r->surveyed_ambiguous;
+      continue;
+    }
+    core::Result<Eigen::Matrix2d> S = SqrtInformationFromCovariance2(surveyed.covariance);
+    if (!S.ok()) {
+      return core::Status::Error("mapping: surveyed junction " + std::to_string(surveyed.id) +
+                                 ": " + S.message());
+    }
+    for (const auto& [distance, i] : candidates) {
+      problem->AddResidualBlock(new JunctionFactor(surveyed.point_m, *S), huber, site_origin,
+                                (*junction_params)[i].data());
+    }
+    huber_used = true;
+    ++r->surveyed_matched;
+  }
+  if (!huber_used) {
+    delete huber;
+    return core::Status::Ok();
+  }
+  return Solve(options_, problem, /*first=*/false, r);
 }
 
 core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
@@ -384,11 +492,19 @@ core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
   std::vector<LineTrack> line_tracks;
   std::vector<JunctionTrack> junction_tracks;
   std::vector<std::array<double, 2>> line_params, junction_params;
+  std::array<double, 3> site_origin{0.0, 0.0, 0.0};  // outlives the problem
   Associate(poses, &line_tracks, &junction_tracks, &r);
   core::Result<std::unique_ptr<ceres::Problem>> solved =
       SolveJointly(line_tracks, junction_tracks, &poses, &line_params, &junction_params, &r);
   if (!solved.ok()) return solved.status();
   const std::unique_ptr<ceres::Problem> problem = std::move(solved).value();
+  if (!survey_.lines.empty() || !survey_.junctions.empty()) {
+    if (core::Status s = AnchorToSurvey(line_tracks, &line_params, &junction_params,
+                                        site_origin.data(), problem.get(), &r);
+        !s.ok()) {
+      return s;
+    }
+  }
 
   // 4. Marginal covariances of the landmarks.
   std::vector<std::pair<const double*, const double*>> blocks;
@@ -400,6 +516,8 @@ core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
   r.covariances = covariance.Compute(blocks, problem.get());
 
   Atlas atlas;
+  // The marginals are the landmarks' accuracy, the trajectory's included.
+  atlas.covariances_stated = r.covariances;
   std::int64_t id = 0;
   for (std::size_t i = 0; i < line_tracks.size(); ++i) {
     const LineTrack& t = line_tracks[i];

@@ -50,8 +50,17 @@ core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const Localiz
   }
   if (needs_lidar) impl->lidar = std::make_unique<LidarStage>(*setup.lidar, impl->options);
   if (needs_lidar && options.mode == LocalizerMode::kMapping) {
-    impl->mapper = std::make_unique<AtlasMapper>(options.mapper);
+    // The joint solve's wheel factors take the localizer's odometry noise
+    // (a --wheel-variance override included).
+    AtlasMapperOptions mapper_options = options.mapper;
+    mapper_options.odometry_noise = impl->options.noise;
+    impl->mapper = std::make_unique<AtlasMapper>(mapper_options);
     AtlasMapper* mapper = impl->mapper.get();
+    if (!setup.atlas.lines.empty() || !setup.atlas.junctions.empty()) {
+      if (core::Status s = mapper->SetSurveyedLandmarks(setup.atlas); !s.ok()) {
+        return s.WithContext("localizer");
+      }
+    }
     impl->lidar->SetScanSink(
         [mapper](double stamp_s, const core::SE2& T_odom_base, const lidar::ScanPoints& points) {
           // A scan the SLAM refuses (stamps not increasing) is counted in

@@ -119,7 +119,10 @@ nlohmann::ordered_json AtlasMapperReportJson(const AtlasMapperReport& r) {
           {"landmarks_dropped", r.landmarks_dropped},
           {"initial_cost", r.initial_cost},
           {"final_cost", r.final_cost},
-          {"covariances", r.covariances}};
+          {"covariances", r.covariances},
+          {"surveyed", r.surveyed},
+          {"surveyed_matched", r.surveyed_matched},
+          {"surveyed_ambiguous", r.surveyed_ambiguous}};
 }
 
 nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {

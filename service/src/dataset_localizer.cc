@@ -3,6 +3,7 @@
 #include "groundline/calibration/bev_uncertainty.h"
 #include "groundline/calibration/camera_file.h"
 #include "groundline/calibration/camera_mount_yaml.h"
+#include "groundline/core/floor_map.h"
 #include "groundline/localization/atlas.h"
 
 namespace groundline::service {
@@ -13,6 +14,20 @@ core::Matrix3 StartCovariance(const core::StartPose& start) {
   return core::Vector3(start.sigma_xy_m * start.sigma_xy_m, start.sigma_xy_m * start.sigma_xy_m,
                        start.sigma_yaw_rad * start.sigma_yaw_rad)
       .asDiagonal();
+}
+
+core::Result<localization::Atlas> ReadSurveyedLandmarks(const std::filesystem::path& path) {
+  const std::string extension = path.extension().string();
+  if (extension == ".yaml" || extension == ".yml") {
+    core::Result<core::FloorMap> map = core::ReadFloorMap(path);
+    if (!map.ok()) return map.status();
+    return localization::AtlasFromFloorMap(*map, localization::AtlasFromFloorMapOptions());
+  }
+  if (extension == ".json") return localization::ReadAtlas(path);
+  return core::Status::Error(path.string() +
+                             ": surveyed landmarks: expected a floor map (.yaml) or an atlas "
+                             "(.json), got a '" +
+                             extension + "' file");
 }
 
 core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
@@ -54,7 +69,8 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
       core::Result<calibration::BevUncertaintyMap> map =
           calibration::ReadBevUncertaintyMap(dir / file);
       if (!map.ok()) return map.status();
-      if (core::Status s = calibration::CheckBevUncertaintyCamera(*map, *camera, (dir / file).string());
+      if (core::Status s =
+              calibration::CheckBevUncertaintyCamera(*map, *camera, (dir / file).string());
           !s.ok()) {
         return s;
       }
@@ -81,6 +97,16 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
                                  ": the lines mode needs an atlas file or a dataset with "
                                  "floor_map.yaml");
     }
+  } else if (!options.surveyed_landmarks_path.empty()) {
+    if (o.mode != loc::LocalizerMode::kMapping || !o.use_lidar) {
+      return core::Status::Error(options.surveyed_landmarks_path +
+                                 ": surveyed landmarks anchor a mapping run with the LiDAR; "
+                                 "expected the mapping mode with the LiDAR on");
+    }
+    core::Result<loc::Atlas> survey = ReadSurveyedLandmarks(options.surveyed_landmarks_path);
+    if (!survey.ok()) return survey.status();
+    out.setup.atlas = std::move(survey).value();
+    out.atlas_source = options.surveyed_landmarks_path;
   } else {
     out.atlas_source = "empty";
   }

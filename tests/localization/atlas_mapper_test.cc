@@ -92,27 +92,56 @@ FloorObservations SeeFloor(const core::SE2& T, std::mt19937* rng,
   return out;
 }
 
-TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance) {
-  AtlasMapperOptions options;
-  AtlasMapper mapper(options);
+// The two laps fed to the mapper: scans at 15 Hz, keyframes every 0.3 s.
+// T_believed_true: where the vehicle's odometry frame is, against the truth
+// (identity: the odometry starts at the true start pose).
+void DriveTwoLaps(AtlasMapper* mapper, const core::SE2& T_believed_true = core::SE2()) {
   std::mt19937 rng(7);
   const std::vector<testing::Segment> walls = testing::RoomWorld();
   double next_keyframe_s = 0.0;
   for (int k = 1; k * (1.0 / 15.0) <= kDuration; ++k) {
     const double t = k / 15.0;
-    ASSERT_TRUE(
-        mapper.AddScan(t, Odometry(t), testing::SimulateScan(walls, Truth(t), 0.01, k)).ok());
+    const core::SE2 odometry = T_believed_true * Odometry(t);
+    ASSERT_TRUE(mapper->AddScan(t, odometry, testing::SimulateScan(walls, Truth(t), 0.01, k)).ok());
     if (t >= next_keyframe_s) {
       std::vector<LineObservation> faces;
       const FloorObservations floor = SeeFloor(Truth(t), &rng, &faces);
-      mapper.AddKeyframe(t, Odometry(t), floor, faces);
+      mapper->AddKeyframe(t, odometry, floor, faces);
       next_keyframe_s = t + 0.3;
     }
   }
+}
+
+// The error of each built floor line against the marking it is nearest to:
+// the largest |rho| (at the marking's middle) and |alpha|.
+std::pair<double, double> WorstFloorLineError(const Atlas& atlas) {
+  double worst_m = 0.0, worst_rad = 0.0;
+  for (const AtlasLine& line : atlas.lines) {
+    if (core::IsFaceKind(line.kind)) continue;
+    double best = 1e9, offset = 0.0, angle = 0.0;
+    for (const FloorSegment& m : FloorMarkings()) {
+      const Eigen::Vector2d e =
+          perception::LineDifference(line.line_map, *perception::LineFromPoints(m.a, m.b));
+      const double at_middle = perception::SignedDistance(line.line_map, 0.5 * (m.a + m.b));
+      if (std::abs(at_middle) + std::abs(e(1)) < best) {
+        best = std::abs(at_middle) + std::abs(e(1)), offset = at_middle, angle = e(1);
+      }
+    }
+    worst_m = std::max(worst_m, std::abs(offset));
+    worst_rad = std::max(worst_rad, std::abs(angle));
+  }
+  return {worst_m, worst_rad};
+}
+
+TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance) {
+  AtlasMapperOptions options;
+  AtlasMapper mapper(options);
+  DriveTwoLaps(&mapper);
   AtlasMapperReport report;
   core::Result<Atlas> atlas = mapper.Build(&report);
   ASSERT_TRUE(atlas.ok()) << atlas.message();
   EXPECT_TRUE(report.covariances);
+  EXPECT_TRUE(atlas->covariances_stated);  // the marginals are the landmarks' accuracy
   // The wheels alone end decimetres off; the mapped trajectory does not.
   EXPECT_GT((Odometry(kDuration).translation() - Truth(kDuration).translation()).norm(), 0.15);
   double worst_m = 0.0;
@@ -161,6 +190,64 @@ TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance
   EXPECT_EQ(inside_3_sigma, checked);
   const double junction_error = (atlas->junctions.at(0).point_m - Eigen::Vector2d(1.6, 1.4)).norm();
   EXPECT_LT(junction_error, 0.01);
+}
+
+// A start pose whose heading is 10 mrad off turns the whole atlas about the
+// start; two surveyed markings far apart (1 mm, 0.5 mrad) turn it back onto
+// the site frame.
+TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned) {
+  const core::SE2 start = Truth(0.0);
+  const core::SE2 believed(start.x(), start.y(), start.yaw() + 0.01);
+  const core::Matrix3 start_covariance = core::Vector3(1e-4, 1e-4, 9e-4).asDiagonal();
+  Atlas survey;
+  for (const int m : {0, 3}) {
+    const FloorSegment marking = FloorMarkings()[static_cast<std::size_t>(m)];
+    AtlasLine line;
+    line.id = m + 1;
+    line.kind = core::MarkingKind::kTapeSolid;
+    line.line_map = *perception::LineFromPoints(marking.a, marking.b);
+    line.covariance = Eigen::Vector2d(1e-6, 0.25e-6).asDiagonal();
+    line.endpoint_a_m = marking.a;
+    line.endpoint_b_m = marking.b;
+    survey.lines.push_back(line);
+  }
+  std::pair<double, double> free_error, surveyed_error;
+  for (const bool surveyed : {false, true}) {
+    AtlasMapper mapper{AtlasMapperOptions()};
+    mapper.SetAnchor(believed, start_covariance);
+    if (surveyed) {
+      ASSERT_TRUE(mapper.SetSurveyedLandmarks(survey).ok());
+    }
+    DriveTwoLaps(&mapper, believed * start.Inverse());
+    AtlasMapperReport report;
+    core::Result<Atlas> atlas = mapper.Build(&report);
+    ASSERT_TRUE(atlas.ok()) << atlas.message();
+    (surveyed ? surveyed_error : free_error) = WorstFloorLineError(*atlas);
+    EXPECT_EQ(report.surveyed, surveyed ? 2 : 0);
+    EXPECT_EQ(report.surveyed_matched, surveyed ? 2 : 0);
+    EXPECT_EQ(report.surveyed_ambiguous, 0);
+    if (!surveyed) continue;
+    double worst_m = 0.0;
+    for (const core::StampedPose& p : mapper.keyframe_trajectory()) {
+      worst_m = std::max(worst_m, (p.pose.translation() - Truth(p.stamp_s).translation()).norm());
+    }
+    EXPECT_LT(worst_m, 0.03);
+  }
+  // Free, the lines are turned with the start pose (up to 10 mrad); tied to
+  // the survey, within 5 mm and 0.2 deg.
+  EXPECT_GT(free_error.second, 0.007);
+  EXPECT_LT(surveyed_error.first, 0.005);
+  EXPECT_LT(surveyed_error.second, 0.2 * std::numbers::pi / 180.0);
+}
+
+TEST(AtlasMapper, RefusesAnInvalidSurvey) {
+  AtlasMapper mapper{AtlasMapperOptions()};
+  Atlas survey;
+  AtlasLine line;
+  line.line_map = perception::NormalizeLine(1.0, 0.0);
+  line.covariance = -Eigen::Matrix2d::Identity();
+  survey.lines.push_back(line);
+  EXPECT_FALSE(mapper.SetSurveyedLandmarks(survey).ok());
 }
 
 TEST(AtlasMapper, WithoutKeyframesThereIsNoAtlas) {

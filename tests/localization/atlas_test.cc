@@ -131,6 +131,12 @@ TEST(Atlas, WriteThenReadIsExact) {
     EXPECT_EQ(read->lines[i].endpoint_b_m, atlas.lines[i].endpoint_b_m);
   }
   EXPECT_EQ(read->junctions[3].point_m, atlas.junctions[3].point_m);
+  EXPECT_FALSE(read->covariances_stated);
+  atlas.covariances_stated = true;
+  ASSERT_TRUE(WriteAtlas(path, atlas).ok());
+  const auto stated = ReadAtlas(path);
+  ASSERT_TRUE(stated.ok()) << stated.message();
+  EXPECT_TRUE(stated->covariances_stated);
 }
 
 TEST(Atlas, ErrorsNameTheField) {
@@ -166,6 +172,14 @@ TEST(Atlas, ErrorsNameTheField) {
     EXPECT_NE(bad.message().find("lines[0].id': expected an integer id"), std::string::npos)
         << bad.message();
   }
+  // covariances_stated is optional (a file written before it reads as not
+  // stated), and a boolean when present.
+  const auto older = write(head + R"("lines": [], "junctions": []})");
+  ASSERT_TRUE(older.ok()) << older.message();
+  EXPECT_FALSE(older->covariances_stated);
+  bad = write(head + R"("covariances_stated": "yes", "lines": [], "junctions": []})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("covariances_stated"), std::string::npos) << bad.message();
   EXPECT_FALSE(ReadAtlas(TempPath("does_not_exist.json")).ok());
 }
 

@@ -46,14 +46,14 @@ struct Atlas {
   std::string frame = "map";
   std::vector<AtlasLine> lines;
   std::vector<AtlasJunction> junctions;
-  // Whether the covariances are the landmarks' accuracy as a survey states
-  // it (AtlasFromFloorMap of a floor map with a survey block). A localizing
-  // smoother weighs its line and junction factors by such covariances
-  // (SmootherOptions::landmark_covariance_in_factors). Otherwise (the
-  // assumed accuracy of a map that states none, a mapping run's landmarks,
-  // whose covariances are not yet kept consistent) they only widen the
-  // association gate. Not stored in the atlas file: a file reads back as not
-  // stated.
+  // Whether the covariances are the landmarks' accuracy as stated by a
+  // survey (AtlasFromFloorMap of a floor map with a survey block) or by the
+  // joint solve of a mapping drive (AtlasMapper: each landmark's marginal).
+  // A localizing smoother weighs its line and junction factors by such
+  // covariances (SmootherOptions::landmark_covariance_in_factors).
+  // Otherwise (the assumed accuracy of a map that states none, the causal
+  // mapping smoother's landmarks) they only widen the association gate.
+  // Stored in the atlas file as `covariances_stated` (absent: false).
   bool covariances_stated = false;
 
   // Finite values, normalized lines, symmetric positive definite

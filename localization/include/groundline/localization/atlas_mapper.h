@@ -31,6 +31,14 @@
 //      GroundLineFactor per line or face sighting and a JunctionFactor per
 //      junction sighting (robust loss), the first keyframe held at its
 //      pose (the atlas' frame is that of the start pose: anchoring);
+//   3b. with surveyed landmarks (SetSurveyedLandmarks: a handful of floor
+//      lines, faces or junctions a surveyor measured in the site frame),
+//      matches each to the built landmark it must be (near it after the
+//      solve, the same kind, extents overlapping, no other line within the
+//      gate), adds a prior on that landmark with the survey's covariance and
+//      solves again: the built atlas turns and shifts onto the site frame,
+//      which one start pose cannot do (a heading error of the wheels over
+//      the first metre turns the whole map about its start);
 //   4. takes each landmark's covariance from the joint solve's marginal
 //      (ceres::Covariance): the uncertainty of the trajectory that saw it is
 //      in it, not only the sightings' noise, which would average away with
@@ -91,8 +99,18 @@ struct AtlasMapperOptions {
   OdometryNoiseParams odometry_noise;
   double motion_floor_sigma_m = 0.002;
   double motion_floor_sigma_rad = 0.0005;
-  // Robust loss (Huber) on the whitened sighting residual.
+  // Robust loss (Huber) on the whitened sighting residual, and on a
+  // surveyed landmark's prior.
   double sighting_huber = 2.0;
+  // A surveyed landmark is matched to a built one within this distance (at
+  // the surveyed line's middle, or between the points) and angle, after the
+  // first solve: the map may be turned about its start by milliradians,
+  // decimetres at the far end of a zone. Built lines within
+  // anchor_same_line_m of the nearest are taken as pieces of the same line;
+  // any other within the gate makes the match ambiguous (left out).
+  double anchor_gate_m = 0.5;
+  double anchor_gate_rad = 0.02;
+  double anchor_same_line_m = 0.05;
   int max_iterations = 50;
 
   core::Status Validate() const;
@@ -113,7 +131,10 @@ struct AtlasMapperReport {
   int landmarks_dropped = 0;  // seen too few times
   double initial_cost = 0.0;
   double final_cost = 0.0;
-  bool covariances = false;  // the marginal covariances were computed
+  bool covariances = false;    // the marginal covariances were computed
+  int surveyed = 0;            // surveyed landmarks given (lines, faces, junctions)
+  int surveyed_matched = 0;    // tied to a built landmark
+  int surveyed_ambiguous = 0;  // more than one built line or junction fitted
 };
 
 class AtlasMapper {
@@ -129,6 +150,11 @@ class AtlasMapper {
   // localizer's start pose): the prior that ties the atlas to the site
   // (anchoring). Without it, the first keyframe's corrected pose is held.
   void SetAnchor(const core::SE2& T_map_base, const core::Matrix3& covariance);
+  // Surveyed landmarks in the site frame with the survey's covariance
+  // (step 3b): a handful of floor lines, faces or junctions far apart, as a
+  // floor map of their own (AtlasFromFloorMap) or an atlas file. Without a
+  // start pose they alone place the atlas. Errors: an invalid atlas.
+  core::Status SetSurveyedLandmarks(Atlas survey);
   // A deskewed scan describing stamp_s, T_odom_base the odometry there.
   // Errors: stamps not increasing (the scan is left out).
   core::Status AddScan(double stamp_s, const core::SE2& T_odom_base, const lidar::ScanPoints& scan);
@@ -165,7 +191,17 @@ class AtlasMapper {
       std::vector<std::array<double, 3>>* poses, std::vector<std::array<double, 2>>* line_params,
       std::vector<std::array<double, 2>>* junction_params, AtlasMapperReport* report) const;
 
+  // Step 3b on the solved problem: priors on the built landmarks that
+  // match a surveyed one, then the solve again. site_origin: a constant
+  // identity pose block (the survey's frame) that outlives the problem.
+  core::Status AnchorToSurvey(const std::vector<LineTrack>& line_tracks,
+                              std::vector<std::array<double, 2>>* line_params,
+                              std::vector<std::array<double, 2>>* junction_params,
+                              double* site_origin, ceres::Problem* problem,
+                              AtlasMapperReport* report) const;
+
   AtlasMapperOptions options_;
+  Atlas survey_;
   lidar::LidarSlam slam_;
   core::Trajectory scan_odometry_;  // T_odom_base at each scan the SLAM took
   int scans_failed_ = 0;

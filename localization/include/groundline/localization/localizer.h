@@ -181,8 +181,10 @@ struct LidarSetup {
 // What the localizer knows about the vehicle and the site.
 struct LocalizerSetup {
   DiffDriveParams drive;
-  // kLines: the atlas to localize on (floor lines, junctions, wall faces);
-  // kMapping starts from an empty atlas and ignores it.
+  // kLines: the atlas to localize on (floor lines, junctions, wall faces).
+  // kMapping starts from an empty atlas; with the LiDAR, this one's
+  // landmarks are the site's surveyed ones that tie the built atlas to the
+  // site frame (AtlasMapper::SetSurveyedLandmarks), if any.
   Atlas atlas;
   std::optional<LidarSetup> lidar;
   // Needed for AddFrame (kLines / kMapping); AddFloorObservations works without it.

@@ -25,6 +25,11 @@ struct DatasetLocalizerOptions {
   localization::FloorFrontEndOptions front_end;
   // kLines: the atlas file to localize on; empty: the dataset's floor map.
   std::string atlas_path;
+  // kMapping with the LiDAR: the site's surveyed landmarks that tie the
+  // built atlas to the site frame, a floor map (.yaml: a handful of surveyed
+  // markings, with its survey block) or an atlas file (.json); empty: the
+  // start pose alone anchors it. Never the dataset's own floor map.
+  std::string surveyed_landmarks_path;
 };
 
 struct DatasetSetup {
@@ -46,6 +51,10 @@ struct DatasetSetup {
 core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
                                             const core::Dataset& dataset,
                                             const DatasetLocalizerOptions& options);
+
+// Surveyed landmarks for mapping: a floor map (.yaml, read with its survey
+// block) or an atlas (.json). Errors name the file and what was expected.
+core::Result<localization::Atlas> ReadSurveyedLandmarks(const std::filesystem::path& path);
 
 // The default start covariance of a start pose (its sigmas, diagonal).
 core::Matrix3 StartCovariance(const core::StartPose& start);
