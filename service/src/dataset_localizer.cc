@@ -83,6 +83,12 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
     out.setup.camera = std::make_shared<const loc::FloorFrontEnd>(std::move(front_end).value());
     out.camera_mount = *mount;
   }
+  if (!options.surveyed_landmarks_path.empty() &&
+      (o.mode != loc::LocalizerMode::kMapping || !o.use_lidar)) {
+    return core::Status::Error(options.surveyed_landmarks_path +
+                               ": surveyed landmarks anchor a mapping run with the LiDAR; "
+                               "expected the mapping mode with the LiDAR on");
+  }
   if (o.mode == loc::LocalizerMode::kLines) {
     if (!options.atlas_path.empty()) {
       core::Result<loc::Atlas> atlas = loc::ReadAtlas(options.atlas_path);
@@ -98,11 +104,6 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
                                  "floor_map.yaml");
     }
   } else if (!options.surveyed_landmarks_path.empty()) {
-    if (o.mode != loc::LocalizerMode::kMapping || !o.use_lidar) {
-      return core::Status::Error(options.surveyed_landmarks_path +
-                                 ": surveyed landmarks anchor a mapping run with the LiDAR; "
-                                 "expected the mapping mode with the LiDAR on");
-    }
     core::Result<loc::Atlas> survey = ReadSurveyedLandmarks(options.surveyed_landmarks_path);
     if (!survey.ok()) return survey.status();
     out.setup.atlas = std::move(survey).value();
