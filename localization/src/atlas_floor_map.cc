@@ -141,7 +141,7 @@ Atlas AtlasFromFloorMap(const core::FloorMap& map, const AtlasFromFloorMapOption
   const double variance = junction_sigma_m * junction_sigma_m;
   for (const Eigen::Vector2d& point : MarkingJunctions(map, options)) {
     atlas.junctions.push_back({static_cast<std::int64_t>(atlas.junctions.size()), point,
-                               Eigen::Matrix2d::Identity() * variance});
+                               Eigen::Matrix2d::Identity() * variance, std::nullopt});
   }
   std::vector<WallSegment> faces;
   for (const core::FloorMarking& marking : map.markings) {

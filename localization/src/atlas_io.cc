@@ -1,6 +1,8 @@
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 
 #include "groundline/core/atomic_file.h"
@@ -20,6 +22,43 @@ Eigen::Matrix2d Matrix2(const std::vector<double>& v) {
 
 json ToJson(const Eigen::Matrix2d& m) { return json::array({m(0, 0), m(0, 1), m(1, 0), m(1, 1)}); }
 json ToJson(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
+
+json ToJson(const LandmarkSightings& seen) {
+  return {{"keyframes", seen.keyframes}, {"first_s", seen.first_s}, {"last_s", seen.last_s}};
+}
+
+// The optional "seen" member of a line or junction entry.
+std::optional<LandmarkSightings> ReadSightings(const json& entry, const std::string& p,
+                                               core::JsonFieldReader* reader) {
+  const auto found = entry.find("seen");
+  if (found == entry.end()) return std::nullopt;
+  LandmarkSightings seen;
+  const std::string q = p + "seen.";
+  const std::int64_t keyframes = reader->Id(*found, q, "keyframes");
+  seen.first_s = reader->Finite(*found, q, "first_s");
+  seen.last_s = reader->Finite(*found, q, "last_s");
+  if (!reader->ok()) return std::nullopt;
+  if (keyframes < 1 || keyframes > std::numeric_limits<int>::max()) {
+    reader->Fail(q + "keyframes", "an integer >= 1", std::to_string(keyframes));
+    return std::nullopt;
+  }
+  seen.keyframes = static_cast<int>(keyframes);
+  if (seen.last_s < seen.first_s) {
+    reader->Fail(q + "last_s", "a stamp >= first_s (" + std::to_string(seen.first_s) + ")",
+                 std::to_string(seen.last_s));
+  }
+  return seen;
+}
+
+core::Status CheckSightings(const std::optional<LandmarkSightings>& seen,
+                            const std::string& field) {
+  if (!seen || (seen->keyframes >= 1 && std::isfinite(seen->first_s) &&
+                std::isfinite(seen->last_s) && seen->last_s >= seen->first_s)) {
+    return core::Status::Ok();
+  }
+  return core::Status::Error("field '" + field +
+                             ".seen': expected keyframes >= 1 and finite first_s <= last_s");
+}
 
 core::Status CheckCovariance(const Eigen::Matrix2d& c, const std::string& field) {
   const bool ok = c.allFinite() && std::abs(c(0, 1) - c(1, 0)) <= 1e-12 * c.cwiseAbs().maxCoeff() &&
@@ -51,6 +90,7 @@ core::Status Atlas::Validate() const {
     }
     core::Status status = CheckCovariance(line.covariance, field + ".covariance");
     if (!status.ok()) return status;
+    if (status = CheckSightings(line.seen, field); !status.ok()) return status;
   }
   ids.clear();
   for (size_t i = 0; i < junctions.size(); ++i) {
@@ -63,6 +103,7 @@ core::Status Atlas::Validate() const {
     }
     core::Status status = CheckCovariance(junctions[i].covariance, field + ".covariance");
     if (!status.ok()) return status;
+    if (status = CheckSightings(junctions[i].seen, field); !status.ok()) return status;
   }
   return core::Status::Ok();
 }
@@ -111,6 +152,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     const std::vector<double> ends = reader.Numbers(entry, p, "endpoints_m", 4);
     line.endpoint_a_m = {ends[0], ends[1]};
     line.endpoint_b_m = {ends[2], ends[3]};
+    line.seen = ReadSightings(entry, p, &reader);
     atlas.lines.push_back(line);
   }
   for (size_t i = 0; i < junctions->size(); ++i) {
@@ -121,6 +163,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     const std::vector<double> point = reader.Numbers(entry, p, "point_m", 2);
     junction.point_m = {point[0], point[1]};
     junction.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));
+    junction.seen = ReadSightings(entry, p, &reader);
     atlas.junctions.push_back(junction);
   }
   if (!reader.status().ok()) return reader.status();
@@ -147,12 +190,14 @@ core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
          {"kind", std::string(core::MarkingKindName(line.kind))},
          {"endpoints_m", json::array({line.endpoint_a_m.x(), line.endpoint_a_m.y(),
                                       line.endpoint_b_m.x(), line.endpoint_b_m.y()})}});
+    if (line.seen) root["lines"].back()["seen"] = ToJson(*line.seen);
   }
   root["junctions"] = json::array();
   for (const AtlasJunction& junction : atlas.junctions) {
     root["junctions"].push_back({{"id", junction.id},
                                  {"point_m", ToJson(junction.point_m)},
                                  {"covariance", ToJson(junction.covariance)}});
+    if (junction.seen) root["junctions"].back()["seen"] = ToJson(*junction.seen);
   }
   return core::WriteFileAtomically(path, root.dump(1) + "\n");
 }

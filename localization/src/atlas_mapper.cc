@@ -129,6 +129,21 @@ core::Status Solve(const AtlasMapperOptions& options, ceres::Problem* problem, b
   return core::Status::Ok();
 }
 
+// The keyframes that saw a landmark: their number and first and last stamps.
+template <typename Keyframes>
+LandmarkSightings SightingsOf(const std::vector<std::pair<int, int>>& sightings,
+                              const Keyframes& keyframes) {
+  LandmarkSightings seen;
+  seen.keyframes = DistinctKeyframes(sightings);
+  seen.first_s = seen.last_s = keyframes[static_cast<std::size_t>(sightings.front().first)].stamp_s;
+  for (const auto& [k, o] : sightings) {
+    const double t = keyframes[static_cast<std::size_t>(k)].stamp_s;
+    seen.first_s = std::min(seen.first_s, t);
+    seen.last_s = std::max(seen.last_s, t);
+  }
+  return seen;
+}
+
 }  // namespace
 
 lidar::LidarSlamOptions AtlasMapperOptions::DefaultSlam() {
@@ -529,6 +544,7 @@ core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
       covariance.GetCovarianceBlock(line_params[i].data(), line_params[i].data(), cov.data());
     line.line_map = perception::NormalizeLine(line_params[i][0], line_params[i][1], &cov);
     line.covariance = 0.5 * (cov + cov.transpose());
+    line.seen = SightingsOf(t.sightings, keyframes_);
     // The extent: every sighting's ends, projected onto the solved line.
     bool first = true;
     for (const auto& [k, o] : t.sightings) {
@@ -560,6 +576,7 @@ core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
                                     j.covariance.data());
     }
     j.covariance = 0.5 * (j.covariance + j.covariance.transpose());
+    j.seen = SightingsOf(junction_tracks[i].sightings, keyframes_);
     atlas.junctions.push_back(j);
   }
   r.junctions = static_cast<int>(atlas.junctions.size());

@@ -25,7 +25,7 @@ TEST(CompareAtlases, OffsetsAreMeasuredWhereTheLineWasSeenAndWeighedByItsCovaria
                      Line(60, 5, 70, 5, core::MarkingKind::kTapeSolid, 0.0),
                      Line(90, 0, 90, 30, core::MarkingKind::kWall, 0.0),
                      Line(0, 0, 5, 0, core::MarkingKind::kTapeSolid, 0.0)};
-  reference.junctions.push_back({1, {80, 0}, Eigen::Matrix2d::Identity()});
+  reference.junctions.push_back({1, {80, 0}, Eigen::Matrix2d::Identity(), std::nullopt});
   // 2 mm and 12 mm off (sigma 2 mm: inside and outside 3 sigma), a face 1 cm
   // off, a line of another family at the face's place (never paired with it),
   // a line where the reference has none.
@@ -34,7 +34,7 @@ TEST(CompareAtlases, OffsetsAreMeasuredWhereTheLineWasSeenAndWeighedByItsCovaria
                  Line(90.01, 0, 90.01, 30, core::MarkingKind::kRackFace, 0.005),
                  Line(90.0, 0, 90.0, 30, core::MarkingKind::kTapeSolid, 0.002),
                  Line(40, 40, 45, 40, core::MarkingKind::kTapeSolid, 0.002)};
-  built.junctions.push_back({1, {80.003, 0.004}, Eigen::Matrix2d::Identity() * 1e-4});
+  built.junctions.push_back({1, {80.003, 0.004}, Eigen::Matrix2d::Identity() * 1e-4, std::nullopt});
   const AtlasAccuracy a = CompareAtlases(built, reference);
   EXPECT_EQ(a.floor_lines.built, 4);
   EXPECT_EQ(a.floor_lines.paired, 2);

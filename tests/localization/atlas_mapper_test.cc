@@ -92,14 +92,16 @@ FloorObservations SeeFloor(const core::SE2& T, std::mt19937* rng,
   return out;
 }
 
-// The two laps fed to the mapper: scans at 15 Hz, keyframes every 0.3 s.
-// T_believed_true: where the vehicle's odometry frame is, against the truth
-// (identity: the odometry starts at the true start pose).
-void DriveTwoLaps(AtlasMapper* mapper, const core::SE2& T_believed_true = core::SE2()) {
+// The drive fed to the mapper (two laps, or the first duration_s of them):
+// scans at 15 Hz, keyframes every 0.3 s. T_believed_true: where the
+// vehicle's odometry frame is, against the truth (identity: the odometry
+// starts at the true start pose).
+void DriveTwoLaps(AtlasMapper* mapper, const core::SE2& T_believed_true = core::SE2(),
+                  double duration_s = kDuration) {
   std::mt19937 rng(7);
   const std::vector<testing::Segment> walls = testing::RoomWorld();
   double next_keyframe_s = 0.0;
-  for (int k = 1; k * (1.0 / 15.0) <= kDuration; ++k) {
+  for (int k = 1; k * (1.0 / 15.0) <= duration_s; ++k) {
     const double t = k / 15.0;
     const core::SE2 odometry = T_believed_true * Odometry(t);
     ASSERT_TRUE(mapper->AddScan(t, odometry, testing::SimulateScan(walls, Truth(t), 0.01, k)).ok());
@@ -142,6 +144,16 @@ TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance
   ASSERT_TRUE(atlas.ok()) << atlas.message();
   EXPECT_TRUE(report.covariances);
   EXPECT_TRUE(atlas->covariances_stated);  // the marginals are the landmarks' accuracy
+  // Every landmark says when it was seen: a wall all along the two laps, a
+  // marking over at least the two keyframes that kept it.
+  for (const AtlasLine& line : atlas->lines) {
+    ASSERT_TRUE(line.seen.has_value()) << "line " << line.id;
+    EXPECT_GE(line.seen->keyframes, 2) << "line " << line.id;
+    EXPECT_LE(line.seen->first_s, line.seen->last_s);
+    if (core::IsFaceKind(line.kind)) {
+      EXPECT_GT(line.seen->last_s - line.seen->first_s, 0.5 * kDuration) << "face " << line.id;
+    }
+  }
   // The wheels alone end decimetres off; the mapped trajectory does not.
   EXPECT_GT((Odometry(kDuration).translation() - Truth(kDuration).translation()).norm(), 0.15);
   double worst_m = 0.0;
@@ -192,8 +204,8 @@ TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance
   EXPECT_LT(junction_error, 0.01);
 }
 
-// A start pose whose heading is 10 mrad off turns the whole atlas about the
-// start; two surveyed markings far apart (1 mm, 0.5 mrad) turn it back onto
+// A start pose whose heading is 10 mrad off turns the whole atlas of one lap
+// about the start; two surveyed markings far apart (1 mm, 0.5 mrad) turn it back onto
 // the site frame.
 TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned) {
   const core::SE2 start = Truth(0.0);
@@ -218,7 +230,7 @@ TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned)
     if (surveyed) {
       ASSERT_TRUE(mapper.SetSurveyedLandmarks(survey).ok());
     }
-    DriveTwoLaps(&mapper, believed * start.Inverse());
+    DriveTwoLaps(&mapper, believed * start.Inverse(), 0.5 * kDuration);  // one lap
     AtlasMapperReport report;
     core::Result<Atlas> atlas = mapper.Build(&report);
     ASSERT_TRUE(atlas.ok()) << atlas.message();

@@ -116,6 +116,8 @@ TEST(Atlas, AFarAwayStripeDoesNotOpenTheGateToItsEdge) {
 TEST(Atlas, WriteThenReadIsExact) {
   Atlas atlas = AtlasFromFloorMap(SquareAndCross(), AtlasFromFloorMapOptions());
   atlas.lines[0].covariance << 2.5e-5, 1.0e-7, 1.0e-7, 4.0e-6;
+  atlas.lines[1].seen = LandmarkSightings{7, 12.5, 98.25};
+  atlas.junctions[2].seen = LandmarkSightings{2, 3.0, 3.5};
   const auto path = TempPath("atlas_round_trip.json");
   ASSERT_TRUE(WriteAtlas(path, atlas).ok());
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
@@ -131,6 +133,13 @@ TEST(Atlas, WriteThenReadIsExact) {
     EXPECT_EQ(read->lines[i].endpoint_b_m, atlas.lines[i].endpoint_b_m);
   }
   EXPECT_EQ(read->junctions[3].point_m, atlas.junctions[3].point_m);
+  EXPECT_FALSE(read->lines[0].seen.has_value());
+  ASSERT_TRUE(read->lines[1].seen.has_value());
+  EXPECT_EQ(read->lines[1].seen->keyframes, 7);
+  EXPECT_EQ(read->lines[1].seen->first_s, 12.5);
+  EXPECT_EQ(read->lines[1].seen->last_s, 98.25);
+  ASSERT_TRUE(read->junctions[2].seen.has_value());
+  EXPECT_EQ(read->junctions[2].seen->keyframes, 2);
   EXPECT_FALSE(read->covariances_stated);
   atlas.covariances_stated = true;
   ASSERT_TRUE(WriteAtlas(path, atlas).ok());
@@ -177,6 +186,16 @@ TEST(Atlas, ErrorsNameTheField) {
   const auto older = write(head + R"("lines": [], "junctions": []})");
   ASSERT_TRUE(older.ok()) << older.message();
   EXPECT_FALSE(older->covariances_stated);
+  // A landmark's sightings: keyframes >= 1, last_s not before first_s.
+  bad = write(head + R"("lines": [{"id": 0, "rho_m": 1, "alpha_rad": 0, "covariance": [1,0,0,1],
+      "kind": "tape_solid", "endpoints_m": [0,0,1,0],
+      "seen": {"keyframes": 3, "first_s": 9, "last_s": 2}}], "junctions": []})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("lines[0].seen.last_s"), std::string::npos) << bad.message();
+  bad = write(head + R"("lines": [], "junctions": [{"id": 0, "point_m": [1, 2],
+      "covariance": [1, 0, 0, 1], "seen": {"keyframes": 0, "first_s": 1, "last_s": 2}}]})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("junctions[0].seen.keyframes"), std::string::npos) << bad.message();
   bad = write(head + R"("covariances_stated": "yes", "lines": [], "junctions": []})");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("covariances_stated"), std::string::npos) << bad.message();

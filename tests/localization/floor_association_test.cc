@@ -92,7 +92,8 @@ TEST(FloorAssociation, CollinearMarkingsAreSeparatedByTheirExtent) {
 
 TEST(FloorAssociation, JunctionGate) {
   Atlas atlas;
-  atlas.junctions.push_back({0, Eigen::Vector2d(2.0, 1.0), Eigen::Matrix2d::Identity() * 1e-8});
+  atlas.junctions.push_back(
+      {0, Eigen::Vector2d(2.0, 1.0), Eigen::Matrix2d::Identity() * 1e-8, std::nullopt});
   const core::SE2 T_map_base(1.0, 1.0, 0.0);
   JunctionObservation near;
   near.point_base_m = Eigen::Vector2d(1.02, 0.0);

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,15 @@ namespace groundline::localization {
 inline constexpr char kAtlasFormatName[] = "groundline-atlas";
 inline constexpr int kAtlasFormatMajor = 1;
 
+// When and how often a landmark was seen (a mapping drive's keyframes that
+// saw it), for keeping the atlas current: what has not been seen for long
+// where it should have been can be retired.
+struct LandmarkSightings {
+  int keyframes = 0;  // distinct keyframes that saw it, >= 1
+  double first_s = 0.0;
+  double last_s = 0.0;  // >= first_s
+};
+
 struct AtlasLine {
   std::int64_t id = 0;
   perception::HesseLine line_map;
@@ -34,12 +44,15 @@ struct AtlasLine {
   // The marked extent along the line (metres, map frame).
   Eigen::Vector2d endpoint_a_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d endpoint_b_m = Eigen::Vector2d::Zero();
+  // Absent for a surveyed landmark.
+  std::optional<LandmarkSightings> seen;
 };
 
 struct AtlasJunction {
   std::int64_t id = 0;
   Eigen::Vector2d point_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();
+  std::optional<LandmarkSightings> seen;
 };
 
 struct Atlas {
