@@ -205,8 +205,8 @@ TEST(AtlasMapper, TwoLapsWithDriftingWheelsMapEachMarkingOnceWithinItsCovariance
 }
 
 // A start pose whose heading is 10 mrad off turns the whole atlas of one lap
-// about the start; two surveyed markings far apart (1 mm, 0.5 mrad) turn it back onto
-// the site frame.
+// about the start; two surveyed markings far apart (1 mm, 0.5 mrad) and a
+// surveyed junction (1 mm) turn it back onto the site frame.
 TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned) {
   const core::SE2 start = Truth(0.0);
   const core::SE2 believed(start.x(), start.y(), start.yaw() + 0.01);
@@ -223,6 +223,9 @@ TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned)
     line.endpoint_b_m = marking.b;
     survey.lines.push_back(line);
   }
+  // And the corner of the L, where two of them meet.
+  survey.junctions.push_back(
+      {1, Eigen::Vector2d(1.6, 1.4), Eigen::Matrix2d::Identity() * 1e-6, std::nullopt});
   std::pair<double, double> free_error, surveyed_error;
   for (const bool surveyed : {false, true}) {
     AtlasMapper mapper{AtlasMapperOptions()};
@@ -235,10 +238,12 @@ TEST(AtlasMapper, SurveyedMarkingsTieTheAtlasToTheSiteWhereTheStartPoseIsTurned)
     core::Result<Atlas> atlas = mapper.Build(&report);
     ASSERT_TRUE(atlas.ok()) << atlas.message();
     (surveyed ? surveyed_error : free_error) = WorstFloorLineError(*atlas);
-    EXPECT_EQ(report.surveyed, surveyed ? 2 : 0);
-    EXPECT_EQ(report.surveyed_matched, surveyed ? 2 : 0);
+    EXPECT_EQ(report.surveyed, surveyed ? 3 : 0);
+    EXPECT_EQ(report.surveyed_matched, surveyed ? 3 : 0);
     EXPECT_EQ(report.surveyed_ambiguous, 0);
     if (!surveyed) continue;
+    ASSERT_EQ(atlas->junctions.size(), 1u);
+    EXPECT_LT((atlas->junctions[0].point_m - Eigen::Vector2d(1.6, 1.4)).norm(), 0.005);
     double worst_m = 0.0;
     for (const core::StampedPose& p : mapper.keyframe_trajectory()) {
       worst_m = std::max(worst_m, (p.pose.translation() - Truth(p.stamp_s).translation()).norm());
