@@ -317,9 +317,8 @@ core::Result<std::unique_ptr<ceres::Problem>> AtlasMapper::SolveJointly(
     core::SE2 T = core::PoseFromAmbient(poses[0]);
     // Without a start pose the first keyframe is held where the graph put
     // it; loosely (1 m, 0.1 rad) when surveyed landmarks will place the atlas.
-    const bool surveyed = !survey_.lines.empty() || !survey_.junctions.empty();
-    Eigen::Matrix3d S = surveyed ? core::Vector3(1.0, 1.0, 10.0).asDiagonal()
-                                 : core::Vector3(1e4, 1e4, 1e5).asDiagonal();
+    Eigen::Matrix3d S = HasSurvey() ? core::Vector3(1.0, 1.0, 10.0).asDiagonal()
+                                    : core::Vector3(1e4, 1e4, 1e5).asDiagonal();
     if (anchor_) {
       T = keyframes_[0].T_odom_base;
       core::Result<Eigen::Matrix3d> from_start = SqrtInformationFromCovariance(anchor_->second);
@@ -386,6 +385,10 @@ core::Status AtlasMapper::AnchorToSurvey(const std::vector<LineTrack>& line_trac
   problem->SetParameterBlockConstant(site_origin);
   auto* huber = new ceres::HuberLoss(options_.sighting_huber);  // owned by the problem
   bool huber_used = false;
+  // The built lines as the first solve left them.
+  std::vector<perception::HesseLine> built_lines;
+  built_lines.reserve(line_params->size());
+  for (const auto& p : *line_params) built_lines.push_back(perception::NormalizeLine(p[0], p[1]));
   for (const AtlasLine& surveyed : survey_.lines) {
     ++r->surveyed;
     const Eigen::Vector2d middle = 0.5 * (surveyed.endpoint_a_m + surveyed.endpoint_b_m);
@@ -393,7 +396,7 @@ core::Status AtlasMapper::AnchorToSurvey(const std::vector<LineTrack>& line_trac
     for (std::size_t i = 0; i < line_tracks.size(); ++i) {
       AtlasLine built = line_tracks[i].estimate;
       if (!KindsCompatible(built.kind, surveyed.kind)) continue;
-      built.line_map = perception::NormalizeLine((*line_params)[i][0], (*line_params)[i][1]);
+      built.line_map = built_lines[i];
       if (!ExtentsOverlap(built, surveyed, options_.anchor_gate_m)) continue;
       const Eigen::Vector2d d = perception::LineDifference(built.line_map, surveyed.line_map);
       const double offset = std::abs(perception::SignedDistance(built.line_map, middle));
@@ -402,14 +405,12 @@ core::Status AtlasMapper::AnchorToSurvey(const std::vector<LineTrack>& line_trac
     }
     if (candidates.empty()) continue;
     std::sort(candidates.begin(), candidates.end());
-    const perception::HesseLine nearest = perception::NormalizeLine(
-        (*line_params)[candidates[0].second][0], (*line_params)[candidates[0].second][1]);
+    const perception::HesseLine& nearest = built_lines[candidates[0].second];
     const Eigen::Vector2d foot =
         middle - perception::SignedDistance(nearest, middle) * nearest.Normal();
     const bool ambiguous = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
-      const perception::HesseLine other =
-          perception::NormalizeLine((*line_params)[c.second][0], (*line_params)[c.second][1]);
-      return std::abs(perception::SignedDistance(other, foot)) > options_.anchor_same_line_m;
+      return std::abs(perception::SignedDistance(built_lines[c.second], foot)) >
+             options_.anchor_same_line_m;
     });
     if (ambiguous) {
       ++r->surveyed_ambiguous;
@@ -429,17 +430,16 @@ core::Status AtlasMapper::AnchorToSurvey(const std::vector<LineTrack>& line_trac
   }
   for (const AtlasJunction& surveyed : survey_.junctions) {
     ++r->surveyed;
+    const auto point = [&](std::size_t i) {
+      return Eigen::Vector2d((*junction_params)[i][0], (*junction_params)[i][1]);
+    };
     std::vector<std::pair<double, std::size_t>> candidates;
     for (std::size_t i = 0; i < junction_params->size(); ++i) {
-      const Eigen::Vector2d p((*junction_params)[i][0], (*junction_params)[i][1]);
-      const double distance = (p - surveyed.point_m).norm();
+      const double distance = (point(i) - surveyed.point_m).norm();
       if (distance <= options_.anchor_gate_m) candidates.emplace_back(distance, i);
     }
     if (candidates.empty()) continue;
     std::sort(candidates.begin(), candidates.end());
-    const auto point = [&](std::size_t i) {
-      return Eigen::Vector2d((*junction_params)[i][0], (*junction_params)[i][1]);
-    };
     // Built junctions within anchor_same_line_m of the nearest are one
     // junction seen twice; any other within the gate: ambiguous.
     const bool ambiguous = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
@@ -513,7 +513,7 @@ core::Result<Atlas> AtlasMapper::Build(AtlasMapperReport* report) {
       SolveJointly(line_tracks, junction_tracks, &poses, &line_params, &junction_params, &r);
   if (!solved.ok()) return solved.status();
   const std::unique_ptr<ceres::Problem> problem = std::move(solved).value();
-  if (!survey_.lines.empty() || !survey_.junctions.empty()) {
+  if (HasSurvey()) {
     if (core::Status s = AnchorToSurvey(line_tracks, &line_params, &junction_params,
                                         site_origin.data(), problem.get(), &r);
         !s.ok()) {

@@ -191,6 +191,7 @@ class AtlasMapper {
       std::vector<std::array<double, 3>>* poses, std::vector<std::array<double, 2>>* line_params,
       std::vector<std::array<double, 2>>* junction_params, AtlasMapperReport* report) const;
 
+  bool HasSurvey() const { return !survey_.lines.empty() || !survey_.junctions.empty(); }
   // Step 3b on the solved problem: priors on the built landmarks that
   // match a surveyed one, then the solve again. site_origin: a constant
   // identity pose block (the survey's frame) that outlives the problem.
