@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cassert>
 #include <limits>
 
 namespace groundline::localization {
@@ -111,7 +112,9 @@ bool ExtentsOverlap(const AtlasLine& a, const AtlasLine& b, double margin_m) {
 std::vector<Match> AssociateLines(const std::vector<LineObservation>& observations,
                                   const Atlas& atlas, const core::SE2& T_map_base,
                                   const core::Matrix3& pose_covariance,
-                                  const AssociationOptions& options) {
+                                  const AssociationOptions& options,
+                                  const std::vector<bool>* excluded) {
+  assert(excluded == nullptr || excluded->size() == atlas.lines.size());
   std::vector<Match> matches;
   for (size_t i = 0; i < observations.size(); ++i) {
     const LineObservation& observation = observations[i];
@@ -119,6 +122,7 @@ std::vector<Match> AssociateLines(const std::vector<LineObservation>& observatio
         static_cast<int>(i), static_cast<int>(atlas.lines.size()),
         [&](int j) {
           const AtlasLine& landmark = atlas.lines[j];
+          if (excluded != nullptr && (*excluded)[j]) return std::numeric_limits<double>::infinity();
           if (!KindsCompatible(observation.kind, landmark.kind)) {
             return std::numeric_limits<double>::infinity();
           }
@@ -141,12 +145,15 @@ std::vector<Match> AssociateLines(const std::vector<LineObservation>& observatio
 std::vector<Match> AssociateJunctions(const std::vector<JunctionObservation>& observations,
                                       const Atlas& atlas, const core::SE2& T_map_base,
                                       const core::Matrix3& pose_covariance,
-                                      const AssociationOptions& options) {
+                                      const AssociationOptions& options,
+                                      const std::vector<bool>* excluded) {
+  assert(excluded == nullptr || excluded->size() == atlas.junctions.size());
   std::vector<Match> matches;
   for (size_t i = 0; i < observations.size(); ++i) {
     matches.push_back(Select(
         static_cast<int>(i), static_cast<int>(atlas.junctions.size()),
         [&](int j) {
+          if (excluded != nullptr && (*excluded)[j]) return std::numeric_limits<double>::infinity();
           return JunctionMahalanobis2(observations[i], atlas.junctions[j], T_map_base,
                                       pose_covariance);
         },

@@ -7,11 +7,35 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
 
 #include "groundline/calibration/mount_remap.h"
 #include "groundline/perception/hesse_line.h"
 
 namespace groundline::localization {
+namespace {
+
+// The convex hull of the grid's seen cells, in base_link, counter-clockwise.
+FloorView SeenFloor(const perception::BevRemap& remap) {
+  std::vector<cv::Point> cells;
+  cv::findNonZero(remap.valid_mask(), cells);
+  std::vector<cv::Point> hull;
+  cv::convexHull(cells, hull);
+  FloorView view;
+  for (const cv::Point& cell : hull) {
+    view.polygon_base_m.push_back(remap.grid().FloorPointOfCell(Eigen::Vector2d(cell.x, cell.y)));
+  }
+  double twice_area = 0.0;
+  for (size_t i = 0; i < view.polygon_base_m.size(); ++i) {
+    const Eigen::Vector2d& a = view.polygon_base_m[i];
+    const Eigen::Vector2d& b = view.polygon_base_m[(i + 1) % view.polygon_base_m.size()];
+    twice_area += a.x() * b.y() - a.y() * b.x();
+  }
+  if (twice_area < 0.0) std::reverse(view.polygon_base_m.begin(), view.polygon_base_m.end());
+  return view;
+}
+
+}  // namespace
 
 core::Status FloorFrontEndOptions::Validate() const {
   if (core::Status s = remap.Validate(); !s.ok()) return s.WithContext("remap");
@@ -47,6 +71,7 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Build(const calibration::CameraModel&
         "mount's height and pitch, or the grid extent)");
   }
   front_end.extractor_ = std::make_shared<perception::LineExtractor>(*remap, options.extractor);
+  front_end.view_ = std::make_shared<const FloorView>(SeenFloor(*remap));
   front_end.remap_ = std::move(remap);
   front_end.options_ = options;
   front_end.remap_options_ = remap_options;
@@ -140,6 +165,7 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(
   ConvertedObservations converted = ObservationsFromExtraction(
       stamp_s, extractor_->Extract(*bev, scratch != nullptr ? scratch : &local));
   converted.observations.camera_mount = remap_->mount();
+  converted.observations.view = view_;
   AddMountUncertainty(&converted.observations);
   return converted;
 }

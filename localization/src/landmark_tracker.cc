@@ -41,6 +41,17 @@ void ExtendLineExtent(const Eigen::Vector2d& point_m, AtlasLine* line) {
   if (s > std::max(s_a, s_b)) *high += (s - std::max(s_a, s_b)) * d;
 }
 
+void FuseLineSighting(const AtlasLine& seen, AtlasLine* estimate) {
+  Eigen::Vector2d x(estimate->line_map.rho_m, estimate->line_map.alpha_rad);
+  FuseGaussian2(
+      perception::LineDifference(seen.line_map, estimate->line_map),
+      perception::CovarianceInDescriptionOf(seen.line_map, estimate->line_map, seen.covariance), &x,
+      &estimate->covariance);
+  estimate->line_map = perception::NormalizeLine(x(0), x(1), &estimate->covariance);
+  ExtendLineExtent(seen.endpoint_a_m, estimate);
+  ExtendLineExtent(seen.endpoint_b_m, estimate);
+}
+
 AtlasJunction JunctionInMap(const JunctionObservation& observation, const core::SE2& T_map_base,
                             const core::Matrix3& pose_covariance) {
   Eigen::Matrix<double, 2, 3> J_T;
@@ -79,14 +90,7 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
       continue;
     }
     LineTrack& track = lines_[best];
-    Eigen::Vector2d x(track.estimate.line_map.rho_m, track.estimate.line_map.alpha_rad);
-    FuseGaussian2(perception::LineDifference(seen.line_map, track.estimate.line_map),
-                  perception::CovarianceInDescriptionOf(seen.line_map, track.estimate.line_map,
-                                                        seen.covariance),
-                  &x, &track.estimate.covariance);
-    track.estimate.line_map = perception::NormalizeLine(x(0), x(1), &track.estimate.covariance);
-    ExtendLineExtent(seen.endpoint_a_m, &track.estimate);
-    ExtendLineExtent(seen.endpoint_b_m, &track.estimate);
+    FuseLineSighting(seen, &track.estimate);
     track.last_keyframe = keyframe_index;
     if (++track.sightings == options_.min_keyframes) {
       confirmed.lines.push_back({track.estimate, static_cast<int>(i)});

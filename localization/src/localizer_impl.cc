@@ -501,7 +501,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Relocalize(const core::WheelEncoder
   }
   const std::optional<PoseEstimate> pose = relocalizer->AddFrame(
       r.stamp_s, motion,
-      seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt});
+      seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt, nullptr});
   if (!pose) return std::nullopt;
   relocalized = *pose;
   relocalizer_odometry.reset();

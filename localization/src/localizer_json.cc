@@ -81,6 +81,7 @@ nlohmann::ordered_json KeyframeJson(const KeyframeOutput& k, LocalizerMode mode)
       line["slip_residual_chi2"] = health.slip_residual_chi2;
     }
     line["landmarks_added"] = health.landmarks_added;
+    if (health.landmarks_retired > 0) line["landmarks_retired"] = health.landmarks_retired;
     line["window_size"] = health.window_size;
     line["iterations"] = health.iterations;
     line["converged"] = health.converged;

@@ -50,7 +50,24 @@ core::Status SmootherOptions::Validate() const {
   if (tracker.min_keyframes < 1) {
     return core::Status::Error("smoother tracker.min_keyframes must be >= 1");
   }
+  if (core::Status s = upkeep.Validate(); !s.ok()) return s;
   return association.Validate();
+}
+
+core::Status AtlasUpkeepOptions::Validate() const {
+  if (retire_after_misses < 1) {
+    return core::Status::Error("smoother upkeep.retire_after_misses must be >= 1");
+  }
+  if (!(view_margin_m >= 0.0) || !(min_in_view_m > 0.0)) {
+    return core::Status::Error(
+        "smoother upkeep.view_margin_m must be >= 0 and upkeep.min_in_view_m > 0");
+  }
+  if (birth_min_matches < 0 || !(birth_max_position_sigma_m > 0.0)) {
+    return core::Status::Error(
+        "smoother upkeep.birth_min_matches must be >= 0 and upkeep.birth_max_position_sigma_m "
+        "> 0");
+  }
+  return core::Status::Ok();
 }
 
 PoseEstimate PropagateFromKeyframe(const PoseEstimate& keyframe, const RelativeMotion& motion,
@@ -110,6 +127,12 @@ SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atl
   for (const AtlasJunction& junction : atlas_.junctions) {
     junction_blocks_.push_back({junction.point_m.x(), junction.point_m.y()});
   }
+  line_retired_.assign(atlas_.lines.size(), false);
+  line_misses_.assign(atlas_.lines.size(), 0);
+  line_born_.assign(atlas_.lines.size(), false);
+  junction_retired_.assign(atlas_.junctions.size(), false);
+  junction_misses_.assign(atlas_.junctions.size(), 0);
+  junction_born_.assign(atlas_.junctions.size(), false);
 }
 
 SlidingWindowSmoother::~SlidingWindowSmoother() = default;
@@ -144,12 +167,18 @@ bool SlidingWindowSmoother::HoldKeyframe(double stamp_s, bool held) {
 }
 
 Atlas SlidingWindowSmoother::CurrentAtlas() const {
-  Atlas atlas = atlas_;
-  for (size_t i = 0; i < atlas.lines.size(); ++i) {
-    atlas.lines[i].line_map = perception::NormalizeLine(line_blocks_[i][0], line_blocks_[i][1]);
+  Atlas atlas;
+  atlas.frame = atlas_.frame;
+  atlas.covariances_stated = atlas_.covariances_stated;
+  for (size_t i = 0; i < atlas_.lines.size(); ++i) {
+    if (line_retired_[i]) continue;
+    atlas.lines.push_back(atlas_.lines[i]);
+    atlas.lines.back().line_map = perception::NormalizeLine(line_blocks_[i][0], line_blocks_[i][1]);
   }
-  for (size_t i = 0; i < atlas.junctions.size(); ++i) {
-    atlas.junctions[i].point_m = {junction_blocks_[i][0], junction_blocks_[i][1]};
+  for (size_t i = 0; i < atlas_.junctions.size(); ++i) {
+    if (junction_retired_[i]) continue;
+    atlas.junctions.push_back(atlas_.junctions[i]);
+    atlas.junctions.back().point_m = {junction_blocks_[i][0], junction_blocks_[i][1]};
   }
   return atlas;
 }
@@ -172,11 +201,14 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
   std::vector<const JunctionObservation*> unmatched_junctions;
   health->lines_observed = static_cast<int>(observations.lines.size());
   health->junctions_observed = static_cast<int>(observations.junctions.size());
-  const bool with_landmark_covariance =
-      !mapping && options_.landmark_covariance_in_factors && atlas_.covariances_stated;
+  const bool upkeep = !mapping && options_.upkeep.enabled;
+  // A landmark with a sightings record was estimated from a drive (the
+  // mapper's, or born here): its covariance is that estimate's.
+  const bool with_landmark_covariance = !mapping && options_.landmark_covariance_in_factors;
   const auto add_line = [&](const LineObservation& observation, int landmark) {
     Eigen::Matrix2d covariance = observation.covariance;
-    if (with_landmark_covariance) {
+    if (with_landmark_covariance &&
+        (atlas_.covariances_stated || atlas_.lines[landmark].seen.has_value())) {
       Eigen::Matrix2d J;
       perception::InverseTransformLine(T_pred, atlas_.lines[landmark].line_map, nullptr, &J);
       covariance += J * atlas_.lines[landmark].covariance * J.transpose();
@@ -189,7 +221,8 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
   };
   const auto add_junction = [&](const JunctionObservation& observation, int landmark) {
     Eigen::Matrix2d covariance = observation.covariance;
-    if (with_landmark_covariance) {
+    if (with_landmark_covariance &&
+        (atlas_.covariances_stated || atlas_.junctions[landmark].seen.has_value())) {
       const Eigen::Matrix2d R = T_pred.Rotation();
       covariance += R.transpose() * atlas_.junctions[landmark].covariance * R;
     }
@@ -199,10 +232,11 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
         {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
     return true;
   };
-  std::vector<Match> line_matches =
-      AssociateLines(observations.lines, atlas_, T_pred, covariance_pred, options_.association);
-  std::vector<Match> junction_matches = AssociateJunctions(observations.junctions, atlas_, T_pred,
-                                                           covariance_pred, options_.association);
+  std::vector<Match> line_matches = AssociateLines(
+      observations.lines, atlas_, T_pred, covariance_pred, options_.association, &line_retired_);
+  std::vector<Match> junction_matches =
+      AssociateJunctions(observations.junctions, atlas_, T_pred, covariance_pred,
+                         options_.association, &junction_retired_);
   const auto none_matched = [&] {
     int seen = 0;
     for (const std::vector<Match>* matches : {&line_matches, &junction_matches}) {
@@ -215,10 +249,10 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
   };
   if (!mapping && options_.slip_sigma_m > 0.0 && none_matched()) {
     const core::Matrix3 widened = covariance_pred + slip_covariance;
-    std::vector<Match> lines =
-        AssociateLines(observations.lines, atlas_, T_pred, widened, options_.association);
-    std::vector<Match> junctions =
-        AssociateJunctions(observations.junctions, atlas_, T_pred, widened, options_.association);
+    std::vector<Match> lines = AssociateLines(observations.lines, atlas_, T_pred, widened,
+                                              options_.association, &line_retired_);
+    std::vector<Match> junctions = AssociateJunctions(
+        observations.junctions, atlas_, T_pred, widened, options_.association, &junction_retired_);
     int matched = 0;
     for (const std::vector<Match>* matches : {&lines, &junctions}) {
       for (const Match& m : *matches) matched += m.landmark >= 0;
@@ -232,10 +266,21 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
       health->slip_gate = true;
     }
   }
+  bool born_moved = false;  // a born landmark's estimate changed
+  std::vector<bool> lines_matched(upkeep ? atlas_.lines.size() : 0, false);
+  std::vector<bool> junctions_matched(upkeep ? atlas_.junctions.size() : 0, false);
   for (const Match& match : line_matches) {
     const LineObservation& observation = observations.lines[match.observation];
     if (match.landmark >= 0 && add_line(observation, match.landmark)) {
       ++health->lines_used;
+      if (upkeep) lines_matched[match.landmark] = true;
+      if (upkeep && line_born_[match.landmark]) {
+        // A landmark born on this drive goes on gaining precision and extent.
+        AtlasLine& landmark = atlas_.lines[match.landmark];
+        FuseLineSighting(LineInMap(observation, T_pred, covariance_pred), &landmark);
+        line_blocks_[match.landmark] = {landmark.line_map.rho_m, landmark.line_map.alpha_rad};
+        born_moved = true;
+      }
       if (mapping) {
         AtlasLine& landmark = atlas_.lines[match.landmark];
         const AtlasLine seen = LineInMap(observation, T_pred, covariance_pred);
@@ -247,7 +292,7 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
     ++health->lines_rejected;
     if (match.ambiguous) {
       ++health->lines_ambiguous;
-    } else if (mapping) {
+    } else if (mapping || (upkeep && !core::IsFaceKind(observation.kind))) {
       unmatched_lines.push_back(&observation);
     }
   }
@@ -255,28 +300,69 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
     const JunctionObservation& observation = observations.junctions[match.observation];
     if (match.landmark >= 0 && add_junction(observation, match.landmark)) {
       ++health->junctions_used;
-    } else if (mapping && !match.ambiguous) {
+      if (upkeep) junctions_matched[match.landmark] = true;
+      if (upkeep && junction_born_[match.landmark]) {
+        AtlasJunction& landmark = atlas_.junctions[match.landmark];
+        const AtlasJunction seen = JunctionInMap(observation, T_pred, covariance_pred);
+        FuseGaussian2(seen.point_m - landmark.point_m, seen.covariance, &landmark.point_m,
+                      &landmark.covariance);
+        junction_blocks_[match.landmark] = {landmark.point_m.x(), landmark.point_m.y()};
+        born_moved = true;
+      }
+    } else if ((mapping || upkeep) && !match.ambiguous) {
       unmatched_junctions.push_back(&observation);
     }
   }
-  if (!mapping) return;
+  if (!mapping && !upkeep) return;
+  if (born_moved) {
+    // The window's terms on a moved landmark are stale.
+    for (Keyframe& k : window_) k.chain.valid = false;
+    InvalidateChain();
+  }
+  if (upkeep) {
+    KeepAtlasCurrent(observations, T_pred, lines_matched, junctions_matched, health);
+    // Births only from a keyframe localized on the atlas (AtlasUpkeepOptions).
+    const double position_sigma_m = std::sqrt(covariance_pred.topLeftCorner<2, 2>()
+                                                  .selfadjointView<Eigen::Upper>()
+                                                  .eigenvalues()
+                                                  .maxCoeff());
+    if (health->lines_used + health->junctions_used < options_.upkeep.birth_min_matches ||
+        !(position_sigma_m <= options_.upkeep.birth_max_position_sigma_m)) {
+      unmatched_lines.clear();
+      unmatched_junctions.clear();
+    }
+  }
   const LandmarkTracker::Confirmed confirmed = tracker_.Update(
       keyframe_count_, T_pred, covariance_pred, unmatched_lines, unmatched_junctions);
+  const auto sighting = [&] { return LandmarkSightings{1, health->stamp_s, health->stamp_s}; };
   for (const auto& [line, observation] : confirmed.lines) {
     AtlasLine landmark = line;
-    landmark.id = atlas_.lines.empty() ? 0 : atlas_.lines.back().id + 1;
+    landmark.id = 0;
+    for (const AtlasLine& l : atlas_.lines) landmark.id = std::max(landmark.id, l.id + 1);
+    if (upkeep) landmark.seen = sighting();
     atlas_.lines.push_back(landmark);
     line_blocks_.push_back({landmark.line_map.rho_m, landmark.line_map.alpha_rad});
+    line_retired_.push_back(false);
+    line_misses_.push_back(0);
+    line_born_.push_back(upkeep);
     add_line(*unmatched_lines[observation], static_cast<int>(atlas_.lines.size()) - 1);
     ++health->landmarks_added;
   }
   for (const auto& [junction, observation] : confirmed.junctions) {
     AtlasJunction landmark = junction;
-    landmark.id = atlas_.junctions.empty() ? 0 : atlas_.junctions.back().id + 1;
+    landmark.id = 0;
+    for (const AtlasJunction& j : atlas_.junctions) landmark.id = std::max(landmark.id, j.id + 1);
+    if (upkeep) landmark.seen = sighting();
     atlas_.junctions.push_back(landmark);
     junction_blocks_.push_back({landmark.point_m.x(), landmark.point_m.y()});
+    junction_retired_.push_back(false);
+    junction_misses_.push_back(0);
+    junction_born_.push_back(upkeep);
     add_junction(*unmatched_junctions[observation], static_cast<int>(atlas_.junctions.size()) - 1);
     ++health->landmarks_added;
+  }
+  if (upkeep) {
+    landmarks_born_ += static_cast<int>(confirmed.lines.size() + confirmed.junctions.size());
   }
 }
 

@@ -55,12 +55,19 @@ FloorObservationSimulator::FloorObservationSimulator(const core::FloorMap& map,
       junctions_(localization::MarkingJunctions(map, localization::AtlasFromFloorMapOptions())),
       rng_(options.seed) {
   assert(options.Validate().ok());
+  localization::FloorView view;
+  view.polygon_base_m = {{options.min_ahead_m, -options.half_width_m},
+                         {options.max_ahead_m, -options.half_width_m},
+                         {options.max_ahead_m, options.half_width_m},
+                         {options.min_ahead_m, options.half_width_m}};
+  view_ = std::make_shared<const localization::FloorView>(std::move(view));
 }
 
 localization::FloorObservations FloorObservationSimulator::Observe(
     double stamp_s, const core::SE2& T_map_base_true) {
   localization::FloorObservations out;
   out.stamp_s = stamp_s;
+  out.view = view_;
   std::normal_distribution<double> normal(0.0, 1.0);
   const core::SE2 T_base_map = T_map_base_true.Inverse();
   const double reach_m = options_.max_ahead_m + options_.half_width_m;

@@ -81,6 +81,35 @@ TEST(FloorAssociation, DuplicatesAreNotAmbiguous) {
   EXPECT_GE(matches[0].landmark, 0);
 }
 
+TEST(FloorAssociation, ExcludedLandmarksAreNoCandidates) {
+  Atlas atlas;
+  atlas.lines.push_back(MapLine(0, 1.00, 0.0, -5.0, 5.0));
+  atlas.lines.push_back(MapLine(1, 1.02, 0.0, -5.0, 5.0));
+  atlas.junctions.push_back(
+      {0, Eigen::Vector2d(1.0, 0.0), Eigen::Matrix2d::Identity() * 1e-8, std::nullopt});
+  const AssociationOptions options;
+  const core::Matrix3 exact = core::Matrix3::Zero();
+  // Between the two: ambiguous, unless one of them is excluded.
+  const std::vector<bool> first_excluded = {true, false};
+  const Match between =
+      AssociateLines({Observed(1.01, 0.0)}, atlas, core::SE2(), exact, options, &first_excluded)[0];
+  EXPECT_EQ(between.landmark, 1);
+  EXPECT_FALSE(between.ambiguous);
+  // Near the excluded one: the other is outside the gate.
+  EXPECT_EQ(AssociateLines({Observed(0.98, 0.0)}, atlas, core::SE2(), exact, options)[0].landmark,
+            0);
+  EXPECT_EQ(
+      AssociateLines({Observed(0.98, 0.0)}, atlas, core::SE2(), exact, options, &first_excluded)[0]
+          .landmark,
+      -1);
+  JunctionObservation on_it;
+  on_it.point_base_m = Eigen::Vector2d(1.0, 0.0);
+  on_it.covariance = Eigen::Matrix2d::Identity() * kSigma * kSigma;
+  const std::vector<bool> none = {false}, all = {true};
+  EXPECT_EQ(AssociateJunctions({on_it}, atlas, core::SE2(), exact, options, &none)[0].landmark, 0);
+  EXPECT_EQ(AssociateJunctions({on_it}, atlas, core::SE2(), exact, options, &all)[0].landmark, -1);
+}
+
 TEST(FloorAssociation, CollinearMarkingsAreSeparatedByTheirExtent) {
   Atlas atlas;
   atlas.lines.push_back(MapLine(0, 1.0, 0.0, -20.0, -10.0));  // behind, along the line

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -20,6 +21,52 @@ FloorFrontEnd ReferenceCamera() {
   core::Result<FloorFrontEnd> made = FloorFrontEnd::Create(camera, calibration::CameraMount());
   EXPECT_TRUE(made.ok()) << made.message();
   return std::move(made).value();
+}
+
+TEST(FloorFrontEnd, ItsViewIsTheFloorTheCameraSees) {
+  const FloorFrontEnd front_end = ReferenceCamera();
+  ASSERT_NE(front_end.view(), nullptr);
+  const FloorView& view = *front_end.view();
+  ASSERT_GE(view.polygon_base_m.size(), 3u);
+  // Every seen cell is inside (the hull of their centres), every unseen one
+  // more than a cell outside is out.
+  const perception::BevRemap& remap = front_end.remap();
+  int inside = 0, outside = 0;
+  for (int row = 0; row < remap.grid().rows(); row += 7) {
+    for (int col = 0; col < remap.grid().cols(); col += 7) {
+      const Eigen::Vector2d p = remap.grid().FloorPointOfCell({col, row});
+      const double d = view.InsideDistance(p);
+      if (remap.valid_mask().at<std::uint8_t>(row, col) != 0) {
+        EXPECT_GE(d, -1e-9) << "seen cell " << col << ", " << row;
+        ++inside;
+      } else if (d > 0.02) {
+        ADD_FAILURE() << "unseen cell " << col << ", " << row << " is " << d << " m inside";
+      } else {
+        ++outside;
+      }
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(outside, 0);  // the footprint is a trapezoid in its bounding grid
+  // The floor behind the vehicle and far to the side is not in view.
+  EXPECT_LT(view.InsideDistance({-1.0, 0.0}), 0.0);
+  EXPECT_LT(view.InsideDistance({1.5, 5.0}), 0.0);
+  // Every observation carries it.
+  cv::Mat grey(1024, 1280, CV_8UC1);
+  cv::randu(grey, 60, 120);
+  const core::Result<ConvertedObservations> seen = front_end.Observe(grey, 1.0);
+  ASSERT_TRUE(seen.ok()) << seen.message();
+  EXPECT_EQ(seen->observations.view, front_end.view());
+}
+
+TEST(FloorView, InsideDistanceIsTheLeastDistanceToAnEdge) {
+  FloorView square;
+  square.polygon_base_m = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}};
+  EXPECT_NEAR(square.InsideDistance({1.0, 1.0}), 1.0, 1e-12);
+  EXPECT_NEAR(square.InsideDistance({0.5, 1.5}), 0.5, 1e-12);
+  EXPECT_NEAR(square.InsideDistance({1.0, -0.25}), -0.25, 1e-12);
+  EXPECT_NEAR(square.InsideDistance({3.0, 1.0}), -1.0, 1e-12);
+  EXPECT_EQ(FloorView().InsideDistance({0.0, 0.0}), -std::numeric_limits<double>::infinity());
 }
 
 TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {

@@ -44,7 +44,10 @@ struct AtlasLine {
   // The marked extent along the line (metres, map frame).
   Eigen::Vector2d endpoint_a_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d endpoint_b_m = Eigen::Vector2d::Zero();
-  // Absent for a surveyed landmark.
+  // Absent for a surveyed landmark. Present: the landmark was estimated from
+  // the sightings of a drive (AtlasMapper, or born by the localizer's atlas
+  // upkeep), and a localizing smoother weighs its covariance as stated even
+  // when covariances_stated is false.
   std::optional<LandmarkSightings> seen;
 };
 

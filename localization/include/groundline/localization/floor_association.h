@@ -74,15 +74,19 @@ bool ExtentsOverlap(const AtlasLine& a, const AtlasLine& b, double margin_m);
 // B: 12.5 mm RMS at the true pose, against 1.5-2.3 mm on solid walls).
 bool KindsCompatible(core::MarkingKind observed, core::MarkingKind landmark);
 
-// One Match per observation, in order.
+// One Match per observation, in order. excluded (when given, parallel to the
+// atlas' lines / junctions): landmarks flagged true are no candidates (the
+// retired ones of the atlas upkeep).
 std::vector<Match> AssociateLines(const std::vector<LineObservation>& observations,
                                   const Atlas& atlas, const core::SE2& T_map_base,
                                   const core::Matrix3& pose_covariance,
-                                  const AssociationOptions& options);
+                                  const AssociationOptions& options,
+                                  const std::vector<bool>* excluded = nullptr);
 std::vector<Match> AssociateJunctions(const std::vector<JunctionObservation>& observations,
                                       const Atlas& atlas, const core::SE2& T_map_base,
                                       const core::Matrix3& pose_covariance,
-                                      const AssociationOptions& options);
+                                      const AssociationOptions& options,
+                                      const std::vector<bool>* excluded = nullptr);
 
 }  // namespace groundline::localization
 

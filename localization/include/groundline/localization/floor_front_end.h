@@ -72,6 +72,9 @@ class FloorFrontEnd {
   const Eigen::Matrix4d& mount_covariance() const { return mount_covariance_; }
   const perception::BevRemap& remap() const { return *remap_; }
   const perception::LineExtractor& extractor() const { return *extractor_; }
+  // The floor the camera sees on this grid (the convex hull of the seen
+  // cells); every observation carries it.
+  const std::shared_ptr<const FloorView>& view() const { return view_; }
   int image_width_px() const { return width_px_; }
   int image_height_px() const { return height_px_; }
 
@@ -89,6 +92,7 @@ class FloorFrontEnd {
   Eigen::Matrix4d mount_covariance_ = Eigen::Matrix4d::Zero();
   std::shared_ptr<const perception::BevRemap> remap_;
   std::shared_ptr<const perception::LineExtractor> extractor_;
+  std::shared_ptr<const FloorView> view_;
   int width_px_ = 0;
   int height_px_ = 0;
   double min_frame_stddev_ = 0.0;

@@ -10,6 +10,7 @@
 #define GROUNDLINE_LOCALIZATION_FLOOR_OBSERVATION_H_
 
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -40,6 +41,18 @@ struct JunctionObservation {
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();  // symmetric positive definite
 };
 
+// The floor a frame's extractor examined, in base_link: a convex polygon,
+// counter-clockwise. What lies well inside it and is not reported was not
+// there to be seen (or was covered); the atlas upkeep retires a landmark on
+// that evidence (SmootherOptions::upkeep).
+struct FloorView {
+  std::vector<Eigen::Vector2d> polygon_base_m;
+
+  // How far p lies inside the polygon: the least distance to an edge's line,
+  // negative outside; -infinity for a polygon of fewer than 3 corners.
+  double InsideDistance(const Eigen::Vector2d& p_base_m) const;
+};
+
 // Everything extracted from one frame at stamp_s.
 struct FloorObservations {
   double stamp_s = 0.0;
@@ -49,6 +62,10 @@ struct FloorObservations {
   // sets it; the self-calibration remaps the lines from it). Unset: lines
   // made elsewhere, under the commissioned mount.
   std::optional<calibration::CameraMount> camera_mount;
+  // The floor the frame covered (FloorFrontEnd sets it, shared by all of its
+  // frames). Unset: unknown, and the frame is no evidence that a landmark is
+  // gone.
+  std::shared_ptr<const FloorView> view;
 };
 
 }  // namespace groundline::localization

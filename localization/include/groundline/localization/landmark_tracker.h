@@ -75,6 +75,9 @@ AtlasLine LineInMap(const LineObservation& observation, const core::SE2& T_map_b
 // Moves the nearer end of the line's extent out to the projection of
 // point_m if that lies beyond it.
 void ExtendLineExtent(const Eigen::Vector2d& point_m, AtlasLine* line);
+// Fuses a sighting (LineInMap) into a landmark's estimate and covariance
+// (FuseGaussian2 in the estimate's description), and extends its extent.
+void FuseLineSighting(const AtlasLine& seen, AtlasLine* estimate);
 AtlasJunction JunctionInMap(const JunctionObservation& observation, const core::SE2& T_map_base,
                             const core::Matrix3& pose_covariance);
 

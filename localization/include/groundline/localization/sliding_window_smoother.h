@@ -83,6 +83,35 @@ enum class SmootherMode { kLocalization, kMapping };
 // factors. Mapping mode always uses Ceres.
 enum class SmootherSolver { kChain, kCeres };
 
+// Localization mode: keeping the atlas current while localizing on it
+// (docs/atlas.md, "Keeping the atlas current"). Floor markings and
+// junctions only; wall and rack faces are left as they are.
+//   Birth: a marking that matches no landmark is tracked (tracker options)
+//   and becomes a landmark after tracker.min_keyframes consistent sightings,
+//   each made from a keyframe that is localized on the atlas: at least
+//   birth_min_matches landmark factors, and a predicted position standard
+//   deviation (largest axis) of at most birth_max_position_sigma_m (a lost
+//   vehicle would map its error into the atlas). The new landmark's
+//   covariance is the tracker's fusion, pose uncertainty included; it is
+//   used at once, its covariance in its factors.
+//   Retirement: a landmark is expected at a keyframe when at least
+//   min_in_view_m of its extent (a junction: its point) lies inside the
+//   frame's view (FloorObservations::view) by view_margin_m, and the frame
+//   was read (at least one landmark factor). One expected and not matched
+//   retire_after_misses times in a row is retired: no longer associated,
+//   left out of CurrentAtlas(). A frame without a view is no evidence.
+// Each landmark seen gets its sightings record (AtlasLine::seen) updated.
+struct AtlasUpkeepOptions {
+  bool enabled = false;
+  int retire_after_misses = 10;
+  double view_margin_m = 0.15;
+  double min_in_view_m = 0.5;
+  int birth_min_matches = 2;
+  double birth_max_position_sigma_m = 0.05;
+
+  core::Status Validate() const;
+};
+
 struct SmootherOptions {
   SmootherMode mode = SmootherMode::kLocalization;
   double window_s = 120.0;  // keyframes older than this (vs the newest) are marginalized
@@ -144,7 +173,10 @@ struct SmootherOptions {
   // count as exact). Each observation carries it anew, although one
   // landmark's survey error is one error: first-order, not a shared variable.
   bool landmark_covariance_in_factors = true;
-  LandmarkTrackerOptions tracker;  // mapping mode
+  // Mapping mode, and localization mode with upkeep: the tentative tracks of
+  // observations that match no landmark.
+  LandmarkTrackerOptions tracker;
+  AtlasUpkeepOptions upkeep;  // localization mode
 
   core::Status Validate() const;
 };
@@ -210,7 +242,8 @@ struct KeyframeHealth {
   // What is left of it once the best one-wheel slip is removed (computed
   // only beyond slip_relative_chi2; 0 otherwise).
   double slip_residual_chi2 = 0.0;
-  int landmarks_added = 0;  // mapping mode
+  int landmarks_added = 0;    // mapping mode; localization mode with upkeep
+  int landmarks_retired = 0;  // localization mode with upkeep
   int window_size = 0;      // keyframes in the window after this update
   int iterations = 0;
   // The solve met its step tolerance (chain) or Ceres' convergence test;
@@ -243,8 +276,12 @@ class SlidingWindowSmoother {
   bool initialized() const { return !window_.empty(); }
   // The newest keyframe's estimate (requires initialized()).
   const PoseEstimate& Latest() const { return latest_; }
-  // The atlas with the current landmark estimates (mapping mode: normalized).
+  // The atlas with the current landmark estimates (mapping mode: normalized;
+  // upkeep: the landmarks born, without the retired ones).
   Atlas CurrentAtlas() const;
+  // Upkeep: landmarks born and retired since construction.
+  int LandmarksBorn() const { return landmarks_born_; }
+  int LandmarksRetired() const { return landmarks_retired_; }
   int WindowSize() const { return static_cast<int>(window_.size()); }
   // The window's pose estimates, oldest first.
   std::vector<core::SE2> WindowPoses() const;
@@ -318,6 +355,11 @@ class SlidingWindowSmoother {
   core::Status MarginalizeOldest();
   std::vector<LinearizationFactor> UnaryFactors(const Keyframe& keyframe,
                                                 std::vector<LinearizationVariable>* variables);
+  // sliding_window_upkeep.cc: the sightings records and retirement
+  // (AtlasUpkeepOptions) after a keyframe's association.
+  void KeepAtlasCurrent(const FloorObservations& observations, const core::SE2& T_pred,
+                        const std::vector<bool>& lines_matched,
+                        const std::vector<bool>& junctions_matched, KeyframeHealth* health);
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
                           const core::Matrix3& covariance_pred,
                           const core::Matrix3& slip_covariance, Keyframe* keyframe,
@@ -333,6 +375,15 @@ class SlidingWindowSmoother {
   std::unique_ptr<ceres::LossFunction> line_loss_;
   std::unique_ptr<ceres::LossFunction> junction_loss_;
   LandmarkTracker tracker_;
+  // Upkeep, parallel to the atlas' lines / junctions.
+  std::vector<bool> line_retired_;
+  std::vector<bool> junction_retired_;
+  std::vector<int> line_misses_;
+  std::vector<int> junction_misses_;
+  std::vector<bool> line_born_;
+  std::vector<bool> junction_born_;
+  int landmarks_born_ = 0;
+  int landmarks_retired_ = 0;
   PoseEstimate latest_;
   // The newest pose's marginal information from the last chain solve
   // (valid when newest_information_valid_).

@@ -10,13 +10,15 @@
 // noise implies, Sigma = s^2 (J1 J1^T + J2 J2^T) (perception::LineFromPoints),
 // s = endpoint_sigma_m. Each junction of localization::MarkingJunctions in the
 // box gives a JunctionObservation with isotropic noise junction_sigma_m.
-// Dashed tape is treated as continuous (its gaps are not simulated).
+// Dashed tape is treated as continuous (its gaps are not simulated). Every
+// observation's view is that box.
 //
 // Deterministic for a seed; not thread-safe (one random engine).
 #ifndef GROUNDLINE_SIM_FLOOR_LINE_OBSERVATIONS_H_
 #define GROUNDLINE_SIM_FLOOR_LINE_OBSERVATIONS_H_
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -51,6 +53,7 @@ class FloorObservationSimulator {
   FloorObservationOptions options_;
   std::vector<localization::MarkingSegment> segments_;
   std::vector<Eigen::Vector2d> junctions_;
+  std::shared_ptr<const localization::FloorView> view_;  // the box, on every observation
   std::mt19937_64 rng_;
 };
 
