@@ -79,7 +79,12 @@ Modes:
             wall and rack faces become face lines); with --lidar also the LiDAR
             scan-match factor between keyframes, which keeps only the directions
             the scan constrains (not along an aisle), and the scans' straight
-            faces as line observations against the atlas' faces.
+            faces as line observations against the atlas' faces. With
+            --atlas-out FILE it also keeps the atlas current: a marking that
+            matches nothing is tracked and becomes a landmark after 5
+            consistent sightings; one that should be in the camera's view and
+            is not seen 10 keyframes in a row is retired; FILE gets the atlas
+            with both (docs/atlas.md, "Keeping the atlas current").
   mapping   the same, building the atlas (--atlas-out). With --lidar the atlas is
             of the whole drive: the LiDAR SLAM (submaps, loop closures) closes
             the trajectory, then floor lines, junctions and the wall and rack
@@ -145,6 +150,7 @@ Examples:
   groundline localize --dataset survey_drive --mode mapping --lidar --atlas-out atlas.json --out run_map
   groundline localize --dataset survey_drive --mode mapping --lidar --surveyed site_lines.yaml --atlas-out atlas.json --out run_map
   groundline localize --dataset second_drive --mode lines --lidar --atlas atlas.json --out run_on_map
+  groundline localize --dataset next_week --mode lines --lidar --atlas atlas.json --atlas-out atlas_kept.json --out run_kept
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
 int Usage(const std::string& message) {
@@ -159,6 +165,7 @@ loc::LocalizerOptions OptionsFromFlags(const LocalizeFlags& flags) {
     options.use_lidar = flags.lidar;
     options.mode =
         flags.mode == "mapping" ? loc::LocalizerMode::kMapping : loc::LocalizerMode::kLines;
+    options.smoother.upkeep.enabled = flags.mode == "lines" && !flags.atlas_out_path.empty();
   } else {
     options.mode =
         flags.mode == "lidar" ? loc::LocalizerMode::kLidar : loc::LocalizerMode::kOdometry;
@@ -204,6 +211,13 @@ int RunLocalize(const LocalizeFlags& flags) {
   }
   if (core::Status s = options.relocalizer.Validate(); !s.ok())
     return Usage("--near: " + s.message());
+  if (!flags.atlas_out_path.empty() && options.mode != loc::LocalizerMode::kLines &&
+      options.mode != loc::LocalizerMode::kMapping) {
+    return Usage("--atlas-out " + flags.atlas_out_path +
+                 ": an atlas is written by --mode mapping (built) or --mode lines (kept "
+                 "current), not by --mode " +
+                 flags.mode);
+  }
   core::Result<service::DatasetSetup> setup =
       service::SetupFromDataset(dir, *dataset, setup_options);
   if (!setup.ok()) return LocalizeFail(setup.message());
@@ -474,6 +488,19 @@ int RunLocalize(const LocalizeFlags& flags) {
                   built.junctions.size(), atlas_shown.string().c_str());
     }
   }
+  if (options.smoother.upkeep.enabled) {
+    const loc::Atlas kept = localizer.CurrentAtlas();
+    summary["upkeep"] = {{"landmarks_born", c.landmarks_born},
+                         {"landmarks_retired", c.landmarks_retired},
+                         {"atlas_lines", kept.lines.size()},
+                         {"atlas_junctions", kept.junctions.size()}};
+    if (core::Status s = loc::WriteAtlas(flags.atlas_out_path, kept); !s.ok())
+      return LocalizeFail(s.message());
+    std::printf(
+        "atlas kept current: %ld landmarks born, %ld retired; %zu lines, %zu junctions -> %s\n",
+        c.landmarks_born, c.landmarks_retired, kept.lines.size(), kept.junctions.size(),
+        flags.atlas_out_path.c_str());
+  }
   if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth,
                                         options.mode != loc::LocalizerMode::kLidar, clock, out,
                                         &warnings, &summary);
@@ -519,7 +546,9 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "atlas to the site")
       ->check(CLI::ExistingFile);
   cmd->add_option("--atlas-out", flags->atlas_out_path,
-                  "--mode mapping: where to write the atlas (default OUT/atlas.json)");
+                  "--mode mapping: where to write the atlas (default OUT/atlas.json); --mode "
+                  "lines: keep the atlas current (new markings born, vanished ones retired) "
+                  "and write it there");
   cmd->add_flag("--diagnose", flags->diagnose,
                 "--mode lines: with ground truth, add per-keyframe errors (along/across track, "
                 "heading) and an association check (right/wrong/missed lines) to health.jsonl "

@@ -451,6 +451,10 @@ std::optional<KeyframeOutput> LocalizerImpl::FloorKeyframe(double stamp_s,
   } else {
     counters.lines_used += health->lines_used;
     counters.lines_rejected += health->lines_rejected;
+    if (options.smoother.upkeep.enabled && options.mode == LocalizerMode::kLines) {
+      counters.landmarks_born += health->landmarks_added;
+      counters.landmarks_retired += health->landmarks_retired;
+    }
     counters.solves_unconverged += health->converged ? 0 : 1;
     k.smoother = *health;
   }

@@ -163,6 +163,8 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"lines_used", c.lines_used},
           {"lines_rejected", c.lines_rejected},
           {"lines_dropped", c.lines_dropped},
+          {"landmarks_born", c.landmarks_born},
+          {"landmarks_retired", c.landmarks_retired},
           {"lidar_keyframes", c.lidar_keyframes},
           {"lidar_degenerate", c.lidar_degenerate},
           {"lidar_fisher_degenerate", c.lidar_fisher_degenerate},

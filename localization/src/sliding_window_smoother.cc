@@ -55,6 +55,10 @@ core::Status SmootherOptions::Validate() const {
 }
 
 core::Status AtlasUpkeepOptions::Validate() const {
+  if (tracker.min_keyframes < 1 || tracker.max_gap_keyframes < 1) {
+    return core::Status::Error(
+        "smoother upkeep.tracker.min_keyframes and max_gap_keyframes must be >= 1");
+  }
   if (retire_after_misses < 1) {
     return core::Status::Error("smoother upkeep.retire_after_misses must be >= 1");
   }
@@ -118,7 +122,7 @@ SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atl
       atlas_(std::move(atlas)),
       line_loss_(new ceres::SoftLOneLoss(options.line_loss_scale)),
       junction_loss_(new ceres::SoftLOneLoss(options.junction_loss_scale)),
-      tracker_(options.tracker) {
+      tracker_(options.mode == SmootherMode::kMapping ? options.tracker : options.upkeep.tracker) {
   assert(options_.Validate().ok());
   assert(atlas_.Validate().ok());
   for (const AtlasLine& line : atlas_.lines) {

@@ -38,6 +38,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
   options.localizer = PresetOptions(config.preset);
 #pragma GCC diagnostic pop
+  options.localizer.smoother.upkeep.enabled = config.keep_atlas_current;
   options.front_end.bev = config.Bev();
   options.atlas_path = config.atlas;
   core::Result<DatasetSetup> setup =
@@ -352,7 +353,8 @@ core::Result<nlohmann::ordered_json> Service::Run(const std::atomic<bool>& stop)
     m.cpu_replay_s = cpu_replay_s;
   }
   if (core::Status s = WriteServiceState(out / "state.json", state); !s.ok()) return s;
-  if (m.localizer->options().mode == loc::LocalizerMode::kMapping) {
+  if (m.localizer->options().mode == loc::LocalizerMode::kMapping ||
+      m.localizer->options().smoother.upkeep.enabled) {
     if (core::Status s = loc::WriteAtlas(out / "atlas.json", m.localizer->CurrentAtlas()); !s.ok())
       return s;
   }

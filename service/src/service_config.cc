@@ -206,6 +206,10 @@ core::Status ServiceConfig::Validate() const {
     return core::Status::Error(
         "localizer.self_calibration: needs the camera's lines, the fusion or lines preset");
   }
+  if (keep_atlas_current && preset != "fusion" && preset != "lines") {
+    return core::Status::Error(
+        "localizer.keep_atlas_current: needs an atlas to keep, the fusion or lines preset");
+  }
   if (relocalize && preset != "fusion" && preset != "lines") {
     return core::Status::Error("start.relocalize: needs the lines or fusion preset (an atlas)");
   }
@@ -282,7 +286,9 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   }
   if (const YAML::Node n = y.Child(root, "", "localizer", false);
       n && y.ExpectMap(n, "localizer")) {
-    y.CheckKeys(n, "localizer", {"preset", "atlas", "self_calibration", "mount_estimate", "bev"});
+    y.CheckKeys(n, "localizer",
+                {"preset", "atlas", "self_calibration", "mount_estimate", "bev",
+                 "keep_atlas_current"});
     if (const YAML::Node bev = n["bev"]; bev && y.ExpectMap(bev, "localizer.bev")) {
       y.CheckKeys(bev, "localizer.bev", {"x_m", "y_m", "cell_m"});
       for (const auto& [key, range] :
@@ -302,6 +308,7 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
     if (n["mount_estimate"]) c.mount_estimate = y.Text(n, "localizer", "mount_estimate");
     ReadBool(y, n, "localizer", "self_calibration", &c.self_calibration);
+    ReadBool(y, n, "localizer", "keep_atlas_current", &c.keep_atlas_current);
   }
   if (const YAML::Node n = y.Child(root, "", "start", false); n && y.ExpectMap(n, "start")) {
     y.CheckKeys(n, "start", {"initial_pose", "relocalize", "resume", "wait_for_initial_pose"});

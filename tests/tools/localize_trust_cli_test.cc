@@ -3,7 +3,8 @@
 // (reported, nothing committed) against the right hint (committed near the
 // truth); an empty atlas from mapping (exit 1); a mean NEES far outside its
 // band; streams that do not overlap; malformed CARMEN lines skipped; a
-// non-finite --initial-pose refused before anything is written.
+// non-finite --initial-pose refused before anything is written; an atlas
+// kept current on a floor that changed.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
@@ -25,6 +26,9 @@
 #include "groundline/core/trajectory.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/floor_association.h"
+#include "groundline/perception/hesse_line.h"
 #include "test_data.h"
 
 namespace groundline {
@@ -281,6 +285,164 @@ TEST_F(LocalizeTrust, MappingWithTheLidarTiedToSurveyedMarkingsBuildsAnAtlasTheF
   EXPECT_NE(out.find(survey_file.string() + ": surveyed landmarks anchor a mapping run"),
             std::string::npos)
       << out;
+}
+
+// How many of the drive's poses see at least 1 m of the marking well inside
+// the camera's view (0.8-2.1 m ahead, 0.8 m either side).
+int PosesSeeing(const core::FloorMarking& marking, const core::Trajectory& truth) {
+  int poses = 0;
+  for (std::size_t k = 0; k < truth.size(); k += 5) {
+    const core::SE2 T_base_map = truth[k].pose.Inverse();
+    double inside_m = 0.0;
+    for (std::size_t i = 1; i < marking.polyline_m.size(); ++i) {
+      const Eigen::Vector2d a = T_base_map * marking.polyline_m[i - 1];
+      const Eigen::Vector2d b = T_base_map * marking.polyline_m[i];
+      for (int j = 0; j < 100; ++j) {
+        const Eigen::Vector2d p = a + (j + 0.5) / 100.0 * (b - a);
+        if (p.x() > 0.8 && p.x() < 2.1 && std::abs(p.y()) < 0.8) inside_m += (b - a).norm() / 100;
+      }
+    }
+    poses += inside_m >= 1.0 ? 1 : 0;
+  }
+  return poses;
+}
+
+// The atlas was made before a marking was laid, and lists one that has since
+// been taken up. Localizing with --atlas-out keeps it current: the one taken
+// up is retired, the one laid is born where the floor has it.
+TEST_F(LocalizeTrust, KeepingTheAtlasCurrentRetiresAMarkingTheFloorLacksAndMapsOneItGained) {
+  const core::Dataset d = Read();
+  ASSERT_FALSE(d.ground_truth.empty());
+  ASSERT_TRUE(d.floor_map);
+  const localization::Atlas truth =
+      localization::AtlasFromFloorMap(*d.floor_map, localization::AtlasFromFloorMapOptions());
+  const auto angle = [](const localization::AtlasLine& a, const localization::AtlasLine& b) {
+    return std::abs(perception::LineDifference(a.line_map, b.line_map)(1));
+  };
+  // The offset of the floor's line t from the middle of the line `built`.
+  const auto offset_at_middle = [](const localization::AtlasLine& built,
+                                   const localization::AtlasLine& t) {
+    const Eigen::Vector2d middle = 0.5 * (built.endpoint_a_m + built.endpoint_b_m);
+    return std::abs(t.line_map.Normal().dot(middle) - t.line_map.rho_m);
+  };
+  const auto lines_of = [](const core::FloorMarking& m) {
+    return localization::AtlasFromFloorMap(core::FloorMap{"map", {m}, std::nullopt},
+                                           localization::AtlasFromFloorMapOptions());
+  };
+  // Candidates: straight floor markings that lie on no other marking (a
+  // joint under a tape is one line to the camera).
+  std::vector<std::pair<int, std::size_t>> seen;
+  for (std::size_t i = 0; i < d.floor_map->markings.size(); ++i) {
+    const core::FloorMarking& m = d.floor_map->markings[i];
+    if (core::IsFaceKind(m.kind) || m.polyline_m.size() != 2) continue;
+    const int poses = PosesSeeing(m, d.ground_truth);
+    if (poses < 20) continue;
+    const localization::AtlasLine line = lines_of(m).lines.front();
+    int on_it = 0;
+    for (const localization::AtlasLine& t : truth.lines) {
+      on_it += angle(line, t) < 0.02 && offset_at_middle(line, t) < 0.05 &&
+               localization::ExtentsOverlap(line, t, 0.0);
+    }
+    if (on_it == 1) seen.push_back({poses, i});
+  }
+  std::sort(seen.rbegin(), seen.rend());
+  ASSERT_GE(seen.size(), 2u) << "the drive sees too little of its markings";
+  // Laid after the survey: the marking seen longest. Taken up: a copy of the
+  // next one 0.5 m aside, towards the drive (it is not on the floor).
+  const core::FloorMarking laid = d.floor_map->markings[seen[0].second];
+  core::FloorMarking taken_up = d.floor_map->markings[seen[1].second];
+  {
+    const Eigen::Vector2d a = taken_up.polyline_m[0], b = taken_up.polyline_m[1];
+    const Eigen::Vector2d along = (b - a).normalized();
+    Eigen::Vector2d normal(-along.y(), along.x());
+    const Eigen::Vector2d middle = 0.5 * (a + b);
+    const auto nearest = std::min_element(
+        d.ground_truth.begin(), d.ground_truth.end(), [&](const auto& p, const auto& q) {
+          return (p.pose.translation() - middle).norm() < (q.pose.translation() - middle).norm();
+        });
+    if (normal.dot(nearest->pose.translation() - middle) < 0.0) normal = -normal;
+    for (Eigen::Vector2d& p : taken_up.polyline_m) p += 0.5 * normal;
+    for (const core::FloorMarking& m : d.floor_map->markings) {
+      taken_up.id = std::max(taken_up.id, m.id + 1);
+    }
+  }
+  std::printf("laid: marking %lld (%s, seen from %d poses); taken up: a copy of marking %lld "
+              "moved to (%.2f, %.2f)-(%.2f, %.2f)\n",
+              static_cast<long long>(laid.id), std::string(core::MarkingKindName(laid.kind)).c_str(),
+              seen[0].first, static_cast<long long>(d.floor_map->markings[seen[1].second].id),
+              taken_up.polyline_m[0].x(), taken_up.polyline_m[0].y(), taken_up.polyline_m[1].x(),
+              taken_up.polyline_m[1].y());
+  core::FloorMap surveyed = *d.floor_map;
+  std::erase_if(surveyed.markings, [&](const core::FloorMarking& m) { return m.id == laid.id; });
+  surveyed.markings.push_back(taken_up);
+  const localization::Atlas stale =
+      localization::AtlasFromFloorMap(surveyed, localization::AtlasFromFloorMapOptions());
+  const fs::path stale_file = dir_ / "stale_atlas.json";
+  const fs::path kept_file = dir_ / "kept_atlas.json";
+  ASSERT_TRUE(localization::WriteAtlas(stale_file, stale).ok());
+
+  const fs::path run = dir_ / "kept";
+  std::string out;
+  ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) + " --mode lines --atlas " +
+                              Quoted(stale_file) + " --atlas-out " + Quoted(kept_file) + " --out " +
+                              Quoted(run),
+                          dir_, &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("atlas kept current: "), std::string::npos) << out;
+  const nlohmann::json summary = ReadJson(run / "summary.json");
+  const nlohmann::json& upkeep = summary["upkeep"];
+  EXPECT_GE(upkeep["landmarks_born"].get<int>(), 1) << upkeep.dump();
+  EXPECT_GE(upkeep["landmarks_retired"].get<int>(), 1) << upkeep.dump();
+  const core::Result<localization::Atlas> kept = localization::ReadAtlas(kept_file);
+  ASSERT_TRUE(kept.ok()) << kept.message();
+  EXPECT_EQ(kept->lines.size() + kept->junctions.size(),
+            stale.lines.size() + stale.junctions.size() + upkeep["landmarks_born"].get<int>() -
+                upkeep["landmarks_retired"].get<int>());
+
+  // The marking taken up is gone; every other surveyed line is kept.
+  const localization::Atlas taken_up_lines = lines_of(taken_up);
+  const auto same = [](const localization::AtlasLine& a, const localization::AtlasLine& b) {
+    const Eigen::Vector2d diff = perception::LineDifference(a.line_map, b.line_map);
+    return std::abs(diff(0)) < 1e-6 && std::abs(diff(1)) < 1e-6 &&
+           localization::ExtentsOverlap(a, b, 0.0);
+  };
+  for (const localization::AtlasLine& s : stale.lines) {
+    bool is_taken_up = false;
+    for (const localization::AtlasLine& t : taken_up_lines.lines) is_taken_up |= same(s, t);
+    bool is_kept = false;
+    for (const localization::AtlasLine& k : kept->lines) is_kept |= k.id == s.id;
+    EXPECT_EQ(is_kept, !is_taken_up) << "line " << s.id;
+  }
+  // The laid one is born, within 1.5 cm and 0.3 deg of the floor's, measured
+  // at the born line's middle; nothing born is off the floor's lines.
+  const localization::Atlas laid_lines = lines_of(laid);
+  int born_on_laid = 0;
+  for (const localization::AtlasLine& k : kept->lines) {
+    if (!k.seen) continue;  // surveyed
+    double best = 1e9;
+    for (const localization::AtlasLine& t : truth.lines) {
+      if (angle(k, t) < 0.01 && localization::ExtentsOverlap(k, t, 0.0)) {
+        best = std::min(best, offset_at_middle(k, t));
+      }
+    }
+    EXPECT_LT(best, 0.05) << "born line " << k.id << " lies on no marking of the floor";
+    for (const localization::AtlasLine& t : laid_lines.lines) {
+      if (localization::ExtentsOverlap(k, t, 0.0) && offset_at_middle(k, t) < 0.015 &&
+          angle(k, t) < 0.3 * M_PI / 180.0) {
+        ++born_on_laid;
+      }
+    }
+  }
+  EXPECT_GE(born_on_laid, 1) << "the marking laid was not born";
+
+  // Only the modes that make or keep an atlas write one.
+  EXPECT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) + " --atlas-out " +
+                              Quoted(dir_ / "odometry_atlas.json") + " --out " +
+                              Quoted(dir_ / "odometry"),
+                          dir_, &out),
+            2);
+  EXPECT_NE(out.find("an atlas is written by --mode mapping"), std::string::npos) << out;
 }
 
 TEST_F(LocalizeTrust, NeesFarOutsideItsBandWarns) {

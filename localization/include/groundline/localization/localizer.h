@@ -230,6 +230,8 @@ struct LocalizerCounters {
   long lines_used = 0;
   long lines_rejected = 0;
   long lines_dropped = 0;
+  long landmarks_born = 0;     // the atlas upkeep (SmootherOptions::upkeep)
+  long landmarks_retired = 0;  // the atlas upkeep
   long lidar_keyframes = 0;
   long lidar_degenerate = 0;
   long lidar_fisher_degenerate = 0;

@@ -86,8 +86,8 @@ enum class SmootherSolver { kChain, kCeres };
 // Localization mode: keeping the atlas current while localizing on it
 // (docs/atlas.md, "Keeping the atlas current"). Floor markings and
 // junctions only; wall and rack faces are left as they are.
-//   Birth: a marking that matches no landmark is tracked (tracker options)
-//   and becomes a landmark after tracker.min_keyframes consistent sightings,
+//   Birth: a marking that matches no landmark is tracked (tracker) and
+//   becomes a landmark after tracker.min_keyframes consistent sightings,
 //   each made from a keyframe that is localized on the atlas: at least
 //   birth_min_matches landmark factors, and a predicted position standard
 //   deviation (largest axis) of at most birth_max_position_sigma_m (a lost
@@ -103,10 +103,14 @@ enum class SmootherSolver { kChain, kCeres };
 // Each landmark seen gets its sightings record (AtlasLine::seen) updated.
 struct AtlasUpkeepOptions {
   bool enabled = false;
+  // The tentative tracks. A transverse marking (a stop bar, a joint) stays
+  // in the camera's view for 2-4 keyframes as the vehicle passes it: 3
+  // consistent sightings make a landmark.
+  LandmarkTrackerOptions tracker = {.min_keyframes = 3, .max_gap_keyframes = 2};
   int retire_after_misses = 10;
   double view_margin_m = 0.15;
   double min_in_view_m = 0.5;
-  int birth_min_matches = 2;
+  int birth_min_matches = 1;
   double birth_max_position_sigma_m = 0.05;
 
   core::Status Validate() const;
@@ -173,8 +177,8 @@ struct SmootherOptions {
   // count as exact). Each observation carries it anew, although one
   // landmark's survey error is one error: first-order, not a shared variable.
   bool landmark_covariance_in_factors = true;
-  // Mapping mode, and localization mode with upkeep: the tentative tracks of
-  // observations that match no landmark.
+  // Mapping mode: the tentative tracks of observations that match no
+  // landmark (localization mode: upkeep.tracker).
   LandmarkTrackerOptions tracker;
   AtlasUpkeepOptions upkeep;  // localization mode
 

@@ -93,6 +93,10 @@ struct ServiceConfig {
   // lines while driving (docs/self_calibration.md); health.jsonl gets the
   // selfcal_* fields. Needs a preset that reads the camera (fusion, lines).
   bool self_calibration = false;
+  // localizer.keep_atlas_current: keep the atlas current while localizing
+  // (markings born, vanished ones retired: docs/atlas.md) and write it to
+  // output.dir/atlas.json at the stop. Needs the fusion or lines preset.
+  bool keep_atlas_current = false;
   // localizer.bev: the camera's bird's-eye view (perception::BevExtent): x_m
   // [near, far] ahead and y_m [right, left] in base_link, metres, each by
   // default the camera's floor footprint; cell_m, the cell side.
