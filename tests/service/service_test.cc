@@ -19,6 +19,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
+#include "groundline/localization/atlas.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/service/service_config.h"
 #include "groundline/service/service_state.h"
@@ -92,6 +93,11 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
        "localizer: {preset: odometry, self_calibration: true}\n",
        "localizer.self_calibration: needs the camera's lines"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {keep_atlas_current: 1x}\n",
+       "localizer.keep_atlas_current"},
+      {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
+       "localizer: {preset: lidar, keep_atlas_current: true}\n",
+       "localizer.keep_atlas_current: needs an atlas"},
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {x_m: [2, 1]}}\n",
        "localizer.bev: BEV extent x_m"},
       {"inputs:\n  replay: {dataset: d}\noutput: {dir: o}\nlocalizer: {bev: {y_m: [1]}}\n",
@@ -375,6 +381,7 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
 // localizer.self_calibration through the service's threads: the camera
 // mount is estimated from the keyframes' lines and reported on every
 // health.jsonl line; the drive's mount is the commissioned one, so no alarm.
+// The run also keeps its atlas current (localizer.keep_atlas_current).
 TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
 #ifdef GROUNDLINE_SANITIZED
   GTEST_SKIP() << "a rendered drive and Debug scan matching under AddressSanitizer; runs in the "
@@ -390,10 +397,31 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
   config.resume = false;
   config.self_calibration = true;
   config.preset = "lines";  // the estimator needs the lines, not the scan matching
+  config.keep_atlas_current = true;
   core::Result<std::unique_ptr<Service>> created = Service::Create(config);
   ASSERT_TRUE(created.ok()) << created.message();
   std::atomic<bool> never{false};
   ASSERT_TRUE((*created)->Run(never).ok());
+  {
+    // The same run kept the atlas current (docs/atlas.md): atlas.json holds
+    // the floor map's landmarks (this floor is as surveyed: nothing on it is
+    // retired) and what was born.
+    const nlohmann::json counters =
+        nlohmann::json::parse(std::ifstream(dir / "out" / "summary.json"))["counters"];
+    EXPECT_EQ(counters["landmarks_retired"].get<long>(), 0) << counters.dump();
+    core::DatasetReadOptions read;
+    read.check_image_files = false;
+    const core::Result<core::Dataset> drive = core::ReadDataset(dir / "drive", read);
+    ASSERT_TRUE(drive.ok() && drive->floor_map) << drive.message();
+    const localization::Atlas surveyed = localization::AtlasFromFloorMap(
+        *drive->floor_map, localization::AtlasFromFloorMapOptions());
+    const core::Result<localization::Atlas> kept =
+        localization::ReadAtlas(dir / "out" / "atlas.json");
+    ASSERT_TRUE(kept.ok()) << kept.message();
+    EXPECT_EQ(
+        kept->lines.size() + kept->junctions.size(),
+        surveyed.lines.size() + surveyed.junctions.size() + counters["landmarks_born"].get<long>());
+  }
   std::ifstream health(dir / "out" / "health.jsonl");
   std::string text;
   int lines = 0, windows = 0;
