@@ -50,6 +50,18 @@ std::optional<LandmarkSightings> ReadSightings(const json& entry, const std::str
   return seen;
 }
 
+// The optional "missed" member: an integer >= 0.
+int ReadMissed(const json& entry, const std::string& p, core::JsonFieldReader* reader) {
+  if (entry.find("missed") == entry.end()) return 0;
+  const std::int64_t missed = reader->Id(entry, p, "missed");
+  if (!reader->ok()) return 0;
+  if (missed < 0 || missed > std::numeric_limits<int>::max()) {
+    reader->Fail(p + "missed", "an integer >= 0", std::to_string(missed));
+    return 0;
+  }
+  return static_cast<int>(missed);
+}
+
 core::Status CheckSightings(const std::optional<LandmarkSightings>& seen,
                             const std::string& field) {
   if (!seen || (seen->keyframes >= 1 && std::isfinite(seen->first_s) &&
@@ -91,6 +103,7 @@ core::Status Atlas::Validate() const {
     core::Status status = CheckCovariance(line.covariance, field + ".covariance");
     if (!status.ok()) return status;
     if (status = CheckSightings(line.seen, field); !status.ok()) return status;
+    if (line.missed < 0) return core::Status::Error("field '" + field + ".missed': expected >= 0");
   }
   ids.clear();
   for (size_t i = 0; i < junctions.size(); ++i) {
@@ -104,6 +117,9 @@ core::Status Atlas::Validate() const {
     core::Status status = CheckCovariance(junctions[i].covariance, field + ".covariance");
     if (!status.ok()) return status;
     if (status = CheckSightings(junctions[i].seen, field); !status.ok()) return status;
+    if (junctions[i].missed < 0) {
+      return core::Status::Error("field '" + field + ".missed': expected >= 0");
+    }
   }
   return core::Status::Ok();
 }
@@ -153,6 +169,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     line.endpoint_a_m = {ends[0], ends[1]};
     line.endpoint_b_m = {ends[2], ends[3]};
     line.seen = ReadSightings(entry, p, &reader);
+    line.missed = ReadMissed(entry, p, &reader);
     atlas.lines.push_back(line);
   }
   for (size_t i = 0; i < junctions->size(); ++i) {
@@ -164,6 +181,7 @@ core::Result<Atlas> ReadAtlas(const std::filesystem::path& path) {
     junction.point_m = {point[0], point[1]};
     junction.covariance = Matrix2(reader.Numbers(entry, p, "covariance", 4));
     junction.seen = ReadSightings(entry, p, &reader);
+    junction.missed = ReadMissed(entry, p, &reader);
     atlas.junctions.push_back(junction);
   }
   if (!reader.status().ok()) return reader.status();
@@ -191,6 +209,7 @@ core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
          {"endpoints_m", json::array({line.endpoint_a_m.x(), line.endpoint_a_m.y(),
                                       line.endpoint_b_m.x(), line.endpoint_b_m.y()})}});
     if (line.seen) root["lines"].back()["seen"] = ToJson(*line.seen);
+    if (line.missed > 0) root["lines"].back()["missed"] = line.missed;
   }
   root["junctions"] = json::array();
   for (const AtlasJunction& junction : atlas.junctions) {
@@ -198,6 +217,7 @@ core::Status WriteAtlas(const std::filesystem::path& path, const Atlas& atlas) {
                                  {"point_m", ToJson(junction.point_m)},
                                  {"covariance", ToJson(junction.covariance)}});
     if (junction.seen) root["junctions"].back()["seen"] = ToJson(*junction.seen);
+    if (junction.missed > 0) root["junctions"].back()["missed"] = junction.missed;
   }
   return core::WriteFileAtomically(path, root.dump(1) + "\n");
 }

@@ -132,11 +132,13 @@ SlidingWindowSmoother::SlidingWindowSmoother(const SmootherOptions& options, Atl
     junction_blocks_.push_back({junction.point_m.x(), junction.point_m.y()});
   }
   line_retired_.assign(atlas_.lines.size(), false);
-  line_misses_.assign(atlas_.lines.size(), 0);
   line_born_.assign(atlas_.lines.size(), false);
+  for (const AtlasLine& line : atlas_.lines) line_misses_.push_back(line.missed);
   junction_retired_.assign(atlas_.junctions.size(), false);
-  junction_misses_.assign(atlas_.junctions.size(), 0);
   junction_born_.assign(atlas_.junctions.size(), false);
+  for (const AtlasJunction& junction : atlas_.junctions) {
+    junction_misses_.push_back(junction.missed);
+  }
 }
 
 SlidingWindowSmoother::~SlidingWindowSmoother() = default;
@@ -178,11 +180,13 @@ Atlas SlidingWindowSmoother::CurrentAtlas() const {
     if (line_retired_[i]) continue;
     atlas.lines.push_back(atlas_.lines[i]);
     atlas.lines.back().line_map = perception::NormalizeLine(line_blocks_[i][0], line_blocks_[i][1]);
+    atlas.lines.back().missed = line_misses_[i];
   }
   for (size_t i = 0; i < atlas_.junctions.size(); ++i) {
     if (junction_retired_[i]) continue;
     atlas.junctions.push_back(atlas_.junctions[i]);
     atlas.junctions.back().point_m = {junction_blocks_[i][0], junction_blocks_[i][1]};
+    atlas.junctions.back().missed = junction_misses_[i];
   }
   return atlas;
 }

@@ -307,8 +307,11 @@ TEST(FloorLocalization, AChangedFloorRetiresTheMarkingsItLostAndMapsTheNewOnes) 
     EXPECT_LT(best_alpha, 0.005);
   }
 
-  // The next drive on the saved atlas: the floor is as the atlas says, so
-  // nothing is born or retired.
+  // The next drive on the saved atlas. What the first drive left undone is
+  // finished (a junction of a vanished tape, in view a few keyframes a pass,
+  // gathers its misses over both drives; a landmark seen too briefly may be
+  // born now), and only that: everything retired is off the floor, everything
+  // born on it.
   const std::filesystem::path path =
       std::filesystem::path(::testing::TempDir()) / "floor_upkeep_atlas.json";
   ASSERT_TRUE(WriteAtlas(path, after).ok());
@@ -319,15 +322,27 @@ TEST(FloorLocalization, AChangedFloorRetiresTheMarkingsItLostAndMapsTheNewOnes) 
   SlidingWindowSmoother next(options, *loaded);
   const RunErrors again = RunSmoother(changed, testing::TestDriveOptions(10), &next);
   Print("the next drive on the kept atlas", again);
-  // A landmark the first drive saw too briefly may be born now, but only
-  // where the floor has one; nothing is retired.
+  std::printf("next drive: %d landmarks born, %d retired\n", next.LandmarksBorn(),
+              next.LandmarksRetired());
   EXPECT_LE(next.LandmarksBorn(), 2);
-  EXPECT_EQ(next.LandmarksRetired(), 0);
   const Atlas kept = next.CurrentAtlas();
-  EXPECT_EQ(kept.lines.size() + kept.junctions.size(),
-            after.lines.size() + after.junctions.size() + next.LandmarksBorn());
+  EXPECT_EQ(
+      kept.lines.size() + kept.junctions.size(),
+      after.lines.size() + after.junctions.size() + next.LandmarksBorn() - next.LandmarksRetired());
+  std::set<std::int64_t> kept_lines_ids, kept_junction_ids;
+  for (const AtlasLine& l : kept.lines) kept_lines_ids.insert(l.id);
+  for (const AtlasJunction& j : kept.junctions) kept_junction_ids.insert(j.id);
+  for (const AtlasLine& l : after.lines) {
+    EXPECT_EQ(kept_lines_ids.count(l.id), 1u) << "line " << l.id << " was retired";
+  }
   std::set<std::int64_t> after_junctions;
-  for (const AtlasJunction& j : after.junctions) after_junctions.insert(j.id);
+  for (const AtlasJunction& j : after.junctions) {
+    after_junctions.insert(j.id);
+    if (kept_junction_ids.count(j.id) == 0) {
+      EXPECT_GT(NearestJunction(truth, j.point_m), 0.02)
+          << "junction " << j.id << " is on the floor but was retired";
+    }
+  }
   for (const AtlasJunction& j : kept.junctions) {
     if (after_junctions.count(j.id) == 0) {
       EXPECT_LT(NearestJunction(truth, j.point_m), 0.03)
@@ -336,6 +351,67 @@ TEST(FloorLocalization, AChangedFloorRetiresTheMarkingsItLostAndMapsTheNewOnes) 
   }
   // The kept atlas localizes as well as the floor's true map.
   EXPECT_LT(RunErrors::Rms(again.position_m), RunErrors::Rms(again_exact.position_m) + 0.003);
+}
+
+core::FloorMarking Tape(std::int64_t id, Eigen::Vector2d a, Eigen::Vector2d b) {
+  core::FloorMarking m;
+  m.id = id;
+  m.width_m = 0.05;
+  m.colour_rgb = {245, 205, 0};
+  m.polyline_m = {a, b};
+  return m;
+}
+
+// A marking in view for a few keyframes a pass (a bar across the drive)
+// gathers its misses over drives: the count is kept in the atlas file, and
+// the bar taken up is retired on the second drive past it.
+TEST(FloorLocalization, AMarkingMissedOnEveryPassIsRetiredOverDrives) {
+  core::FloorMap floor;  // two tapes along a 20 m drive
+  floor.markings = {Tape(0, {0.0, 0.5}, {20.0, 0.5}), Tape(1, {0.0, -0.5}, {20.0, -0.5})};
+  core::FloorMap surveyed = floor;  // and a bar across it, since taken up
+  surveyed.markings.push_back(Tape(2, {10.0, -0.4}, {10.0, 0.4}));
+  Atlas atlas = AtlasFromFloorMap(surveyed, AtlasFromFloorMapOptions());
+  ASSERT_EQ(atlas.lines.size(), 3u);
+  const std::int64_t bar = atlas.lines[2].id;
+  testing::ZoneDrive drive{floor, {}};
+  for (int i = 0; i <= 1000; ++i) {
+    drive.trajectory.push_back({0.02 * i, core::SE2(0.02 * i, 0.0, 0.0), std::nullopt});
+  }
+  SmootherOptions options = ShortWindow(SmootherMode::kLocalization);
+  options.upkeep.enabled = true;
+  const std::filesystem::path path =
+      std::filesystem::path(::testing::TempDir()) / "floor_upkeep_missed.json";
+  for (int pass = 1; pass <= 2; ++pass) {
+    SlidingWindowSmoother localizer(options, atlas);
+    const RunErrors errors = RunSmoother(drive, testing::TestDriveOptions(20 + pass), &localizer);
+    // Two tapes along the drive hold it across; along it is the odometry's.
+    EXPECT_LT(RunErrors::Rms(errors.position_m), 0.05);
+    ASSERT_TRUE(WriteAtlas(path, localizer.CurrentAtlas()).ok());
+    const core::Result<Atlas> read = ReadAtlas(path);
+    ASSERT_TRUE(read.ok()) << read.message();
+    atlas = *read;
+    const auto found = std::find_if(atlas.lines.begin(), atlas.lines.end(),
+                                    [&](const AtlasLine& l) { return l.id == bar; });
+    std::printf("pass %d: %d retired, bar %s\n", pass, localizer.LandmarksRetired(),
+                found == atlas.lines.end() ? "retired"
+                                           : ("missed " + std::to_string(found->missed)).c_str());
+    if (pass == 1) {
+      // In view (0.5 m of it 15 cm inside the box) over ~1.3 m of the drive:
+      // about 6 keyframes 0.2 m apart, fewer than the 10 that retire it.
+      ASSERT_NE(found, atlas.lines.end());
+      EXPECT_GE(found->missed, 4);
+      EXPECT_LT(found->missed, options.upkeep.retire_after_misses);
+      EXPECT_EQ(localizer.LandmarksRetired(), 0);
+    } else {
+      EXPECT_EQ(found, atlas.lines.end()) << "the bar missed on two passes was kept";
+      EXPECT_EQ(localizer.LandmarksRetired(), 1);
+    }
+    for (const AtlasLine& l : atlas.lines) {
+      if (l.id != bar) {
+        EXPECT_EQ(l.missed, 0) << "tape " << l.id;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -118,6 +118,8 @@ TEST(Atlas, WriteThenReadIsExact) {
   atlas.lines[0].covariance << 2.5e-5, 1.0e-7, 1.0e-7, 4.0e-6;
   atlas.lines[1].seen = LandmarkSightings{7, 12.5, 98.25};
   atlas.junctions[2].seen = LandmarkSightings{2, 3.0, 3.5};
+  atlas.lines[2].missed = 4;
+  atlas.junctions[1].missed = 9;
   const auto path = TempPath("atlas_round_trip.json");
   ASSERT_TRUE(WriteAtlas(path, atlas).ok());
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
@@ -140,6 +142,9 @@ TEST(Atlas, WriteThenReadIsExact) {
   EXPECT_EQ(read->lines[1].seen->last_s, 98.25);
   ASSERT_TRUE(read->junctions[2].seen.has_value());
   EXPECT_EQ(read->junctions[2].seen->keyframes, 2);
+  EXPECT_EQ(read->lines[2].missed, 4);
+  EXPECT_EQ(read->lines[1].missed, 0);
+  EXPECT_EQ(read->junctions[1].missed, 9);
   EXPECT_FALSE(read->covariances_stated);
   atlas.covariances_stated = true;
   ASSERT_TRUE(WriteAtlas(path, atlas).ok());
@@ -196,6 +201,10 @@ TEST(Atlas, ErrorsNameTheField) {
       "covariance": [1, 0, 0, 1], "seen": {"keyframes": 0, "first_s": 1, "last_s": 2}}]})");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("junctions[0].seen.keyframes"), std::string::npos) << bad.message();
+  bad = write(head + R"("lines": [{"id": 0, "rho_m": 1, "alpha_rad": 0, "covariance": [1,0,0,1],
+      "kind": "tape_solid", "endpoints_m": [0,0,1,0], "missed": -2}], "junctions": []})");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("lines[0].missed"), std::string::npos) << bad.message();
   bad = write(head + R"("covariances_stated": "yes", "lines": [], "junctions": []})");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("covariances_stated"), std::string::npos) << bad.message();

@@ -49,6 +49,11 @@ struct AtlasLine {
   // upkeep), and a localizing smoother weighs its covariance as stated even
   // when covariances_stated is false.
   std::optional<LandmarkSightings> seen;
+  // The atlas upkeep's evidence that the landmark is gone: the keyframes in a
+  // row, over the drives that kept this atlas, in which it was expected in
+  // the camera's view and not seen (SmootherOptions::upkeep). Stored as
+  // `missed` (absent: 0).
+  int missed = 0;
 };
 
 struct AtlasJunction {
@@ -56,6 +61,7 @@ struct AtlasJunction {
   Eigen::Vector2d point_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();
   std::optional<LandmarkSightings> seen;
+  int missed = 0;  // as AtlasLine::missed
 };
 
 struct Atlas {

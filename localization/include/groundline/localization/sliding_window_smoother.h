@@ -8,7 +8,9 @@
 //     (PropagateFromKeyframe), with covariance;
 //  2. associates the observations with the atlas (floor_association.h);
 //     in mapping mode unmatched ones feed the LandmarkTracker and become
-//     landmarks after min_track_keyframes sightings;
+//     landmarks after tracker.min_keyframes sightings; in localization mode
+//     with upkeep (AtlasUpkeepOptions) new markings are born the same way
+//     and landmarks expected in view and not seen are retired;
 //  3. solves the window (pseudo-Huber = ceres::SoftLOneLoss on line and
 //     junction factors, scales in whitened units, by iteratively reweighted
 //     least squares). Localization mode (landmarks fixed, the window is a
@@ -30,7 +32,8 @@
 //     chain's forward elimination (exact for the chain; in mapping mode the
 //     landmarks are treated as known).
 //
-// Landmarks stay in the atlas permanently: fixed in localization mode,
+// Landmarks stay in the atlas (unless the upkeep retires them): fixed in
+// localization mode (a born one is refined by its own sightings),
 // variables in mapping mode while a window keyframe observes them. When a
 // keyframe is marginalized in mapping mode its landmark factors are dropped
 // (not folded into the prior as if the landmarks were exact, which would
@@ -99,7 +102,10 @@ enum class SmootherSolver { kChain, kCeres };
 //   frame's view (FloorObservations::view) by view_margin_m, and the frame
 //   was read (at least one landmark factor). One expected and not matched
 //   retire_after_misses times in a row is retired: no longer associated,
-//   left out of CurrentAtlas(). A frame without a view is no evidence.
+//   left out of CurrentAtlas(). A frame without a view is no evidence. The
+//   count carries over drives in the atlas (AtlasLine::missed): a stop bar
+//   in view for 3 keyframes a pass is retired after four passes, over one
+//   drive or several.
 // Each landmark seen gets its sightings record (AtlasLine::seen) updated.
 struct AtlasUpkeepOptions {
   bool enabled = false;
