@@ -63,6 +63,11 @@ AtlasJunction JunctionInMap(const JunctionObservation& observation, const core::
   return out;
 }
 
+void FuseJunctionSighting(const AtlasJunction& seen, AtlasJunction* estimate) {
+  FuseGaussian2(seen.point_m - estimate->point_m, seen.covariance, &estimate->point_m,
+                &estimate->covariance);
+}
+
 LandmarkTracker::Confirmed LandmarkTracker::Update(
     long keyframe_index, const core::SE2& T_map_base, const core::Matrix3& pose_covariance,
     const std::vector<const LineObservation*>& lines,
@@ -114,8 +119,7 @@ LandmarkTracker::Confirmed LandmarkTracker::Update(
       continue;
     }
     JunctionTrack& track = junctions_[best];
-    FuseGaussian2(seen.point_m - track.estimate.point_m, seen.covariance, &track.estimate.point_m,
-                  &track.estimate.covariance);
+    FuseJunctionSighting(seen, &track.estimate);
     track.last_keyframe = keyframe_index;
     if (++track.sightings == options_.min_keyframes) {
       confirmed.junctions.push_back({track.estimate, static_cast<int>(i)});

@@ -311,9 +311,7 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
       if (upkeep) junctions_matched[match.landmark] = true;
       if (upkeep && junction_born_[match.landmark]) {
         AtlasJunction& landmark = atlas_.junctions[match.landmark];
-        const AtlasJunction seen = JunctionInMap(observation, T_pred, covariance_pred);
-        FuseGaussian2(seen.point_m - landmark.point_m, seen.covariance, &landmark.point_m,
-                      &landmark.covariance);
+        FuseJunctionSighting(JunctionInMap(observation, T_pred, covariance_pred), &landmark);
         junction_blocks_[match.landmark] = {landmark.point_m.x(), landmark.point_m.y()};
         born_moved = true;
       }

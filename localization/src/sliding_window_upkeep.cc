@@ -1,16 +1,10 @@
 // The atlas upkeep of SlidingWindowSmoother in localization mode
 // (AtlasUpkeepOptions): each landmark's sightings record, and the retirement
 // of landmarks that are expected in view and not seen.
-#include <cmath>
-
 #include "groundline/localization/sliding_window_smoother.h"
 
 namespace groundline::localization {
 namespace {
-
-// Spacing of the samples along a line's extent when its length in view is
-// measured.
-constexpr double kViewSampleStepM = 0.05;
 
 // A surveyed landmark has no record and gets none: a record says that the
 // landmark was estimated from sightings (its covariance is that estimate's).
@@ -21,20 +15,6 @@ void RecordSighting(double stamp_s, std::optional<LandmarkSightings>* seen) {
     ++s.keyframes;
     s.last_s = stamp_s;
   }
-}
-
-// The length of the segment a-b (base_link) that lies inside the view by
-// margin_m.
-double LengthInView(const FloorView& view, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                    double margin_m) {
-  const double length = (b - a).norm();
-  const int samples = std::max(1, static_cast<int>(std::ceil(length / kViewSampleStepM)));
-  int inside = 0;
-  for (int i = 0; i < samples; ++i) {
-    const double t = (i + 0.5) / samples;
-    inside += view.InsideDistance(a + t * (b - a)) >= margin_m ? 1 : 0;
-  }
-  return length * inside / samples;
 }
 
 }  // namespace
@@ -69,8 +49,8 @@ void SlidingWindowSmoother::KeepAtlasCurrent(const FloorObservations& observatio
   for (size_t i = 0; i < lines_matched.size(); ++i) {
     const AtlasLine& line = atlas_.lines[i];
     if (lines_matched[i] || line_retired_[i] || core::IsFaceKind(line.kind)) continue;
-    if (LengthInView(view, T_base_map * line.endpoint_a_m, T_base_map * line.endpoint_b_m,
-                     o.view_margin_m) < o.min_in_view_m) {
+    if (view.LengthInside(T_base_map * line.endpoint_a_m, T_base_map * line.endpoint_b_m,
+                          o.view_margin_m) < o.min_in_view_m) {
       continue;
     }
     if (++line_misses_[i] >= o.retire_after_misses) retire(&line_retired_, i);

@@ -59,7 +59,7 @@ TEST(FloorFrontEnd, ItsViewIsTheFloorTheCameraSees) {
   EXPECT_EQ(seen->observations.view, front_end.view());
 }
 
-TEST(FloorView, InsideDistanceIsTheLeastDistanceToAnEdge) {
+TEST(FloorView, InsideDistanceAndTheLengthOfASegmentInside) {
   FloorView square;
   square.polygon_base_m = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}};
   EXPECT_NEAR(square.InsideDistance({1.0, 1.0}), 1.0, 1e-12);
@@ -67,6 +67,13 @@ TEST(FloorView, InsideDistanceIsTheLeastDistanceToAnEdge) {
   EXPECT_NEAR(square.InsideDistance({1.0, -0.25}), -0.25, 1e-12);
   EXPECT_NEAR(square.InsideDistance({3.0, 1.0}), -1.0, 1e-12);
   EXPECT_EQ(FloorView().InsideDistance({0.0, 0.0}), -std::numeric_limits<double>::infinity());
+  // Clipped by the square shrunk by the margin: [0.25, 1.75] on each axis.
+  EXPECT_NEAR(square.LengthInside({-1.0, 1.0}, {3.0, 1.0}, 0.25), 1.5, 1e-12);
+  EXPECT_NEAR(square.LengthInside({1.0, 1.0}, {3.0, 1.0}, 0.0), 1.0, 1e-12);
+  EXPECT_NEAR(square.LengthInside({-1.0, -1.0}, {3.0, 3.0}, 0.0), 2.0 * std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(square.LengthInside({-1.0, 0.1}, {3.0, 0.1}, 0.25), 0.0);  // along, too near an edge
+  EXPECT_EQ(square.LengthInside({3.0, 0.0}, {3.0, 2.0}, 0.0), 0.0);    // outside
+  EXPECT_EQ(FloorView().LengthInside({0.0, 0.0}, {1.0, 0.0}, 0.0), 0.0);
 }
 
 TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {

@@ -51,6 +51,11 @@ struct FloorView {
   // How far p lies inside the polygon: the least distance to an edge's line,
   // negative outside; -infinity for a polygon of fewer than 3 corners.
   double InsideDistance(const Eigen::Vector2d& p_base_m) const;
+  // The length of the segment a-b that lies at least margin_m inside the
+  // polygon (the segment clipped by each edge's inward-shifted half-plane);
+  // 0 for a polygon of fewer than 3 corners.
+  double LengthInside(const Eigen::Vector2d& a_base_m, const Eigen::Vector2d& b_base_m,
+                      double margin_m) const;
 };
 
 // Everything extracted from one frame at stamp_s.

@@ -80,6 +80,8 @@ void ExtendLineExtent(const Eigen::Vector2d& point_m, AtlasLine* line);
 void FuseLineSighting(const AtlasLine& seen, AtlasLine* estimate);
 AtlasJunction JunctionInMap(const JunctionObservation& observation, const core::SE2& T_map_base,
                             const core::Matrix3& pose_covariance);
+// Fuses a sighting (JunctionInMap) into a junction's estimate and covariance.
+void FuseJunctionSighting(const AtlasJunction& seen, AtlasJunction* estimate);
 
 }  // namespace groundline::localization
 
