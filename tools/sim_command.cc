@@ -184,6 +184,10 @@ int WriteRun(const std::filesystem::path& out, const std::filesystem::path& show
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;
   }
+  if (core::Status s = sim::WriteVehicleTruth(out, run); !s.ok()) {
+    std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
+    return 1;
+  }
   if (core::Status s = core::WriteDataset(out, run.dataset); !s.ok()) {
     std::fprintf(stderr, "groundline sim: %s\n", s.message().c_str());
     return 1;

@@ -31,7 +31,12 @@ core::Status DiffDriveParams::Validate() const {
   if (auto s = RequirePositive("DiffDriveParams.wheel_radius_m", "m", wheel_radius_m); !s.ok()) {
     return s;
   }
-  return RequirePositive("DiffDriveParams.track_m", "m", track_m);
+  if (auto s = RequirePositive("DiffDriveParams.track_m", "m", track_m); !s.ok()) return s;
+  if (auto s = RequireNonNegative("DiffDriveParams.left_wheel_radius_m", "m", left_wheel_radius_m);
+      !s.ok()) {
+    return s;
+  }
+  return RequireNonNegative("DiffDriveParams.right_wheel_radius_m", "m", right_wheel_radius_m);
 }
 
 core::Status OdometryNoiseParams::Validate() const {
@@ -90,10 +95,11 @@ OdometryIncrement IncrementFromWheels(const DiffDriveParams& drive,
                                       const WheelAngleIncrement& wheels) {
   assert(drive.Validate().ok());
   assert(noise.Validate().ok());
-  const double r = drive.wheel_radius_m;
+  const double left_m = drive.LeftRadius() * wheels.left_rad;
+  const double right_m = drive.RightRadius() * wheels.right_rad;
   OdometryIncrement inc;
-  inc.distance_m = 0.5 * r * (wheels.right_rad + wheels.left_rad);
-  inc.rotation_rad = r / drive.track_m * (wheels.right_rad - wheels.left_rad);
+  inc.distance_m = 0.5 * (right_m + left_m);
+  inc.rotation_rad = (right_m - left_m) / drive.track_m;
   inc.T_prev_curr = core::SE2::Exp(core::Vector3(inc.distance_m, 0.0, inc.rotation_rad));
   inc.covariance = IncrementCovariance(noise, inc.distance_m, inc.rotation_rad);
   return inc;
@@ -103,8 +109,8 @@ WheelAngleIncrement WheelsFromArc(const DiffDriveParams& drive, double distance_
                                   double rotation_rad) {
   assert(drive.Validate().ok());
   const double half_track_turn_m = 0.5 * drive.track_m * rotation_rad;
-  return {(distance_m - half_track_turn_m) / drive.wheel_radius_m,
-          (distance_m + half_track_turn_m) / drive.wheel_radius_m};
+  return {(distance_m - half_track_turn_m) / drive.LeftRadius(),
+          (distance_m + half_track_turn_m) / drive.RightRadius()};
 }
 
 WheelAngleIncrement WheelsFromIncrement(const DiffDriveParams& drive, const core::SE2& T_prev_curr,

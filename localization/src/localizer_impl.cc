@@ -267,7 +267,8 @@ std::optional<KeyframeOutput> LocalizerImpl::TakeReading(core::WheelEncoderReadi
   odometry_frozen = false;
   coasting = false;
   if (gap_s > 0.0) {
-    const double ds_m = 0.5 * setup.drive.wheel_radius_m * (r.left_delta_rad + r.right_delta_rad);
+    const double ds_m = 0.5 * (setup.drive.LeftRadius() * r.left_delta_rad +
+                               setup.drive.RightRadius() * r.right_delta_rad);
     last_speed_mps = std::abs(ds_m) / gap_s;
     last_left_radps = r.left_delta_rad / gap_s;
     last_right_radps = r.right_delta_rad / gap_s;

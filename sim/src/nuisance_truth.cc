@@ -1,5 +1,5 @@
-// WriteNuisanceTruth: the simulator's truth about the floor's nuisances
-// (sim_run.h), for evaluation only.
+// WriteNuisanceTruth and WriteVehicleTruth: the simulator's truth about the
+// floor's nuisances and the vehicle's odometry (sim_run.h), for evaluation only.
 #include <nlohmann/json.hpp>
 
 #include "groundline/calibration/camera_extrinsics.h"
@@ -100,6 +100,23 @@ core::Status WriteNuisanceTruth(const std::filesystem::path& dir, const SimRun& 
   }
   j["standing_objects_per_frame"] = std::move(standing);
   return core::WriteFileAtomically(dir / "nuisance_truth.json", j.dump(1) + "\n");
+}
+
+core::Status WriteVehicleTruth(const std::filesystem::path& dir, const SimRun& run) {
+  if (!run.dataset.manifest.wheel_encoders) return core::Status::Ok();
+  const core::WheelEncoderSensor& nominal = *run.dataset.manifest.wheel_encoders;
+  const WheelEncoderLog& log = run.encoder_log;
+  nlohmann::ordered_json j;
+  j["format"] = "groundline-vehicle-truth";
+  j["version"] = "1.0";
+  j["note"] = "simulator ground truth: for evaluation only";
+  j["nominal"] = {{"wheel_radius_m", nominal.wheel_radius_m}, {"track_m", nominal.track_m}};
+  j["left_wheel_radius_m"] = nominal.wheel_radius_m * log.left_radius_scale;
+  j["right_wheel_radius_m"] = nominal.wheel_radius_m * log.right_radius_scale;
+  j["track_m"] = nominal.track_m * log.track_scale;
+  j["wheel_variance_m2_per_m"] = log.wheel_variance_m2_per_m;
+  j["slips"] = log.slips.size();
+  return core::WriteFileAtomically(dir / "vehicle_truth.json", j.dump(2) + "\n");
 }
 
 }  // namespace groundline::sim

@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace groundline::sim {
 namespace {
@@ -39,6 +40,13 @@ core::Status WheelEncoderOptions::Validate() const {
   if (!(FiniteNonNegative(radius_scale_stddev) && radius_scale_stddev < 0.1)) {
     return FieldError("radius_scale_stddev", "a value in [0, 0.1)", radius_scale_stddev);
   }
+  for (const auto& [name, scale] : {std::pair{"left_radius_scale", left_radius_scale},
+                                    std::pair{"right_radius_scale", right_radius_scale},
+                                    std::pair{"track_scale", track_scale}}) {
+    if (!(std::isfinite(scale) && scale >= 0.8 && scale <= 1.2)) {
+      return FieldError(name, "a value in [0.8, 1.2]", scale);
+    }
+  }
   if (!FiniteNonNegative(wheel_variance_m2_per_m)) {
     return FieldError("wheel_variance_m2_per_m", "a finite value >= 0 [m^2/m]",
                       wheel_variance_m2_per_m);
@@ -67,8 +75,13 @@ core::Result<WheelEncoderLog> SimulateWheelEncoders(const core::Trajectory& trut
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
 
   WheelEncoderLog log;
-  log.left_radius_scale = 1.0 + options.radius_scale_stddev * normal(scale_rng);
-  log.right_radius_scale = 1.0 + options.radius_scale_stddev * normal(scale_rng);
+  log.left_radius_scale =
+      options.left_radius_scale * (1.0 + options.radius_scale_stddev * normal(scale_rng));
+  log.right_radius_scale =
+      options.right_radius_scale * (1.0 + options.radius_scale_stddev * normal(scale_rng));
+  log.track_scale = options.track_scale;
+  log.wheel_variance_m2_per_m = options.wheel_variance_m2_per_m;
+  const double track_m = drive.track_m * options.track_scale;
   const std::array<double, 2> radius_m = {drive.wheel_radius_m * log.left_radius_scale,
                                           drive.wheel_radius_m * log.right_radius_scale};
   const double ticks_per_rad = options.ticks_per_revolution / (2.0 * std::numbers::pi);
@@ -91,7 +104,7 @@ core::Result<WheelEncoderLog> SimulateWheelEncoders(const core::Trajectory& trut
       return core::Status::Error(out.str());
     }
     const double ds = step.x();
-    const double half_turn_m = 0.5 * drive.track_m * step.z();
+    const double half_turn_m = 0.5 * track_m * step.z();
     std::array<double, 2> travel_m = {ds - half_turn_m, ds + half_turn_m};
     for (double& d : travel_m) {
       d += std::sqrt(options.wheel_variance_m2_per_m * std::abs(d)) * normal(noise_rng);

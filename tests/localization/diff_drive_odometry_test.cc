@@ -61,6 +61,31 @@ TEST(DiffDriveOdometry, CircleOfKnownRadiusCloses) {
   EXPECT_NEAR(odometry.since_reset().path_length_m, 2.0 * kPi * kRadiusM, 1e-12);
 }
 
+// Calibrated per-wheel radii: each wheel's travel is its own radius times its
+// angle; 0 falls back to the nominal radius; a negative radius is refused.
+TEST(DiffDriveOdometry, EachWheelRollsItsOwnCalibratedRadius) {
+  DiffDriveParams drive;
+  drive.wheel_radius_m = 0.125;
+  drive.track_m = 0.76;
+  drive.left_wheel_radius_m = 0.126;
+  drive.right_wheel_radius_m = 0.124;
+  // Equal wheel angles: the left wheel rolls further, the vehicle turns right.
+  const OdometryIncrement inc = IncrementFromWheels(drive, OdometryNoiseParams{}, {8.0, 8.0});
+  EXPECT_NEAR(inc.distance_m, 0.5 * (0.126 + 0.124) * 8.0, 1e-12);
+  EXPECT_NEAR(inc.rotation_rad, (0.124 - 0.126) * 8.0 / 0.76, 1e-12);
+  // WheelsFromArc is its inverse with the same radii.
+  const WheelAngleIncrement back = WheelsFromArc(drive, inc.distance_m, inc.rotation_rad);
+  EXPECT_NEAR(back.left_rad, 8.0, 1e-12);
+  EXPECT_NEAR(back.right_rad, 8.0, 1e-12);
+  drive.right_wheel_radius_m = 0.0;  // unset: the nominal radius
+  EXPECT_DOUBLE_EQ(drive.RightRadius(), 0.125);
+  EXPECT_TRUE(drive.Validate().ok());
+  drive.left_wheel_radius_m = -0.1;
+  const core::Status bad = drive.Validate();
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("left_wheel_radius_m"), std::string::npos) << bad.message();
+}
+
 TEST(DiffDriveOdometry, WheelsFromArcInvertsTheKinematics) {
   const DiffDriveParams drive{0.1, 0.5};
   for (const auto& [ds, dtheta] : {std::pair{0.3, 0.0}, {0.0, -0.4}, {-0.2, 0.1}, {0.05, 2.0}}) {
@@ -68,7 +93,7 @@ TEST(DiffDriveOdometry, WheelsFromArcInvertsTheKinematics) {
         IncrementFromWheels(drive, OdometryNoiseParams{}, WheelsFromArc(drive, ds, dtheta));
     EXPECT_NEAR(inc.distance_m, ds, 1e-15);
     EXPECT_NEAR(inc.rotation_rad, dtheta, 1e-15);
-    EXPECT_TRUE(inc.T_prev_curr.IsApprox(SE2::Exp(Vector3(ds, 0.0, dtheta)), 0.0, 0.0));
+    EXPECT_TRUE(inc.T_prev_curr.IsApprox(SE2::Exp(Vector3(ds, 0.0, dtheta)), 1e-15, 1e-15));
   }
 }
 

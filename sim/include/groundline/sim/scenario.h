@@ -9,6 +9,9 @@
 //   layout: {num_aisles: 12, pallet_fill: 0.8}   # the zone's options (zones.h)
 //   route: {length_m: 1200, closed_loop: false, min_speed_mps: 1, max_speed_mps: 2, ...}
 //   encoders: {ticks_per_revolution: 4096, slip_rate_per_m: 0.002, ...}
+//             # the true vehicle against the manifest's nominal geometry:
+//             # left_radius_scale, right_radius_scale, track_scale (1: as
+//             # nominal), radius_scale_stddev (a random draw per seed)
 //   lidar: {enabled: true, rate_hz: 15, range_noise_sigma_m: 0.015, ...}
 //   camera: {enabled: true, rate_hz: 10, width_px: 1280, mount: {pitch_deg: 42.4, ...}}
 //   nuisances:               # each with enabled and its intensity

@@ -177,6 +177,13 @@ core::Status WriteSimulatedImages(const std::filesystem::path& dir, const SimRun
 // camera writes nothing.
 core::Status WriteNuisanceTruth(const std::filesystem::path& dir, const SimRun& run);
 
+// Writes DIR/vehicle_truth.json (atomically): the vehicle's true odometry
+// geometry and noise (each wheel's effective radius, the effective track, the
+// wheel travel variance, the slips) beside the nominal geometry the manifest
+// states, for evaluation only (odometry calibration). A run without wheel
+// encoders writes nothing.
+core::Status WriteVehicleTruth(const std::filesystem::path& dir, const SimRun& run);
+
 // The world's markings as the dataset's floor map (ids in world order).
 core::FloorMap ToFloorMap(const World& world);
 

@@ -43,6 +43,13 @@ namespace groundline::sim {
 struct WheelEncoderOptions {
   int ticks_per_revolution = 4096;
   double radius_scale_stddev = 0.0;      // dimensionless, e.g. 1e-3 = 0.1 %
+  // The vehicle's true geometry against the nominal one the odometry is
+  // given: each wheel's effective radius is r * scale * (1 + e_wheel) and the
+  // effective track (where the tyres' contact patches carry the load) is
+  // B * track_scale. 1: as nominal.
+  double left_radius_scale = 1.0;
+  double right_radius_scale = 1.0;
+  double track_scale = 1.0;
   double wheel_variance_m2_per_m = 0.0;  // [m^2/m] of each wheel's own travel
   double slip_rate_per_m = 0.0;          // [1/m] expected events per metre of path
   double slip_mean_m = 0.05;             // [m] mean magnitude of a slip's spurious travel
@@ -50,7 +57,8 @@ struct WheelEncoderOptions {
   double max_lateral_step_m = 1e-6;
   std::uint64_t seed = 1;
 
-  // Ok if ticks_per_revolution >= 1, radius_scale_stddev in [0, 0.1),
+  // Ok if ticks_per_revolution >= 1, radius_scale_stddev in [0, 0.1), the
+  // three scales in [0.8, 1.2],
   // the variance, rate and magnitude finite and >= 0 and max_lateral_step_m
   // finite and > 0; otherwise names the field and the value.
   core::Status Validate() const;
@@ -71,8 +79,10 @@ struct SlipEvent {
 struct WheelEncoderLog {
   std::vector<EncoderReading> readings;  // one per truth pose after the first
   std::vector<SlipEvent> slips;          // sorted by reading_index
-  double left_radius_scale = 1.0;        // 1 + e_left drawn for this run
+  double left_radius_scale = 1.0;        // left_radius_scale * (1 + e_left) drawn for this run
   double right_radius_scale = 1.0;
+  double track_scale = 1.0;              // WheelEncoderOptions::track_scale
+  double wheel_variance_m2_per_m = 0.0;  // WheelEncoderOptions::wheel_variance_m2_per_m
 };
 
 // Simulates the encoders along `truth` (T_world_base at the encoder rate)
