@@ -26,6 +26,7 @@
 #include "groundline/localization/atlas_walls.h"
 #include "groundline/localization/keyframe_mount_calibration.h"
 #include "groundline/localization/localizer_json.h"
+#include "groundline/localization/odometry_calibration.h"
 #include "groundline/service/dataset_localizer.h"
 #include "groundline/service/replay.h"
 #include "localize_carmen.h"
@@ -48,6 +49,8 @@ struct LocalizeFlags {
   std::vector<double> initial_pose;  // x_m y_m yaw_deg
   std::string atlas_path;
   std::string atlas_out_path;
+  std::string odometry_path;
+  std::string odometry_out_path;
   std::string surveyed_path;
   bool diagnose = false;
   bool lidar = false;
@@ -117,6 +120,16 @@ the candidates follow the odometry and are scored on later frames until one
 leads every other by a margin (docs/atlas.md). A floor that repeats (identical
 aisle mouths) stays ambiguous: --near x_m y_m [radius_m] says roughly where.
 
+Odometry calibration: the manifest states the nominal wheel radius and track;
+tyre wear and load change each wheel's effective radius by tenths of a percent,
+which on a long aisle is decimetres. --mode lines --odometry-out FILE estimates,
+after the run, each wheel's radius, the track and the wheel noise (with their
+uncertainty) from the wheel readings against the trajectory localized on the
+atlas (at least 20 segments of 2 m and one full turn in all; slips are left
+out). --odometry FILE (or the service's localizer.odometry_calibration) then
+uses them in place of the nominal geometry and the preset's noise
+(docs/localization.md, "Odometry calibration").
+
 The tuned values are the localizer's presets (docs/localization.md); the
 --window, --gate-chi2, --slip-sigma, --wheel-variance and --lateral-variance
 flags override them for experiments.
@@ -151,6 +164,8 @@ Examples:
   groundline localize --dataset survey_drive --mode mapping --lidar --surveyed site_lines.yaml --atlas-out atlas.json --out run_map
   groundline localize --dataset second_drive --mode lines --lidar --atlas atlas.json --out run_on_map
   groundline localize --dataset next_week --mode lines --lidar --atlas atlas.json --atlas-out atlas_kept.json --out run_kept
+  groundline localize --dataset first_shift --mode lines --lidar --odometry-out odometry.json --out run_cal
+  groundline localize --dataset next_shift --mode odometry --odometry odometry.json --out run_dr
   groundline localize --carmen aces.clf.bz2 --relations aces.relations --out run_aces)";
 
 int Usage(const std::string& message) {
@@ -205,6 +220,17 @@ int RunLocalize(const LocalizeFlags& flags) {
   setup_options.localizer = OptionsFromFlags(flags);
   setup_options.atlas_path = flags.atlas_path;
   setup_options.surveyed_landmarks_path = flags.surveyed_path;
+  setup_options.odometry_calibration_path = flags.odometry_path;
+  if (!flags.odometry_path.empty() && flags.wheel_variance_m2_per_m >= 0.0) {
+    return Usage("--wheel-variance: the odometry calibration " + flags.odometry_path +
+                 " states the wheel noise; give one or the other");
+  }
+  if (!flags.odometry_out_path.empty() && flags.mode != "lines") {
+    return Usage("--odometry-out " + flags.odometry_out_path +
+                 ": the odometry is calibrated against a drive localized on an atlas, "
+                 "--mode lines (with --lidar where the site has one), not --mode " +
+                 flags.mode);
+  }
   const loc::LocalizerOptions& options = setup_options.localizer;
   if (flags.relocalize && options.mode != loc::LocalizerMode::kLines) {
     return Usage("--relocalize needs an atlas to recognize: use it with --mode lines");
@@ -245,8 +271,17 @@ int RunLocalize(const LocalizeFlags& flags) {
                              apply);
   }
   const loc::Atlas atlas_copy = setup->setup.atlas;
+  const loc::DiffDriveParams drive_used = setup->setup.drive;
+  if (setup->odometry_calibration) {
+    const loc::OdometryCalibration& o = *setup->odometry_calibration;
+    std::printf(
+        "odometry: calibrated wheel radii %.5f / %.5f m, track %.4f m, wheel variance %.3g "
+        "m^2/m from %s\n",
+        o.drive.LeftRadius(), o.drive.RightRadius(), o.drive.track_m, o.wheel_variance_m2_per_m,
+        flags.odometry_path.c_str());
+  }
   core::Result<std::unique_ptr<loc::Localizer>> created =
-      loc::Localizer::Create(options, std::move(setup->setup));
+      loc::Localizer::Create(setup->options, std::move(setup->setup));
   if (!created.ok()) return LocalizeFail(flags.dataset_dir + ": " + created.message());
   loc::Localizer& localizer = **created;
 
@@ -501,6 +536,46 @@ int RunLocalize(const LocalizeFlags& flags) {
         c.landmarks_born, c.landmarks_retired, kept.lines.size(), kept.junctions.size(),
         flags.atlas_out_path.c_str());
   }
+  bool calibration_failed = false;
+  if (!flags.odometry_out_path.empty()) {
+    loc::OdometryCalibrationOptions calibration_options;
+    calibration_options.prior_wheel_variance_m2_per_m = setup->options.wheel_variance_m2_per_m;
+    calibration_options.prior_lateral_variance_m2_per_m = setup->options.lateral_variance_m2_per_m;
+    core::Result<loc::OdometryCalibration> calibrated =
+        loc::CalibrateOdometry(dataset->wheel_encoders, drive_used, keyframes, calibration_options);
+    if (calibrated.ok()) {
+      calibrated->drive.wheel_radius_m = dataset->manifest.wheel_encoders->wheel_radius_m;
+      calibrated->source = flags.dataset_dir;
+      if (core::Status s = loc::WriteOdometryCalibration(flags.odometry_out_path, *calibrated);
+          !s.ok()) {
+        return LocalizeFail(s.message());
+      }
+      const core::Vector3 sigma = calibrated->drive_covariance.diagonal().cwiseSqrt();
+      summary["odometry_calibration"] = {
+          {"file", flags.odometry_out_path},
+          {"left_wheel_radius_m", calibrated->drive.LeftRadius()},
+          {"right_wheel_radius_m", calibrated->drive.RightRadius()},
+          {"track_m", calibrated->drive.track_m},
+          {"sigma_m", {sigma(0), sigma(1), sigma(2)}},
+          {"wheel_variance_m2_per_m", calibrated->wheel_variance_m2_per_m},
+          {"lateral_variance_m2_per_m", calibrated->lateral_variance_m2_per_m},
+          {"segments", calibrated->segments},
+          {"segments_rejected", calibrated->segments_rejected}};
+      std::printf(
+          "odometry calibrated from %d segments (%.0f m, %.0f deg of turns; %d left out): "
+          "wheel radii %.5f / %.5f m (+-%.5f), track %.4f m (+-%.4f), wheel variance %.3g "
+          "m^2/m -> %s\n",
+          calibrated->segments, calibrated->distance_m, calibrated->rotation_rad * core::kRadToDeg,
+          calibrated->segments_rejected, calibrated->drive.LeftRadius(),
+          calibrated->drive.RightRadius(), sigma(0), calibrated->drive.track_m, sigma(2),
+          calibrated->wheel_variance_m2_per_m, flags.odometry_out_path.c_str());
+    } else {
+      calibration_failed = true;
+      summary["odometry_calibration"] = {{"error", calibrated.message()}};
+      std::fprintf(stderr, "groundline localize: %s (no %s written)\n",
+                   calibrated.message().c_str(), flags.odometry_out_path.c_str());
+    }
+  }
   if (core::Status s = FinishRunSummary(keyframes, dataset->ground_truth,
                                         options.mode != loc::LocalizerMode::kLidar, clock, out,
                                         &warnings, &summary);
@@ -512,7 +587,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     std::fprintf(stderr, "groundline localize: %zu warning%s (listed in %s)\n", warnings.size(),
                  warnings.size() == 1 ? "" : "s", (final_out / "summary.json").string().c_str());
   }
-  return unusable ? 1 : 0;
+  return unusable || calibration_failed ? 1 : 0;
 }
 
 }  // namespace
@@ -549,6 +624,15 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
                   "--mode mapping: where to write the atlas (default OUT/atlas.json); --mode "
                   "lines: keep the atlas current (new markings born, vanished ones retired) "
                   "and write it there");
+  cmd->add_option("--odometry", flags->odometry_path,
+                  "The vehicle's odometry calibration (--odometry-out of an earlier run): "
+                  "each wheel's radius, the track and the wheel noise in place of the "
+                  "manifest's nominal geometry and the preset's noise")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--odometry-out", flags->odometry_out_path,
+                  "--mode lines: after the run, calibrate the odometry (wheel radii, track, "
+                  "wheel noise, with their uncertainty) against the localized trajectory and "
+                  "write it here (JSON; the service reads it as localizer.odometry_calibration)");
   cmd->add_flag("--diagnose", flags->diagnose,
                 "--mode lines: with ground truth, add per-keyframe errors (along/across track, "
                 "heading) and an association check (right/wrong/missed lines) to health.jsonl "

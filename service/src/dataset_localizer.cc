@@ -44,6 +44,18 @@ core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
   out.start_pose = manifest.start_pose;
   out.setup.drive.wheel_radius_m = manifest.wheel_encoders->wheel_radius_m;
   out.setup.drive.track_m = manifest.wheel_encoders->track_m;
+  out.options = options.localizer;
+  if (!options.odometry_calibration_path.empty()) {
+    core::Result<loc::OdometryCalibration> calibration =
+        loc::ReadOdometryCalibration(options.odometry_calibration_path);
+    if (!calibration.ok()) return calibration.status();
+    out.setup.drive.left_wheel_radius_m = calibration->drive.LeftRadius();
+    out.setup.drive.right_wheel_radius_m = calibration->drive.RightRadius();
+    out.setup.drive.track_m = calibration->drive.track_m;
+    out.options.wheel_variance_m2_per_m = calibration->wheel_variance_m2_per_m;
+    out.options.lateral_variance_m2_per_m = calibration->lateral_variance_m2_per_m;
+    out.odometry_calibration = std::move(calibration).value();
+  }
   if (manifest.lidar) {
     out.setup.lidar = loc::LidarSetup{manifest.lidar->T_base_lidar, manifest.lidar->rate_hz,
                                       manifest.lidar->stamp};

@@ -41,6 +41,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   options.localizer.smoother.upkeep.enabled = config.keep_atlas_current;
   options.front_end.bev = config.Bev();
   options.atlas_path = config.atlas;
+  options.odometry_calibration_path = config.odometry_calibration;
   core::Result<DatasetSetup> setup =
       SetupFromDataset(config.replay_dataset, impl->dataset, options);
   if (!setup.ok()) return setup.status();
@@ -91,7 +92,7 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   }
   impl->atlas = setup->setup.atlas;
   core::Result<std::unique_ptr<loc::Localizer>> localizer =
-      loc::Localizer::Create(options.localizer, std::move(setup->setup));
+      loc::Localizer::Create(setup->options, std::move(setup->setup));
   if (!localizer.ok()) return localizer.status();
   impl->localizer = std::move(localizer).value();
 

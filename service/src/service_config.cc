@@ -288,7 +288,7 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
       n && y.ExpectMap(n, "localizer")) {
     y.CheckKeys(n, "localizer",
                 {"preset", "atlas", "self_calibration", "mount_estimate", "bev",
-                 "keep_atlas_current"});
+                 "keep_atlas_current", "odometry_calibration"});
     if (const YAML::Node bev = n["bev"]; bev && y.ExpectMap(bev, "localizer.bev")) {
       y.CheckKeys(bev, "localizer.bev", {"x_m", "y_m", "cell_m"});
       for (const auto& [key, range] :
@@ -306,6 +306,8 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
     }
     if (n["preset"]) c.preset = y.Text(n, "localizer", "preset");
     if (n["atlas"]) c.atlas = y.Text(n, "localizer", "atlas");
+    if (n["odometry_calibration"])
+      c.odometry_calibration = y.Text(n, "localizer", "odometry_calibration");
     if (n["mount_estimate"]) c.mount_estimate = y.Text(n, "localizer", "mount_estimate");
     ReadBool(y, n, "localizer", "self_calibration", &c.self_calibration);
     ReadBool(y, n, "localizer", "keep_atlas_current", &c.keep_atlas_current);
@@ -349,7 +351,7 @@ core::Result<ServiceConfig> ReadServiceConfig(const std::filesystem::path& path)
   if (!y.ok()) return y.status();
   // Relative paths are relative to the config file's directory.
   const std::filesystem::path base = path.has_parent_path() ? path.parent_path() : ".";
-  for (std::string* p : {&c.replay_dataset, &c.atlas, &c.output_dir}) {
+  for (std::string* p : {&c.replay_dataset, &c.atlas, &c.odometry_calibration, &c.output_dir}) {
     if (!p->empty() && std::filesystem::path(*p).is_relative()) *p = (base / *p).string();
   }
   if (core::Status s = c.Validate(); !s.ok()) return s.WithContext(path.string());

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <numbers>
 #include <thread>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "groundline/core/trajectory_association.h"
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
+#include "groundline/localization/odometry_calibration.h"
 #include "groundline/perception/bev_remap.h"
 #include "groundline/service/service_config.h"
 #include "groundline/service/service_state.h"
@@ -136,6 +138,13 @@ TEST(ServiceConfig, ErrorsNameTheKeyAndTheLine) {
   EXPECT_EQ((*bev->bev_x_m)[1], 2.1);
   EXPECT_FALSE(bev->bev_y_m.has_value());
   EXPECT_EQ(bev->Bev().cell_m, 0.02);
+  // The odometry calibration: a path relative to the config file.
+  const core::Result<ServiceConfig> odometry =
+      ReadServiceConfig(WriteConfig(dir,
+                                    "inputs:\n  replay: {dataset: d}\noutput: {dir: o}\n"
+                                    "localizer: {odometry_calibration: odometry.json}\n"));
+  ASSERT_TRUE(odometry.ok()) << odometry.message();
+  EXPECT_EQ(odometry->odometry_calibration, (dir / "odometry.json").string());
   // DDS: the line of a bad value, and the keys as read.
   const core::Result<ServiceConfig> bad_line =
       ReadServiceConfig(WriteConfig(dir,
@@ -376,6 +385,61 @@ TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
   EXPECT_LE(without, frames_after(last_reading_s - 1e-9));
   EXPECT_GE((*summary)["counters"]["frames_used"].get<long>(), 4);
   EXPECT_LE((*summary)["stamp_s"].get<double>(), last_reading_s + 1e-6);
+}
+
+// localizer.odometry_calibration: the wheel geometry and noise of the file
+// drive the odometry in place of the manifest's nominal ones (a left wheel
+// 1 % larger turns the dead-reckoned path to the right), and a file that
+// cannot be read stops the start with its name.
+TEST(Service, TheOdometryCalibrationReplacesTheNominalWheelGeometry) {
+  const auto dir = ::groundline::testing::ScratchDir("service_odometry_calibration");
+  std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(30.0, 5, dir / "drive");
+  ASSERT_TRUE(simulated.has_value());
+  const core::WheelEncoderSensor& nominal = *simulated->dataset.manifest.wheel_encoders;
+  localization::OdometryCalibration calibration;
+  calibration.drive.wheel_radius_m = nominal.wheel_radius_m;
+  calibration.drive.left_wheel_radius_m = 1.01 * nominal.wheel_radius_m;
+  calibration.drive.right_wheel_radius_m = nominal.wheel_radius_m;
+  calibration.drive.track_m = nominal.track_m;
+  calibration.wheel_variance_m2_per_m = 4e-5;
+  calibration.lateral_variance_m2_per_m = 1e-7;
+  ASSERT_TRUE(localization::WriteOdometryCalibration(dir / "odometry.json", calibration).ok());
+
+  const auto run = [&](const std::string& odometry, const std::string& out) {
+    ServiceConfig config;
+    config.replay_dataset = (dir / "drive").string();
+    config.replay_speed = 0.0;
+    config.output_dir = (dir / out).string();
+    config.http_enabled = false;
+    config.resume = false;
+    config.preset = "odometry";
+    config.odometry_calibration = odometry;
+    core::Result<std::unique_ptr<Service>> created = Service::Create(config);
+    if (!created.ok()) return core::Result<core::Trajectory>(created.status());
+    std::atomic<bool> never{false};
+    core::Result<nlohmann::ordered_json> finished = (*created)->Run(never);
+    if (!finished.ok()) return core::Result<core::Trajectory>(finished.status());
+    return core::ReadTumTrajectory(dir / out / "trajectory_odometry_rate.tum");
+  };
+  const core::Result<core::Trajectory> plain = run("", "plain");
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  const core::Result<core::Trajectory> calibrated = run((dir / "odometry.json").string(), "cal");
+  ASSERT_TRUE(calibrated.ok()) << calibrated.message();
+  ASSERT_EQ(plain->size(), calibrated->size());
+  // The heading difference grows as the extra left travel over the track:
+  // 1 % of the left wheel's travel (about the path length) / 0.76 m.
+  double path_m = 0.0;
+  for (std::size_t i = 1; i < plain->size(); ++i) {
+    path_m += ((*plain)[i].pose.translation() - (*plain)[i - 1].pose.translation()).norm();
+  }
+  const double turned = std::remainder(calibrated->back().pose.yaw() - plain->back().pose.yaw(),
+                                       2.0 * std::numbers::pi);
+  EXPECT_NEAR(turned, -0.01 * path_m / nominal.track_m, 0.2 * 0.01 * path_m / nominal.track_m)
+      << "path " << path_m << " m";
+
+  const core::Result<core::Trajectory> missing = run((dir / "no_such.json").string(), "missing");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.message().find("no_such.json"), std::string::npos) << missing.message();
 }
 
 // localizer.self_calibration through the service's threads: the camera

@@ -17,6 +17,7 @@
 #include "groundline/core/status.h"
 #include "groundline/localization/floor_front_end.h"
 #include "groundline/localization/localizer.h"
+#include "groundline/localization/odometry_calibration.h"
 
 namespace groundline::service {
 
@@ -30,6 +31,10 @@ struct DatasetLocalizerOptions {
   // markings, with its survey block) or an atlas file (.json); empty: the
   // start pose alone anchors it. Never the dataset's own floor map.
   std::string surveyed_landmarks_path;
+  // The vehicle's odometry calibration (localization/odometry_calibration.h:
+  // each wheel's radius, the track, the wheel noise) in place of the
+  // manifest's nominal geometry and the options' noise; empty: none.
+  std::string odometry_calibration_path;
 };
 
 struct DatasetSetup {
@@ -42,12 +47,17 @@ struct DatasetSetup {
   // The manifest's start pose, if it has one.
   std::optional<core::StartPose> start_pose;
   double first_reading_s = 0.0;
+  // The options to create the localizer with: the given ones, with the
+  // odometry calibration's wheel noise when there is one.
+  localization::LocalizerOptions options;
+  // The odometry calibration in use, if any.
+  std::optional<localization::OdometryCalibration> odometry_calibration;
 };
 
 // Reads the calibration and the atlas for the localizer's mode. Errors name
 // the dataset and the missing or malformed part (no wheel encoders; the
 // lines modes without a camera; the LiDAR enabled without a LiDAR; kLines
-// without an atlas or a floor map).
+// without an atlas or a floor map; an unreadable odometry calibration).
 core::Result<DatasetSetup> SetupFromDataset(const std::filesystem::path& dir,
                                             const core::Dataset& dataset,
                                             const DatasetLocalizerOptions& options);

@@ -89,6 +89,10 @@ struct ServiceConfig {
   // localizer
   std::string preset = "fusion";  // fusion | lines | odometry | lidar
   std::string atlas;              // empty: the dataset's floor map
+  // localizer.odometry_calibration: the vehicle's odometry calibration file
+  // (`groundline localize --odometry-out`); empty: the manifest's nominal
+  // wheel geometry and the preset's noise.
+  std::string odometry_calibration;
   // localizer.self_calibration: estimate the camera mount from the floor
   // lines while driving (docs/self_calibration.md); health.jsonl gets the
   // selfcal_* fields. Needs a preset that reads the camera (fusion, lines).
