@@ -44,6 +44,15 @@ DiffDriveParams Nominal() {
   return d;
 }
 
+// The simulated vehicle's true geometry (the encoder log's scales).
+DiffDriveParams TrueGeometry(const Drive& d) {
+  DiffDriveParams g = Nominal();
+  g.left_wheel_radius_m = kNominalRadiusM * d.log.left_radius_scale;
+  g.right_wheel_radius_m = kNominalRadiusM * d.log.right_radius_scale;
+  g.track_m = kNominalTrackM * d.log.track_scale;
+  return g;
+}
+
 // A closed zone B loop of about 600 m at 100 Hz, and the encoders of a vehicle
 // whose left wheel is 0.3 % larger and right wheel 0.2 % smaller than
 // nominal, with a 1 % wider effective track and three times the default
@@ -144,9 +153,9 @@ TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNois
   const core::Result<OdometryCalibration> c =
       CalibrateOdometry(d.readings, Nominal(), localized, options);
   ASSERT_TRUE(c.ok()) << c.message();
-  const double true_left = kNominalRadiusM * d.log.left_radius_scale;
-  const double true_right = kNominalRadiusM * d.log.right_radius_scale;
-  const double true_track = kNominalTrackM * d.log.track_scale;
+  const DiffDriveParams truth = TrueGeometry(d);
+  const double true_left = truth.LeftRadius(), true_right = truth.RightRadius();
+  const double true_track = truth.track_m;
   const core::Vector3 sigma = c->drive_covariance.diagonal().cwiseSqrt();
   std::printf(
       "%d segments (%d rejected, %zu slips), %.0f m, %.0f deg; left %.6f (true %.6f, sigma "
@@ -199,9 +208,9 @@ TEST(OdometryCalibration, AgainstTheTrueTrajectoryTheEstimateIsConsistent) {
   }
   const core::Result<OdometryCalibration> c = CalibrateOdometry(d.readings, Nominal(), poses);
   ASSERT_TRUE(c.ok()) << c.message();
-  const double true_left = kNominalRadiusM * d.log.left_radius_scale;
-  const double true_right = kNominalRadiusM * d.log.right_radius_scale;
-  const double true_track = kNominalTrackM * d.log.track_scale;
+  const DiffDriveParams truth = TrueGeometry(d);
+  const double true_left = truth.LeftRadius(), true_right = truth.RightRadius();
+  const double true_track = truth.track_m;
   const core::Vector3 sigma = c->drive_covariance.diagonal().cwiseSqrt();
   std::printf(
       "truth: %d segments; left %+.1f um (sigma %.1f), right %+.1f um (sigma %.1f), track %+.2f "
