@@ -335,10 +335,11 @@ core::Result<OdometryCalibration> CalibrateOdometry(
   const auto check_enough = [&](const std::vector<bool>& u) -> core::Status {
     const int n = static_cast<int>(std::count(u.begin(), u.end(), true));
     if (n < options.min_segments) {
-      return core::Status::Error(
-          "odometry calibration: " + std::to_string(n) + " usable segments of the drive (needs " +
-          std::to_string(options.min_segments) + ", each " + std::to_string(options.min_segment_m) +
-          " m between keyframes localized on the atlas)");
+      std::ostringstream msg;
+      msg << "odometry calibration: " << n << " usable segments of the drive (needs "
+          << options.min_segments << ", each " << options.min_segment_m
+          << " m between keyframes localized on the atlas)";
+      return core::Status::Error(msg.str());
     }
     if (count_rotation(u) < options.min_total_rotation_rad) {
       std::ostringstream msg;
@@ -377,9 +378,10 @@ core::Result<OdometryCalibration> CalibrateOdometry(
       long_use[i] = Chi2(long_segments[i], drive, q, k_lat) <= options.outlier_chi2;
     }
     if (std::count(long_use.begin(), long_use.end(), true) < 4) {
-      return core::Status::Error("odometry calibration: fewer than 4 stretches of " +
-                                 std::to_string(options.noise_segment_m) +
-                                 " m between localized keyframes to estimate the wheel noise from");
+      std::ostringstream msg;
+      msg << "odometry calibration: fewer than 4 stretches of " << options.noise_segment_m
+          << " m between localized keyframes to estimate the wheel noise from";
+      return core::Status::Error(msg.str());
     }
     noise = FitNoise(long_segments, long_use, drive, q, k_lat, options.estimate_lateral_variance);
     q = noise.q;
