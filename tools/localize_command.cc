@@ -84,7 +84,7 @@ Modes:
             the scan constrains (not along an aisle), and the scans' straight
             faces as line observations against the atlas' faces. With
             --atlas-out FILE it also keeps the atlas current: a marking that
-            matches nothing is tracked and becomes a landmark after 5
+            matches nothing is tracked and becomes a landmark after 3
             consistent sightings; one that should be in the camera's view and
             is not seen 10 keyframes in a row is retired; FILE gets the atlas
             with both (docs/atlas.md, "Keeping the atlas current").
