@@ -54,9 +54,15 @@ RelativeMotion Integrate(const DiffDriveParams& drive, const OdometryNoiseParams
   return integrator.since_reset();
 }
 
+// Log(P^-1 Z): the mean motion only (the fits evaluate it many times; the
+// covariance is computed once per segment).
 core::Vector3 Residual(const Segment& s, const DiffDriveParams& drive) {
-  const RelativeMotion predicted = Integrate(drive, OdometryNoiseParams{}, s.wheels);
-  return predicted.T_start_end.Between(s.measured).Log();
+  const OdometryNoiseParams noise;
+  core::SE2 predicted;
+  for (const WheelAngleIncrement& w : s.wheels) {
+    predicted = predicted * IncrementFromWheels(drive, noise, w).T_prev_curr;
+  }
+  return predicted.Between(s.measured).Log();
 }
 
 core::Matrix3 SegmentCovariance(const Segment& s, double q, double k_lat) {

@@ -57,12 +57,12 @@ DiffDriveParams TrueGeometry(const Drive& d) {
 // whose left wheel is 0.3 % larger and right wheel 0.2 % smaller than
 // nominal, with a 1 % wider effective track and three times the default
 // wheel noise; slips as the standard scenarios have them.
-Drive MakeDrive(std::uint64_t seed, double slip_rate_per_m) {
+Drive MakeDrive(std::uint64_t seed, double slip_rate_per_m, double length_m = 600.0) {
   Drive d;
   const sim::World world = sim::BuildZone(sim::Zone::kB, seed).value();
   sim::RouteOptions route_options;
   route_options.seed = seed;
-  route_options.length_m = 600.0;
+  route_options.length_m = length_m;
   route_options.closed_loop = true;
   route_options.length_tolerance_fraction = 0.5;
   route_options.sample_rate_hz = 100.0;
@@ -145,6 +145,10 @@ double DeadReckoningRms(const Drive& d, const DiffDriveParams& drive) {
 }
 
 TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNoise) {
+#ifdef GROUNDLINE_SANITIZED
+  GTEST_SKIP() << "a 600 m localized drive: 90 s under AddressSanitizer (Debug); the estimator "
+                  "itself runs under it in AgainstTheTrueTrajectoryTheEstimateIsConsistent";
+#endif
   const Drive d = MakeDrive(21, 2e-3);
   ASSERT_FALSE(d.readings.empty());
   const core::Trajectory localized = Localize(d, Nominal());
@@ -195,7 +199,12 @@ TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNois
 // with 1 mm and 0.006 deg), the geometry is found within its stated 3 sigma
 // and the wheel noise within 20 %.
 TEST(OdometryCalibration, AgainstTheTrueTrajectoryTheEstimateIsConsistent) {
-  const Drive d = MakeDrive(22, 0.0);
+#ifdef GROUNDLINE_SANITIZED
+  constexpr double kLoopM = 300.0;  // the same checks on half the drive: minutes instrumented
+#else
+  constexpr double kLoopM = 600.0;
+#endif
+  const Drive d = MakeDrive(22, 0.0, kLoopM);
   ASSERT_FALSE(d.readings.empty());
   core::Trajectory poses;
   double last_x = 1e9, last_y = 1e9;
