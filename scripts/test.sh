@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # README command 2: install dependencies, build, run the whole test suite,
-# first in the release build, then again under ASan+UBSan. Both include the
+# first in the release build, then again with the libraries, tools and fuzz
+# drivers under ASan+UBSan (the test code itself uninstrumented). Both include the
 # atomic-write kill loop; the ASan+UBSan run adds the fuzz smoke tests
 # (fuzz_smoke.*: each fuzz target on its corpus and 2000 seeded mutations);
 # the coverage-guided libFuzzer runs are scripts/fuzz.sh's.
