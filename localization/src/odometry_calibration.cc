@@ -7,13 +7,13 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <sstream>
 #include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/atomic_file.h"
 #include "groundline/localization/odometry_integrator.h"
 
@@ -350,8 +350,8 @@ core::Result<OdometryCalibration> CalibrateOdometry(
     if (count_rotation(u) < options.min_total_rotation_rad) {
       std::ostringstream msg;
       msg << "odometry calibration: the drive turns "
-          << count_rotation(u) * 180.0 / std::numbers::pi << " deg in all (needs "
-          << options.min_total_rotation_rad * 180.0 / std::numbers::pi
+          << count_rotation(u) * core::kRadToDeg << " deg in all (needs "
+          << options.min_total_rotation_rad * core::kRadToDeg
           << "): without turns the track cannot be told from the radii";
       return core::Status::Error(msg.str());
     }
@@ -442,7 +442,7 @@ core::Status WriteOdometryCalibration(const std::filesystem::path& path,
   j["segments_rejected"] = c.segments_rejected;
   j["poses_unlocalized"] = c.poses_unlocalized;
   j["distance_m"] = c.distance_m;
-  j["rotation_deg"] = c.rotation_rad * 180.0 / std::numbers::pi;
+  j["rotation_deg"] = c.rotation_rad * core::kRadToDeg;
   j["mean_normalized_chi2"] = c.mean_normalized_chi2;
   return core::WriteFileAtomically(path, j.dump(2) + "\n");
 }
@@ -474,7 +474,6 @@ core::Result<OdometryCalibration> ReadOdometryCalibration(const std::filesystem:
     return core::Status::Ok();
   };
   OdometryCalibration c;
-  c.drive.wheel_radius_m = 0.0;
   for (const auto& [field, value] :
        {std::pair{"left_wheel_radius_m", &c.drive.left_wheel_radius_m},
         std::pair{"right_wheel_radius_m", &c.drive.right_wheel_radius_m},
@@ -509,7 +508,7 @@ core::Result<OdometryCalibration> ReadOdometryCalibration(const std::filesystem:
   c.segments_rejected = j.value("segments_rejected", 0);
   c.poses_unlocalized = j.value("poses_unlocalized", 0);
   c.distance_m = j.value("distance_m", 0.0);
-  c.rotation_rad = j.value("rotation_deg", 0.0) * std::numbers::pi / 180.0;
+  c.rotation_rad = j.value("rotation_deg", 0.0) * core::kDegToRad;
   c.mean_normalized_chi2 = j.value("mean_normalized_chi2", 0.0);
   return c;
 }

@@ -11,8 +11,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 
+#include "groundline/core/angles.h"
 #include "groundline/core/trajectory_metrics.h"
 #include "groundline/localization/atlas.h"
 #include "groundline/localization/localizer.h"
@@ -51,6 +51,15 @@ DiffDriveParams TrueGeometry(const Drive& d) {
   g.right_wheel_radius_m = kNominalRadiusM * d.log.right_radius_scale;
   g.track_m = kNominalTrackM * d.log.track_scale;
   return g;
+}
+
+// Each of the calibrated radii and track within 3 sigma of the truth, sigma
+// as the calibration states it.
+void ExpectGeometryWithinThreeSigma(const OdometryCalibration& c, const DiffDriveParams& truth) {
+  const core::Vector3 sigma = c.drive_covariance.diagonal().cwiseSqrt();
+  EXPECT_LT(std::abs(c.drive.LeftRadius() - truth.LeftRadius()), 3.0 * sigma(0));
+  EXPECT_LT(std::abs(c.drive.RightRadius() - truth.RightRadius()), 3.0 * sigma(1));
+  EXPECT_LT(std::abs(c.drive.track_m - truth.track_m), 3.0 * sigma(2));
 }
 
 // A closed zone B loop of about 600 m at 100 Hz, and the encoders of a vehicle
@@ -166,7 +175,7 @@ TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNois
       "%.2g), right %.6f (true %.6f, sigma %.2g), track %.5f (true %.5f, sigma %.2g) m; wheel "
       "variance %.3g (sigma %.2g, true %.3g), lateral %.3g m^2/m; mean chi2/3 %.2f\n",
       c->segments, c->segments_rejected, d.log.slips.size(), c->distance_m,
-      c->rotation_rad * 180.0 / std::numbers::pi, c->drive.LeftRadius(), true_left, sigma(0),
+      c->rotation_rad * core::kRadToDeg, c->drive.LeftRadius(), true_left, sigma(0),
       c->drive.RightRadius(), true_right, sigma(1), c->drive.track_m, true_track, sigma(2),
       c->wheel_variance_m2_per_m, c->wheel_variance_sigma_m2_per_m, 3e-5,
       c->lateral_variance_m2_per_m, c->mean_normalized_chi2);
@@ -175,9 +184,7 @@ TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNois
   EXPECT_NEAR(c->drive.LeftRadius(), true_left, 1e-3 * kNominalRadiusM);
   EXPECT_NEAR(c->drive.RightRadius(), true_right, 1e-3 * kNominalRadiusM);
   EXPECT_NEAR(c->drive.track_m, true_track, 5e-3 * kNominalTrackM);
-  EXPECT_LT(std::abs(c->drive.LeftRadius() - true_left), 3.0 * sigma(0));
-  EXPECT_LT(std::abs(c->drive.RightRadius() - true_right), 3.0 * sigma(1));
-  EXPECT_LT(std::abs(c->drive.track_m - true_track), 3.0 * sigma(2));
+  ExpectGeometryWithinThreeSigma(*c, truth);
   // The noise: three times the default the localizer assumed, found within a
   // factor 1.5.
   EXPECT_GT(c->wheel_variance_m2_per_m, 3e-5 / 1.5);
@@ -228,9 +235,7 @@ TEST(OdometryCalibration, AgainstTheTrueTrajectoryTheEstimateIsConsistent) {
       1e6 * (c->drive.RightRadius() - true_right), 1e6 * sigma(1),
       1e3 * (c->drive.track_m - true_track), 1e3 * sigma(2), c->wheel_variance_m2_per_m,
       c->lateral_variance_m2_per_m, c->mean_normalized_chi2);
-  EXPECT_LT(std::abs(c->drive.LeftRadius() - true_left), 3.0 * sigma(0));
-  EXPECT_LT(std::abs(c->drive.RightRadius() - true_right), 3.0 * sigma(1));
-  EXPECT_LT(std::abs(c->drive.track_m - true_track), 3.0 * sigma(2));
+  ExpectGeometryWithinThreeSigma(*c, truth);
   EXPECT_GT(c->wheel_variance_m2_per_m, 3e-5 / 1.5);
   EXPECT_LT(c->wheel_variance_m2_per_m, 3e-5 * 1.5);
   EXPECT_NEAR(c->mean_normalized_chi2, 1.0, 0.3);
