@@ -23,6 +23,7 @@ Match Select(int observation, int num_landmarks, const Distance& distance, const
   int second_index = -1;
   for (int j = 0; j < num_landmarks; ++j) {
     const double d2 = distance(j);
+    match.nearest_mahalanobis2 = std::min(match.nearest_mahalanobis2, d2);
     if (!(d2 <= options.gate_chi2)) continue;
     if (d2 < best) {
       second = best;

@@ -11,6 +11,7 @@
 #include "groundline/core/covariance.h"
 #include "groundline/core/run_timing.h"
 #include "groundline/core/se2_manifold.h"
+#include "groundline/core/text_parse.h"
 #include "groundline/localization/floor_factors.h"
 #include "groundline/localization/relative_pose_factor.h"
 
@@ -70,6 +71,10 @@ core::Status AtlasUpkeepOptions::Validate() const {
     return core::Status::Error(
         "smoother upkeep.birth_min_matches must be >= 0 and upkeep.birth_max_position_sigma_m "
         "> 0");
+  }
+  if (!(birth_novelty_chi2 >= 0.0)) {
+    return core::Status::Error("smoother upkeep.birth_novelty_chi2 must be >= 0, got " +
+                               core::FormatShortestDouble(birth_novelty_chi2));
   }
   return core::Status::Ok();
 }
@@ -158,6 +163,10 @@ void SlidingWindowSmoother::Initialize(double stamp_s, const core::SE2& T_map_ba
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   latest_ = {stamp_s, T_map_base, covariance};
   keyframe_count_ = 1;
+  line_in_window_.clear();
+  line_in_pass_.clear();
+  junction_in_window_.clear();
+  junction_in_pass_.clear();
   chain_ = ChainState();
   InvalidateChain();
 }
@@ -214,30 +223,34 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
   // mapper's, or born here): its covariance is that estimate's.
   const bool with_landmark_covariance = !mapping && options_.landmark_covariance_in_factors;
   const auto add_line = [&](const LineObservation& observation, int landmark) {
-    Eigen::Matrix2d covariance = observation.covariance;
+    Eigen::Matrix2d landmark_covariance = Eigen::Matrix2d::Zero();
     if (with_landmark_covariance &&
         (atlas_.covariances_stated || atlas_.lines[landmark].seen.has_value())) {
       Eigen::Matrix2d J;
       perception::InverseTransformLine(T_pred, atlas_.lines[landmark].line_map, nullptr, &J);
-      covariance += J * atlas_.lines[landmark].covariance * J.transpose();
+      landmark_covariance = J * atlas_.lines[landmark].covariance * J.transpose();
     }
-    const auto sqrt_information = SqrtInformationFromCovariance2(covariance);
+    const auto sqrt_information =
+        SqrtInformationFromCovariance2(observation.covariance + landmark_covariance);
     if (!sqrt_information.ok()) return false;
     keyframe->lines.push_back(
-        {landmark, std::make_unique<GroundLineFactor>(observation.line_base, *sqrt_information)});
+        {landmark, std::make_unique<GroundLineFactor>(observation.line_base, *sqrt_information),
+         observation.covariance, landmark_covariance});
     return true;
   };
   const auto add_junction = [&](const JunctionObservation& observation, int landmark) {
-    Eigen::Matrix2d covariance = observation.covariance;
+    Eigen::Matrix2d landmark_covariance = Eigen::Matrix2d::Zero();
     if (with_landmark_covariance &&
         (atlas_.covariances_stated || atlas_.junctions[landmark].seen.has_value())) {
       const Eigen::Matrix2d R = T_pred.Rotation();
-      covariance += R.transpose() * atlas_.junctions[landmark].covariance * R;
+      landmark_covariance = R.transpose() * atlas_.junctions[landmark].covariance * R;
     }
-    const auto sqrt_information = SqrtInformationFromCovariance2(covariance);
+    const auto sqrt_information =
+        SqrtInformationFromCovariance2(observation.covariance + landmark_covariance);
     if (!sqrt_information.ok()) return false;
     keyframe->junctions.push_back(
-        {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information)});
+        {landmark, std::make_unique<JunctionFactor>(observation.point_base_m, *sqrt_information),
+         observation.covariance, landmark_covariance});
     return true;
   };
   std::vector<Match> line_matches = AssociateLines(
@@ -300,7 +313,8 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
     ++health->lines_rejected;
     if (match.ambiguous) {
       ++health->lines_ambiguous;
-    } else if (mapping || (upkeep && !core::IsFaceKind(observation.kind))) {
+    } else if (mapping || (upkeep && !core::IsFaceKind(observation.kind) &&
+                           match.nearest_mahalanobis2 > options_.upkeep.birth_novelty_chi2)) {
       unmatched_lines.push_back(&observation);
     }
   }
@@ -315,7 +329,9 @@ void SlidingWindowSmoother::AddLandmarkFactors(const FloorObservations& observat
         junction_blocks_[match.landmark] = {landmark.point_m.x(), landmark.point_m.y()};
         born_moved = true;
       }
-    } else if ((mapping || upkeep) && !match.ambiguous) {
+    } else if (!match.ambiguous &&
+               (mapping ||
+                (upkeep && match.nearest_mahalanobis2 > options_.upkeep.birth_novelty_chi2))) {
       unmatched_junctions.push_back(&observation);
     }
   }
@@ -430,6 +446,10 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
                      &health);
   window_.push_back(std::move(keyframe));
   latest_ = predicted;
+  CountSightings(window_.back(), true);
+  if (core::Status s = ReweightSharedLandmarks(); !s.ok()) {
+    return s.WithContext("keyframe at " + std::to_string(stamp_s) + " s");
+  }
 
   core::Status status = Solve(&health);
   while (status.ok() && window_.size() > 2 && !window_.front().held &&
@@ -444,6 +464,58 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
   health.window_size = static_cast<int>(window_.size());
   health.update_time_s = SecondsSince(start);
   return health;
+}
+
+void SlidingWindowSmoother::CountSightings(const Keyframe& keyframe, bool added) {
+  if (!options_.share_landmark_error || options_.mode != SmootherMode::kLocalization) return;
+  const auto count = [added](const auto& factors, std::size_t landmarks,
+                             std::vector<int>* in_window, std::vector<int>* in_pass) {
+    in_window->resize(landmarks, 0);
+    in_pass->resize(landmarks, 0);
+    for (const auto& factor : factors) {
+      if (factor.landmark_covariance.isZero(0.0)) continue;
+      int& window = (*in_window)[factor.landmark];
+      int& pass = (*in_pass)[factor.landmark];
+      if (added) {
+        ++window;
+        ++pass;
+      } else if (--window <= 0) {
+        // Out of the window: the next sighting starts a new pass (the prior
+        // keeps what this one's factors held).
+        window = 0;
+        pass = 0;
+      }
+    }
+  };
+  count(keyframe.lines, atlas_.lines.size(), &line_in_window_, &line_in_pass_);
+  count(keyframe.junctions, atlas_.junctions.size(), &junction_in_window_, &junction_in_pass_);
+}
+
+core::Status SlidingWindowSmoother::ReweightSharedLandmarks() {
+  if (!options_.share_landmark_error || options_.mode != SmootherMode::kLocalization) {
+    return core::Status::Ok();
+  }
+  const auto reweight = [](auto* factors, const std::vector<int>& in_pass, Keyframe* keyframe) {
+    for (auto& factor : *factors) {
+      if (factor.landmark_covariance.isZero(0.0)) continue;
+      const int shared_by = std::max(1, in_pass[factor.landmark]);
+      if (shared_by == factor.shared_by) continue;
+      const auto sqrt_information = SqrtInformationFromCovariance2(
+          factor.observation_covariance + shared_by * factor.landmark_covariance);
+      if (!sqrt_information.ok()) return sqrt_information.status();
+      factor.cost->set_sqrt_information(*sqrt_information);
+      factor.shared_by = shared_by;
+      keyframe->chain.valid = false;
+    }
+    return core::Status::Ok();
+  };
+  for (Keyframe& keyframe : window_) {
+    if (core::Status s = reweight(&keyframe.lines, line_in_pass_, &keyframe); !s.ok())
+      return s.WithContext("a line landmark's shared weight");
+    if (core::Status s = reweight(&keyframe.junctions, junction_in_pass_, &keyframe); !s.ok())
+      return s.WithContext("a junction landmark's shared weight");
+  }
+  return core::Status::Ok();
 }
 
 std::vector<LinearizationFactor> SlidingWindowSmoother::UnaryFactors(
@@ -493,6 +565,7 @@ core::Status SlidingWindowSmoother::MarginalizeOldest() {
   prior_ = std::make_unique<MarginalPriorFactor>(std::move(prior));
   second.between.clear();
   second.chain.valid = false;
+  CountSightings(front, false);
   window_.pop_front();
   InvalidateChain();
   return core::Status::Ok();

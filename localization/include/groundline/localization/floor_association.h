@@ -20,6 +20,7 @@
 #ifndef GROUNDLINE_LOCALIZATION_FLOOR_ASSOCIATION_H_
 #define GROUNDLINE_LOCALIZATION_FLOOR_ASSOCIATION_H_
 
+#include <limits>
 #include <vector>
 
 #include "groundline/core/se2.h"
@@ -46,6 +47,9 @@ struct Match {
   int landmark = -1;  // index into the atlas' lines / junctions; -1 if none
   double mahalanobis2 = 0.0;
   bool ambiguous = false;  // rejected because two landmarks fit
+  // The smallest d2 to any compatible landmark, inside the gate or not
+  // (infinite when none is compatible): how new an unmatched observation is.
+  double nearest_mahalanobis2 = std::numeric_limits<double>::infinity();
 };
 
 // d2 of one line observation against one atlas line (no extent check).

@@ -61,6 +61,11 @@ class GroundLineFactor final : public ceres::SizedCostFunction<2, 3, 2> {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
+  // A new weight (the landmark's shared error spread over more sightings).
+  void set_sqrt_information(const Eigen::Matrix2d& sqrt_information) {
+    sqrt_information_ = sqrt_information;
+  }
+
  private:
   perception::HesseLine measured_base_;
   Eigen::Matrix2d sqrt_information_;
@@ -78,6 +83,10 @@ class JunctionFactor final : public ceres::SizedCostFunction<2, 3, 2> {
   // parameters[0] = T_map_base (x, y, yaw), parameters[1] = point_map (x_m, y_m).
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
+
+  void set_sqrt_information(const Eigen::Matrix2d& sqrt_information) {
+    sqrt_information_ = sqrt_information;
+  }
 
  private:
   Eigen::Vector2d measured_base_m_;

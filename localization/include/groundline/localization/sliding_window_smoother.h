@@ -89,7 +89,8 @@ enum class SmootherSolver { kChain, kCeres };
 // Localization mode: keeping the atlas current while localizing on it
 // (docs/atlas.md, "Keeping the atlas current"). Floor markings and
 // junctions only; wall and rack faces are left as they are.
-//   Birth: a marking that matches no landmark is tracked (tracker) and
+//   Birth: a marking that matches no landmark, and is not near one
+//   (birth_novelty_chi2), is tracked (tracker) and
 //   becomes a landmark after tracker.min_keyframes consistent sightings,
 //   each made from a keyframe that is localized on the atlas: at least
 //   birth_min_matches landmark factors, and a predicted position standard
@@ -118,6 +119,12 @@ struct AtlasUpkeepOptions {
   double min_in_view_m = 0.5;
   int birth_min_matches = 1;
   double birth_max_position_sigma_m = 0.05;
+  // An unmatched marking only just outside the gate of a landmark (d2 below
+  // this: the 0.9999 quantile of 2 dof) is a poor sighting of that landmark,
+  // not a new one: it is neither used nor tracked. Without it, three
+  // sightings in a row just beyond the 0.99 gate of a kept line bear its
+  // duplicate, which then takes its sightings until the original is retired.
+  double birth_novelty_chi2 = 18.42;
 
   core::Status Validate() const;
 };
@@ -177,12 +184,22 @@ struct SmootherOptions {
   double slip_residual_chi2 = 18.4;  // the 0.9999 quantile of 2 dof
   double track_m = 0.76;             // the wheel track of the slip hypothesis [m]
   // Localization mode, on an atlas whose covariances are stated
-  // (Atlas::covariances_stated): a line or junction factor's noise includes
-  // the landmark's own covariance, propagated into the vehicle frame at the
-  // predicted pose (the landmark is held fixed, so its error would otherwise
-  // count as exact). Each observation carries it anew, although one
-  // landmark's survey error is one error: first-order, not a shared variable.
+  // (Atlas::covariances_stated) and for landmarks estimated from a drive: a
+  // line or junction factor's noise includes the landmark's own covariance
+  // P, propagated into the vehicle frame at the predicted pose (the landmark
+  // is held fixed, so its error would otherwise count as exact).
   bool landmark_covariance_in_factors = true;
+  // One landmark's error is one error, however often it is seen: a rack
+  // face beside the whole aisle is in every keyframe, and with P in each
+  // factor anew its 2 cm would count as 2 cm / sqrt(K). With this on, each
+  // of the K sightings of a landmark in the current pass (those in the
+  // window, and those folded into the marginal prior since the landmark was
+  // last out of the window) carries K P: together they hold P's
+  // information once where P dominates, and all of the observations' where
+  // it is negligible (the covariance-inflation bound for a shared error;
+  // conservative in between). The window's factors are reweighted as K
+  // grows; those already in the prior keep the K of their time.
+  bool share_landmark_error = true;
   // Mapping mode: the tentative tracks of observations that match no
   // landmark (localization mode: upkeep.tracker).
   LandmarkTrackerOptions tracker;
@@ -306,6 +323,12 @@ class SlidingWindowSmoother {
   struct LandmarkFactor {
     int landmark = 0;  // index into atlas lines or junctions
     std::unique_ptr<Factor> cost;
+    // The observation's covariance and the landmark's (in the vehicle frame;
+    // zero when the landmark is taken as exact), and the sightings count K
+    // the weight was made with: noise = observation + K landmark.
+    Eigen::Matrix2d observation_covariance = Eigen::Matrix2d::Zero();
+    Eigen::Matrix2d landmark_covariance = Eigen::Matrix2d::Zero();
+    int shared_by = 1;
   };
   // A keyframe's (or the prior's) linearized terms in the chain, kept until
   // its poses move (sliding_window_chain.cc): the unary factors on this pose
@@ -370,6 +393,11 @@ class SlidingWindowSmoother {
   void KeepAtlasCurrent(const FloorObservations& observations, const core::SE2& T_pred,
                         const std::vector<bool>& lines_matched,
                         const std::vector<bool>& junctions_matched, KeyframeHealth* health);
+  // share_landmark_error: counts a keyframe's landmark factors in (added)
+  // or out (marginalized) of the current pass, and reweights every factor
+  // whose landmark's count changed (invalidating its chain terms).
+  void CountSightings(const Keyframe& keyframe, bool added);
+  core::Status ReweightSharedLandmarks();
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
                           const core::Matrix3& covariance_pred,
                           const core::Matrix3& slip_covariance, Keyframe* keyframe,
@@ -392,6 +420,12 @@ class SlidingWindowSmoother {
   std::vector<int> junction_misses_;
   std::vector<bool> line_born_;
   std::vector<bool> junction_born_;
+  // share_landmark_error, grown with the atlas: factors of each landmark in
+  // the window, and in the current pass (window and prior).
+  std::vector<int> line_in_window_;
+  std::vector<int> junction_in_window_;
+  std::vector<int> line_in_pass_;
+  std::vector<int> junction_in_pass_;
   int landmarks_born_ = 0;
   int landmarks_retired_ = 0;
   PoseEstimate latest_;
