@@ -30,6 +30,21 @@ std::vector<RelativeMotion> RandomMotions(int n, std::uint32_t seed) {
   return motions;
 }
 
+// The map line seen exactly from `truth` with 1 mm / 1 mrad of stated noise,
+// its observed extent [from_m, to_m] along the line from the foot of the
+// vehicle's perpendicular.
+LineObservation SeenLine(const core::SE2& truth, const perception::HesseLine& line_map,
+                         core::MarkingKind kind, double from_m, double to_m) {
+  LineObservation o;
+  o.kind = kind;
+  o.line_base = perception::InverseTransformLine(truth, line_map);
+  o.covariance = Eigen::Vector2d(1e-6, 1e-6).asDiagonal();
+  const Eigen::Vector2d foot = o.line_base.rho_m * o.line_base.Normal();
+  o.endpoint_a_base_m = foot + from_m * o.line_base.Direction();
+  o.endpoint_b_base_m = foot + to_m * o.line_base.Direction();
+  return o;
+}
+
 TEST(SlidingWindowSmoother, WithoutObservationsItIsDeadReckoningWithOrWithoutMarginalization) {
   const std::vector<RelativeMotion> motions = RandomMotions(60, 51);
   const core::SE2 start(2.0, 1.0, 0.4);
@@ -342,13 +357,7 @@ TEST(SlidingWindowSmoother, TheSlipHypothesisAssociatesTheLinesSeenAfterASlip) {
   const core::SE2 truth = core::SE2(0.0, 0.0, -slip_rad) * core::SE2(0.75, 0.0, 0.0);
   FloorObservations seen;
   for (const AtlasLine& line : atlas.lines) {
-    LineObservation o;
-    o.line_base = perception::InverseTransformLine(truth, line.line_map);
-    o.covariance = Eigen::Vector2d(1e-6, 1e-6).asDiagonal();
-    const Eigen::Vector2d foot = o.line_base.rho_m * o.line_base.Normal();
-    o.endpoint_a_base_m = foot + 1.0 * o.line_base.Direction();
-    o.endpoint_b_base_m = foot + 2.0 * o.line_base.Direction();
-    seen.lines.push_back(o);
+    seen.lines.push_back(SeenLine(truth, line.line_map, line.kind, 1.0, 2.0));
   }
   // The odometry of 0.75 m straight, integrated in 1 cm steps with the noise
   // model of `groundline localize` (1e-5 m^2/m per wheel, 1e-7 lateral): the
@@ -439,14 +448,7 @@ TEST(SlidingWindowSmoother, ALandmarksStatedErrorCountsOnceOverItsSightings) {
       for (int k = 1; k <= keyframes; ++k) {
         const core::SE2 truth(step_m * k, 0.0, 0.0);
         FloorObservations seen;
-        LineObservation o;
-        o.kind = core::MarkingKind::kRackFace;
-        o.line_base = perception::InverseTransformLine(truth, true_face);
-        o.covariance = Eigen::Vector2d(1e-6, 1e-6).asDiagonal();
-        const Eigen::Vector2d foot = o.line_base.rho_m * o.line_base.Normal();
-        o.endpoint_a_base_m = foot - 1.0 * o.line_base.Direction();
-        o.endpoint_b_base_m = foot + 1.0 * o.line_base.Direction();
-        seen.lines.push_back(o);
+        seen.lines.push_back(SeenLine(truth, true_face, core::MarkingKind::kRackFace, -1.0, 1.0));
         const auto health = smoother.AddKeyframe(0.5 * k, motion, seen);
         ASSERT_TRUE(health.ok()) << health.message();
         ASSERT_EQ(health->lines_used, 1) << "keyframe " << k;
@@ -510,14 +512,7 @@ TEST(SlidingWindowSmoother, AMarkingJustOutsideTheGateOfALandmarkIsNotBornAgain)
       FloorObservations seen;
       for (const auto& [line_map, kind] : {std::pair{edge.line_map, core::MarkingKind::kTapeSolid},
                                            std::pair{seen_bar, core::MarkingKind::kStopBar}}) {
-        LineObservation o;
-        o.kind = kind;
-        o.line_base = perception::InverseTransformLine(truth, line_map);
-        o.covariance = Eigen::Vector2d(1e-6, 1e-6).asDiagonal();
-        const Eigen::Vector2d foot = o.line_base.rho_m * o.line_base.Normal();
-        o.endpoint_a_base_m = foot - 0.5 * o.line_base.Direction();
-        o.endpoint_b_base_m = foot + 0.5 * o.line_base.Direction();
-        seen.lines.push_back(o);
+        seen.lines.push_back(SeenLine(truth, line_map, kind, -0.5, 0.5));
       }
       const auto health = smoother.AddKeyframe(0.5 * k, motion, seen);
       ASSERT_TRUE(health.ok()) << health.message();
