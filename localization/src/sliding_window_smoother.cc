@@ -467,7 +467,7 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
 }
 
 void SlidingWindowSmoother::CountSightings(const Keyframe& keyframe, bool added) {
-  if (!options_.share_landmark_error || options_.mode != SmootherMode::kLocalization) return;
+  if (!SharesLandmarkError()) return;
   const auto count = [added](const auto& factors, std::size_t landmarks,
                              std::vector<int>* in_window, std::vector<int>* in_pass) {
     in_window->resize(landmarks, 0);
@@ -492,9 +492,7 @@ void SlidingWindowSmoother::CountSightings(const Keyframe& keyframe, bool added)
 }
 
 core::Status SlidingWindowSmoother::ReweightSharedLandmarks() {
-  if (!options_.share_landmark_error || options_.mode != SmootherMode::kLocalization) {
-    return core::Status::Ok();
-  }
+  if (!SharesLandmarkError()) return core::Status::Ok();
   const auto reweight = [](auto* factors, const std::vector<int>& in_pass, Keyframe* keyframe) {
     for (auto& factor : *factors) {
       if (factor.landmark_covariance.isZero(0.0)) continue;

@@ -396,6 +396,9 @@ class SlidingWindowSmoother {
   // share_landmark_error: counts a keyframe's landmark factors in (added)
   // or out (marginalized) of the current pass, and reweights every factor
   // whose landmark's count changed (invalidating its chain terms).
+  bool SharesLandmarkError() const {
+    return options_.share_landmark_error && options_.mode == SmootherMode::kLocalization;
+  }
   void CountSightings(const Keyframe& keyframe, bool added);
   core::Status ReweightSharedLandmarks();
   void AddLandmarkFactors(const FloorObservations& observations, const core::SE2& T_pred,
