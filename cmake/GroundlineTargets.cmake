@@ -2,40 +2,106 @@
 
 function(groundline_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
-  # GCC 12's -Wmaybe-uninitialized gives false positives inside libstdc++
-  # (std::regex, std::function) once the sanitizers instrument optimized code;
-  # the release build keeps the warning, and ASan/UBSan check the real thing.
-  if(GROUNDLINE_SANITIZE AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-    target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
-  endif()
   if(GROUNDLINE_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
 endfunction()
 
+# Sanitizer twins (GROUNDLINE_SANITIZER_TWINS): every library, the CLI, the
+# test fixtures and the fuzz smoke drivers are also built as <target>_san,
+# instrumented with AddressSanitizer + UndefinedBehaviorSanitizer at -O1 with
+# assertions on, in the same tree as the plain build. Each test executable's
+# objects (uninstrumented, -O0) are compiled once and linked twice: <name>
+# against the plain libraries, <name>_san against the twins and the
+# sanitizer runtimes, so an error in the product is caught wherever a test
+# calls it. One tree instead of a second build of everything halves the test
+# code's share of CI's compile time.
+#
+# UBSan runs without its null and alignment checks: they instrument every
+# pointer and reference in the Eigen and Ceres templates, which doubled the
+# compile time of the heaviest sources (a calibration unity batch: 85 s with
+# them, 43 s without, 28 s unsanitized). A null dereference is still caught
+# by ASan (SEGV on unknown address 0x0), and the misalignment that matters
+# here, a fixed-size vectorizable Eigen type, is asserted by Eigen itself in
+# the twins (assertions on). Every other UBSan check (overflow, shift, bounds,
+# vptr, object-size, enum, bool, float-cast...) stays on. -O1, as the
+# AddressSanitizer documentation advises: the suite ran in 281 s instead of
+# 630 s at -O0 (2 cores, 2026-12-01).
+set(GROUNDLINE_SANITIZER_FLAGS -fsanitize=address,undefined -fno-sanitize=alignment,null
+    -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+
+# Makes <target> a sanitizer twin: instrumented, -O1, assertions on, and
+# "GROUNDLINE_SANITIZED" defined (the LeakSanitizer suppressions are compiled
+# in on it). Whatever links it links the sanitizer runtimes.
+function(groundline_sanitize target)
+  target_compile_options(${target} PRIVATE ${GROUNDLINE_SANITIZER_FLAGS} -O1 -UNDEBUG)
+  target_compile_definitions(${target} PRIVATE GROUNDLINE_SANITIZED=1)
+  get_target_property(type ${target} TYPE)
+  if(type STREQUAL "EXECUTABLE")
+    target_link_options(${target} PRIVATE -fsanitize=address,undefined)
+  else()
+    target_link_options(${target} INTERFACE -fsanitize=address,undefined)
+  endif()
+  # GCC 12's -Wmaybe-uninitialized gives false positives inside libstdc++
+  # (std::regex, std::function) once the sanitizers instrument optimized
+  # code; the plain build keeps the warning, and ASan/UBSan check the real thing.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
+  endif()
+endfunction()
+
+# groundline_twin_deps(<out> <dep>...): the twins' dependencies, each
+# groundline::<m> as groundline::<m>_san and each local target that has a
+# twin as <target>_san; outside libraries as they are.
+function(groundline_twin_deps out)
+  set(result "")
+  foreach(dep IN LISTS ARGN)
+    if(dep MATCHES "^groundline::(.+)$")
+      list(APPEND result groundline::${CMAKE_MATCH_1}_san)
+    elseif(TARGET ${dep}_san)
+      list(APPEND result ${dep}_san)
+    else()
+      list(APPEND result ${dep})
+    endif()
+  endforeach()
+  set(${out} ${result} PARENT_SCOPE)
+endfunction()
+
 # groundline_add_library(<module> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 # Defines groundline_<module> (alias groundline::<module>) with public headers in
-# <module>/include and private headers in <module>/src.
+# <module>/include and private headers in <module>/src, and its twin
+# groundline_<module>_san (groundline::<module>_san) when the twins are built.
 function(groundline_add_library module)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
-  set(target groundline_${module})
-  add_library(${target} STATIC ${ARG_SOURCES})
-  add_library(groundline::${module} ALIAS ${target})
-  target_include_directories(${target}
-    PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
-    PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
-  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
-  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
-  groundline_set_warnings(${target})
+  set(variants "")
+  if(GROUNDLINE_SANITIZER_TWINS)
+    set(variants _san)
+  endif()
+  foreach(variant "" ${variants})
+    set(target groundline_${module}${variant})
+    add_library(${target} STATIC ${ARG_SOURCES})
+    add_library(groundline::${module}${variant} ALIAS ${target})
+    target_include_directories(${target}
+      PUBLIC $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+      PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/src)
+    if(variant STREQUAL "")
+      target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+    else()
+      groundline_twin_deps(public ${ARG_PUBLIC_DEPS})
+      groundline_twin_deps(private ${ARG_PRIVATE_DEPS})
+      target_link_libraries(${target} PUBLIC ${public} PRIVATE ${private})
+      groundline_sanitize(${target})
+    endif()
+    set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    groundline_set_warnings(${target})
+  endforeach()
 endfunction()
 
 # Every test batch parses GoogleTest, Eigen and much of the standard library
-# again; the test executables built at -O0 share one precompiled header of
-# them (the first such target compiles it, the others reuse it: a
-# precompiled header is valid only with the same flags, so targets optimized
-# under the sanitizers parse the headers as before). The release build's test
-# objects took 417 s of CPU with it against 530 s without (2 cores,
-# 2026-12-06). OpenCV stays out: not every test target links it.
+# again; the test objects share one precompiled header of them (the first
+# test compiles it, the others reuse it). The release build's test objects
+# took 417 s of CPU with it against 530 s without (2 cores, 2026-12-06).
+# OpenCV stays out: not every test target links it.
 set(GROUNDLINE_TEST_PCH ON CACHE BOOL
     "Test executables share a precompiled header of GoogleTest, Eigen and the standard library")
 function(groundline_use_test_pch target)
@@ -53,47 +119,69 @@ function(groundline_use_test_pch target)
   endif()
 endfunction()
 
-# groundline_add_test(<name> [LONG] [OPTIMIZED_UNDER_SANITIZERS] [SHARDS n] SOURCES ...
-#                     [DEPS ...])
-# One GoogleTest executable: one ctest entry that runs all its tests in one
-# process, or n entries (SHARDS n, GoogleTest's sharding) that share them out.
-# To run one test, run the executable with --gtest_filter=Suite.Name.
-# Test code compiles at -O0 in every build: what the tests time and exercise
-# is the libraries (built -O2 in release, -O1 under the sanitizers), and
-# optimizing the gtest and Eigen templates of the test code itself took over
-# half of the release build's compile time. A fixture that computes much
+# The environment of every sanitized test process: a leak or an error ends it
+# with a report and a failure.
+set(GROUNDLINE_SANITIZER_TEST_ENVIRONMENT
+    "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1"
+    "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
+
+# groundline_register_test(<ctest name> <executable> <cost> <label> <shards> [ENV...])
+# One ctest entry, or <shards> entries that share the executable's tests out
+# with GoogleTest's sharding.
+function(groundline_register_test test executable cost label shards)
+  set(environment ${ARGN})
+  if(NOT shards OR shards LESS 2)
+    add_test(NAME ${test} COMMAND ${executable})
+    set_tests_properties(${test} PROPERTIES ENVIRONMENT "${environment}" COST ${cost}
+                         LABELS ${label})
+  else()
+    math(EXPR last "${shards} - 1")
+    foreach(shard RANGE ${last})
+      add_test(NAME ${test}.shard${shard} COMMAND ${executable})
+      set_tests_properties(${test}.shard${shard} PROPERTIES
+        ENVIRONMENT "${environment};GTEST_TOTAL_SHARDS=${shards};GTEST_SHARD_INDEX=${shard}"
+        COST ${cost} LABELS ${label})
+    endforeach()
+  endif()
+endfunction()
+
+# groundline_add_test(<name> [LONG] [RUNS_CLI] [SHARDS n] SOURCES ... [DEPS ...]
+#                     [DEFINITIONS ...] [INCLUDES ...])
+# One GoogleTest executable <name>: one ctest entry that runs all its tests in
+# one process, or n entries (SHARDS n, GoogleTest's sharding) that share them
+# out. With the sanitizer twins, also <name>_san, the same objects linked
+# against the twins, whose ctest entries are asan.<name>[.shardK] (label
+# "sanitized"; the plain ones have the label "plain"). To run one test, run
+# the executable with --gtest_filter=Suite.Name.
+# RUNS_CLI: the tests run the groundline executable (testing::GroundlineCli()
+# in tests/support/tools_under_test.h names the one of the test's variant).
+# DEFINITIONS and INCLUDES: compile definitions and private include
+# directories of the test sources.
+#
+# Test code compiles at -O0 and uninstrumented in every variant: what the
+# tests time and exercise is the libraries (built -O2, and -O1 instrumented in
+# the twins). Optimizing the gtest and Eigen templates of the test code itself
+# took over half of the release build's compile time, and instrumenting them
+# a third of their compile time under the sanitizers (a localization_tests
+# batch: 57 s against 36 s of CPU, 2026-12-06). A fixture that computes much
 # (a rendered floor, a synthetic drive) goes in a small library of its own,
-# which keeps the build's optimization level.
+# which keeps the build's optimization level and has a twin.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "LONG;OPTIMIZED_UNDER_SANITIZERS" "SHARDS" "SOURCES;DEPS" ${ARGN})
-  add_executable(${name} ${ARG_SOURCES})
-  target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
-  groundline_set_warnings(${name})
-  # Half the compile time (a unity batch of core tests under the
-  # sanitizers: 32 s at -O0 against 60 s at -O1 of CPU).
-  # OPTIMIZED_UNDER_SANITIZERS: the tests run much Eigen code of their own,
-  # which unoptimized and instrumented is slow (calibration_tests under
-  # ASan+UBSan: 202 s at -O0 against 61 s at -O1); release keeps -O0.
-  if(NOT (GROUNDLINE_SANITIZE AND ARG_OPTIMIZED_UNDER_SANITIZERS))
-    target_compile_options(${name} PRIVATE -O0)
-  endif()
-  # Under the sanitizers the product's libraries are instrumented and the test
-  # code itself is not: what the sanitizers are there to check is the product,
-  # and instrumenting the test sources (GoogleTest's and Eigen's templates
-  # above all) took a third of their compile time (a localization_tests batch:
-  # 57 s against 36 s of CPU, 2026-12-06). The runtime is linked into every
-  # executable, so a library's error is still caught wherever a test calls it.
-  if(GROUNDLINE_SANITIZE)
-    target_compile_options(${name} PRIVATE -fno-sanitize=all)
-  endif()
-  if(NOT (GROUNDLINE_SANITIZE AND ARG_OPTIMIZED_UNDER_SANITIZERS))
-    groundline_use_test_pch(${name})
-  endif()
+  cmake_parse_arguments(ARG "LONG;RUNS_CLI" "SHARDS" "SOURCES;DEPS;DEFINITIONS;INCLUDES" ${ARGN})
+  set(objects ${name}_objects)
+  add_library(${objects} OBJECT ${ARG_SOURCES})
+  target_link_libraries(${objects} PRIVATE ${ARG_DEPS} groundline_test_support)
+  target_compile_definitions(${objects} PRIVATE ${ARG_DEFINITIONS})
+  target_include_directories(${objects} PRIVATE ${ARG_INCLUDES})
+  target_compile_options(${objects} PRIVATE -O0)
+  groundline_set_warnings(${objects})
+  groundline_use_test_pch(${objects})
   # Unoptimized code has no cost that grows faster than the batch, while
   # every batch parses GoogleTest, Eigen and OpenCV again: test sources
   # compile in batches twice the libraries'.
   math(EXPR batch "2 * ${GROUNDLINE_UNITY_BATCH}")
-  set_target_properties(${name} PROPERTIES UNITY_BUILD_BATCH_SIZE ${batch})
+  set_target_properties(${objects} PROPERTIES UNITY_BUILD_BATCH_SIZE ${batch})
+
   # LONG: the executable holds tests of a minute or more (end-to-end runs).
   # ctest starts tests of a higher COST first; without it a fresh build
   # directory (CI's) has no timings yet and runs them in declaration order,
@@ -112,17 +200,51 @@ function(groundline_add_test name)
   # earlier.
   list(LENGTH ARG_SOURCES sources)
   math(EXPR cost "${cost} + 10 * ${sources}")
-  set(environment "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
-  if(NOT ARG_SHARDS OR ARG_SHARDS LESS 2)
-    add_test(NAME ${name} COMMAND ${name})
-    set_tests_properties(${name} PROPERTIES ENVIRONMENT "${environment}" COST ${cost})
-  else()
-    math(EXPR last "${ARG_SHARDS} - 1")
-    foreach(shard RANGE ${last})
-      add_test(NAME ${name}.shard${shard} COMMAND ${name})
-      set_tests_properties(${name}.shard${shard} PROPERTIES
-        ENVIRONMENT "${environment};GTEST_TOTAL_SHARDS=${ARG_SHARDS};GTEST_SHARD_INDEX=${shard}"
-        COST ${cost})
-    endforeach()
+
+  add_executable(${name} $<TARGET_OBJECTS:${objects}>)
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} groundline_test_support GTest::gtest_main)
+  if(ARG_RUNS_CLI)
+    add_dependencies(${name} groundline)
+  endif()
+  groundline_register_test(${name} ${name} ${cost} plain "${ARG_SHARDS}"
+                           "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp")
+  if(GROUNDLINE_SANITIZER_TWINS)
+    groundline_twin_deps(deps ${ARG_DEPS} groundline_test_support)
+    add_executable(${name}_san $<TARGET_OBJECTS:${objects}>)
+    target_link_libraries(${name}_san PRIVATE ${deps} GTest::gtest_main)
+    target_link_options(${name}_san PRIVATE -fsanitize=address,undefined)
+    if(ARG_RUNS_CLI)
+      add_dependencies(${name}_san groundline_san)
+    endif()
+    groundline_register_test(asan.${name} ${name}_san ${cost} sanitized "${ARG_SHARDS}"
+                             "GROUNDLINE_TEST_TMPDIR=${CMAKE_CURRENT_BINARY_DIR}/tmp-asan"
+                             ${GROUNDLINE_SANITIZER_TEST_ENVIRONMENT})
+  endif()
+endfunction()
+
+# groundline_add_test_library(<name> SOURCES ... DEPS ...)
+# A test fixture that computes much (a rendered floor, a synthetic drive):
+# a static library at the build's optimization level, with its twin
+# <name>_san when the sanitizer twins are built. DEPS are public.
+function(groundline_add_test_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  groundline_set_warnings(${name})
+  if(GROUNDLINE_SANITIZER_TWINS)
+    add_library(${name}_san STATIC ${ARG_SOURCES})
+    groundline_twin_deps(deps ${ARG_DEPS})
+    target_link_libraries(${name}_san PUBLIC ${deps})
+    groundline_set_warnings(${name}_san)
+    groundline_sanitize(${name}_san)
+  endif()
+endfunction()
+
+# groundline_test_needs(<test> <target>...): the test's executables (both
+# variants) run these targets' programs, which the test's build builds first.
+function(groundline_test_needs test)
+  add_dependencies(${test} ${ARGN})
+  if(TARGET ${test}_san)
+    add_dependencies(${test}_san ${ARGN})
   endif()
 endfunction()

@@ -32,6 +32,7 @@
 #include "groundline/core/trajectory_io.h"
 #include "groundline/localization/atlas.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline {
 namespace {
@@ -152,13 +153,9 @@ bool HasTemporary(const fs::path& dir) {
 }
 
 TEST(AtomicWriteKillLoop, EveryFileIsOneWholeGenerationAfterEverySigkill) {
-#ifdef GROUNDLINE_SANITIZED
   // Each kill re-formats the four files to compare them, several times slower
-  // under the sanitizers: half the kills there (the release build does 100).
-  int kills = 50;
-#else
-  int kills = 100;
-#endif
+  // under the sanitizers: half the kills there (the plain build does 100).
+  int kills = ::groundline::testing::Sanitized() ? 50 : 100;
   if (const char* env = std::getenv("GROUNDLINE_KILL_LOOP_KILLS")) kills = std::atoi(env);
   ASSERT_GT(kills, 0);
   const fs::path dir = ::groundline::testing::ScratchDir("files");

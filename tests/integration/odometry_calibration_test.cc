@@ -23,6 +23,7 @@
 #include "groundline/sim/sim_run.h"
 #include "groundline/sim/wheel_encoders.h"
 #include "groundline/sim/zones.h"
+#include "tools_under_test.h"
 
 namespace groundline::localization {
 namespace {
@@ -154,10 +155,10 @@ double DeadReckoningRms(const Drive& d, const DiffDriveParams& drive) {
 }
 
 TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNoise) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "a 600 m localized drive: 90 s under AddressSanitizer (Debug); the estimator "
-                  "itself runs under it in AgainstTheTrueTrajectoryTheEstimateIsConsistent";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "a 600 m localized drive: 90 s under AddressSanitizer (Debug); the estimator "
+                    "itself runs under it in AgainstTheTrueTrajectoryTheEstimateIsConsistent";
+  }
   const Drive d = MakeDrive(21, 2e-3);
   ASSERT_FALSE(d.readings.empty());
   const core::Trajectory localized = Localize(d, Nominal());
@@ -206,12 +207,9 @@ TEST(OdometryCalibration, ALocalizedDriveRecoversTheRadiiTheTrackAndTheWheelNois
 // with 1 mm and 0.006 deg), the geometry is found within its stated 3 sigma
 // and the wheel noise within 20 %.
 TEST(OdometryCalibration, AgainstTheTrueTrajectoryTheEstimateIsConsistent) {
-#ifdef GROUNDLINE_SANITIZED
-  constexpr double kLoopM = 300.0;  // the same checks on half the drive: minutes instrumented
-#else
-  constexpr double kLoopM = 600.0;
-#endif
-  const Drive d = MakeDrive(22, 0.0, kLoopM);
+  // Sanitized, the same checks on half the drive: minutes instrumented.
+  const double loop_m = ::groundline::testing::Sanitized() ? 300.0 : 600.0;
+  const Drive d = MakeDrive(22, 0.0, loop_m);
   ASSERT_FALSE(d.readings.empty());
   core::Trajectory poses;
   double last_x = 1e9, last_y = 1e9;

@@ -16,6 +16,7 @@
 #include "floor_localization_run.h"
 #include "groundline/localization/atlas.h"
 #include "groundline/localization/relocalizer.h"
+#include "tools_under_test.h"
 
 namespace groundline {
 namespace {
@@ -101,20 +102,20 @@ void ExpectRightPose(const Outcome& o) {
 }
 
 TEST(Relocalization, DistinctiveFloorCommitsWithoutAPrior) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "thousands of hypotheses over the whole zone take minutes under "
-                  "AddressSanitizer; the release build runs this test";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "thousands of hypotheses over the whole zone take minutes under "
+                    "AddressSanitizer; the release build runs this test";
+  }
   const Outcome o = Relocalize(sim::Zone::kA, 3, 40.0);
   EXPECT_TRUE(o.committed);
   ExpectRightPose(o);
 }
 
 TEST(Relocalization, RepeatingAislesStayAmbiguousWithoutAPrior) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "hundreds of hypotheses over 60 s of driving take minutes under "
-                  "AddressSanitizer; the release build runs this test";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "hundreds of hypotheses over 60 s of driving take minutes under "
+                    "AddressSanitizer; the release build runs this test";
+  }
   // Zone B's aisle mouths repeat every 4.65 m: the best hypothesis and the
   // one an aisle over explain the floor equally well.
   const Outcome o = Relocalize(sim::Zone::kB, 1, 60.0);
@@ -131,12 +132,12 @@ class RelocalizationZones : public ::testing::TestWithParam<std::tuple<sim::Zone
 // along them after its first line seed and is then past the prior's reach).
 TEST_P(RelocalizationZones, WithACoarsePriorCommitsToTheTruePose) {
   const auto [zone, seed] = GetParam();
-#ifdef GROUNDLINE_SANITIZED
-  if (zone != sim::Zone::kB) {
-    GTEST_SKIP() << "CI time: zones A, C and D take 30-90 s each under AddressSanitizer (a "
-                    "large atlas; C and D never commit); zone B runs here, all four in release";
+  if (::groundline::testing::Sanitized()) {
+    if (zone != sim::Zone::kB) {
+      GTEST_SKIP() << "CI time: zones A, C and D take 30-90 s each under AddressSanitizer (a "
+                      "large atlas; C and D never commit); zone B runs here, all four in release";
+    }
   }
-#endif
   const Outcome o = Relocalize(zone, seed, 150.0, 2.0);
   std::printf(
       "zone %d seed %lu, 2 m prior: committed %d after %.1f m, %zu seeds, error %.3f m "
@@ -158,13 +159,13 @@ class RelocalizationWrongHint
 
 TEST_P(RelocalizationWrongHint, IsReportedAndNothingCommits) {
   const auto [zone, seed, dx_m, dy_m] = GetParam();
-#ifdef GROUNDLINE_SANITIZED
-  if (zone != sim::Zone::kB || seed != 1u) {
-    GTEST_SKIP() << "CI time: zone A keeps hundreds of hypotheses the hint excludes, minutes "
-                    "under AddressSanitizer, and zone B takes 60-90 s per seed; zone B seed 1 "
-                    "runs here, all six in release";
+  if (::groundline::testing::Sanitized()) {
+    if (zone != sim::Zone::kB || seed != 1u) {
+      GTEST_SKIP() << "CI time: zone A keeps hundreds of hypotheses the hint excludes, minutes "
+                      "under AddressSanitizer, and zone B takes 60-90 s per seed; zone B seed 1 "
+                      "runs here, all six in release";
+    }
   }
-#endif
   const Outcome o = Relocalize(zone, seed, 60.0, 2.0, Eigen::Vector2d(dx_m, dy_m));
   const localization::RelocalizerStatus& s = o.status;
   std::printf(
@@ -203,10 +204,10 @@ class RelocalizationRightHint
 
 TEST_P(RelocalizationRightHint, IsNotContradictedAndACommitIsRight) {
   const auto [zone, seed, radius_m] = GetParam();
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "CI time: zone A keeps thousands of hypotheses the hint excludes, minutes "
-                  "under AddressSanitizer; the release build runs this test";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "CI time: zone A keeps thousands of hypotheses the hint excludes, minutes "
+                    "under AddressSanitizer; the release build runs this test";
+  }
   const Outcome o =
       Relocalize(zone, seed, 60.0, radius_m, Eigen::Vector2d::Zero(), Perception::kCoarse);
   const localization::RelocalizerStatus& s = o.status;

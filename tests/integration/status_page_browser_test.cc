@@ -32,6 +32,7 @@
 #include "child_process.h"
 #include "headless_chromium.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 // Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
 #include <httplib.h>
@@ -95,10 +96,10 @@ double ShareNotBackground(const cv::Mat& bgr) {
 
 TEST(StatusPageBrowser, ShowsTheLivePoseRatesCountersAndMapOfARunningService) {
   GROUNDLINE_REQUIRE_CHROMIUM();
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "the service's scan matching under AddressSanitizer is too slow to keep a "
-                  "paced replay alive while the browser loads; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "the service's scan matching under AddressSanitizer is too slow to keep a "
+                    "paced replay alive while the browser loads; runs in the release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("status_page");
   // 12 m at 1-2 m/s paced at 0.3 x real time: about 25 s of service for the
   // browser's two runs of a few seconds each; the test stops it when done.
@@ -111,7 +112,8 @@ TEST(StatusPageBrowser, ShowsTheLivePoseRatesCountersAndMapOfARunningService) {
                                     << "output: {dir: out}\n"
                                     << "http: {address: 127.0.0.1, port: 0}\n";
   testing::ChildProcess serve(
-      {GROUNDLINE_CLI_PATH, "serve", "--config", (dir / "serve.yaml").string()}, dir / "serve.log");
+      {::groundline::testing::GroundlineCli(), "serve", "--config", (dir / "serve.yaml").string()},
+      dir / "serve.log");
   ASSERT_TRUE(serve.started());
   ASSERT_TRUE(serve.WaitForOutput("/ (health: /health.json)", std::chrono::seconds(60)))
       << serve.output();

@@ -20,6 +20,7 @@
 #include "groundline/localization/lidar/scan_odometry.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 extern char** environ;
 
@@ -68,7 +69,7 @@ TEST(DdsReplayTest, ReplayedStreamsEqualTheDataset) {
   core::Result<DdsInputs> inputs = DdsInputs::Create(*participant, options, cb);
   ASSERT_TRUE(inputs.ok()) << inputs.message();
 
-  const std::string exe = GROUNDLINE_CLI;
+  const std::string exe = ::groundline::testing::GroundlineCli();
   std::vector<std::string> args = {exe,
                                    "replay-dds",
                                    dir.string(),

@@ -11,6 +11,7 @@
 #include "groundline/localization/floor_association.h"
 #include "groundline/localization/lidar/scan_points.h"
 #include "jacobian_check.h"
+#include "tools_under_test.h"
 
 namespace groundline::localization::lidar {
 namespace {
@@ -52,10 +53,10 @@ std::vector<RangePoint> RaysOntoFace(double face_y_m, double sigma_m, std::mt199
 }
 
 TEST(WallLineFit, CovarianceMatchesMonteCarlo) {
-#ifdef GROUNDLINE_SANITIZED
-  // CI time: 800 fits take ~22 s under ASan (Debug), 0.1 s in release.
-  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    // CI time: 800 fits take ~22 s under ASan (Debug), 0.1 s in release.
+    GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+  }
   std::mt19937 rng(7);
   const double sigma = 0.015;
   const WallLineFit nominal = *FitWallLine(RaysOntoFace(1.2, sigma, &rng), sigma, 0.0);

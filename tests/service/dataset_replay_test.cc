@@ -13,6 +13,7 @@
 #include "groundline/sim/sim_run.h"
 #include "simulated_drive.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline::service {
 namespace {
@@ -60,10 +61,10 @@ double AteRmse(const LocalizedRun& run, const core::Trajectory& truth) {
 }
 
 TEST(DatasetReplay, TheSameEstimateWithoutTheSimulatorsProvenanceAndWallsBeatOdometry) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP()
-      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP()
+        << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  }
   const auto scratch = ::groundline::testing::ScratchDir("dataset_replay");
   const auto from_sim = scratch / "from_sim", from_site = scratch / "from_site";
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(25.0, 5, from_sim);

@@ -39,6 +39,7 @@
 #include "groundline/service/service_config.h"
 #include "simulated_drive.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 extern char** environ;
 
@@ -69,12 +70,8 @@ double AteRmse(const core::Trajectory& estimate, const core::Trajectory& truth) 
 TEST(ServiceDds,
      ReplayToServeToListenerFollowsAReinitializationMatchesTheFileReplayAndLosesNothing) {
   io::testing::UseLoopbackConfig();
-#ifdef GROUNDLINE_SANITIZED
   // Scan matching under AddressSanitizer is several times slower: a shorter drive.
-  const double length_m = 12.0;
-#else
-  const double length_m = 20.0;
-#endif
+  const double length_m = ::groundline::testing::Sanitized() ? 12.0 : 20.0;
   const std::string preset = "fusion";
   const auto dir = ::groundline::testing::ScratchDir("service_dds");
   const std::optional<sim::SimRun> simulated =
@@ -119,8 +116,9 @@ TEST(ServiceDds,
       << ", " << wrong_start.yaw() / deg << "]}\n"
       << "output:\n  dir: dds\n  dds: {namespace: " << ns << "}\n"
       << "http: {enabled: false}\n";
-  Child serve({GROUNDLINE_CLI, "serve", "--config", (dir / "serve.yaml").string()},
-              dir / "serve.log");
+  Child serve(
+      {::groundline::testing::GroundlineCli(), "serve", "--config", (dir / "serve.yaml").string()},
+      dir / "serve.log");
   ASSERT_TRUE(serve.started());
   Child listener({GROUNDLINE_DDS_POSE_LISTENER, "--out", (dir / "listened.tum").string(),
                   "--prefix", "rt/" + ns + "/"},
@@ -158,10 +156,10 @@ TEST(ServiceDds,
   ASSERT_TRUE(rviz->Write(io::ToPoseWithCovarianceStamped(put_back).msg()).ok());
   dds_wait_for_acks(rviz->writer().get(), DDS_SECS(10));
 
-  Child replay(
-      {GROUNDLINE_CLI, "replay-dds", (dir / "drive").string(), "--rate", "4", "--stamps", "dataset",
-       "--odometry", "odom", "--namespace", ns, "--lossless", "--wait-for-subscribers", "120"},
-      dir / "replay.log");
+  Child replay({::groundline::testing::GroundlineCli(), "replay-dds", (dir / "drive").string(),
+                "--rate", "4", "--stamps", "dataset", "--odometry", "odom", "--namespace", ns,
+                "--lossless", "--wait-for-subscribers", "120"},
+               dir / "replay.log");
   ASSERT_TRUE(replay.started());
   // Mid-drive: a wrong child frame and a scan whose ranges disagree with its angles.
   ASSERT_TRUE(replay.WaitForOutput("on DDS domain", std::chrono::seconds(120)));

@@ -28,6 +28,7 @@
 #include "groundline/sim/sim_run.h"
 #include "simulated_drive.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 // Last: <resolv.h>, which it includes, defines the macro _res that Eigen uses as a name.
 #include <httplib.h>
@@ -235,10 +236,10 @@ TEST(ServiceState, RoundTripsExactlyAndADamagedFileNamesTheField) {
 }
 
 TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP()
-      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP()
+        << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("service_run");
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(20.0, 7, dir / "drive");
   ASSERT_TRUE(simulated.has_value());
@@ -311,10 +312,10 @@ TEST(Service, StopsOnRequestSavesItsStateAndResumesToTheEnd) {
 }
 
 TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP()
-      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP()
+        << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("service_faults");
   const std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(30.0, 9, dir / "drive");
   ASSERT_TRUE(simulated.has_value());
@@ -355,10 +356,10 @@ TEST(Service, InjectedSensorFaultsAreCountedAndTheEstimateCoversWhatTheyCost) {
 }
 
 TEST(Service, WheelReadingsThatStopForGoodLeaveTheFramesCountedAndTheRunEnds) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP()
-      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP()
+        << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("service_no_odometry");
   std::optional<sim::SimRun> simulated = testing::SimulatedZoneBDrive(15.0, 5, dir / "drive", 2.0);
   ASSERT_TRUE(simulated.has_value());
@@ -447,10 +448,10 @@ TEST(Service, TheOdometryCalibrationReplacesTheNominalWheelGeometry) {
 // health.jsonl line; the drive's mount is the commissioned one, so no alarm.
 // The run also keeps its atlas current (localizer.keep_atlas_current).
 TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "a rendered drive and Debug scan matching under AddressSanitizer; runs in the "
-                  "release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "a rendered drive and Debug scan matching under AddressSanitizer; runs in the "
+                    "release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("service_selfcal");
   ASSERT_TRUE(testing::SimulatedZoneBDrive(40.0, 12, dir / "drive", 2.0).has_value());
   ServiceConfig config;
@@ -546,10 +547,10 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
 }
 
 TEST(Service, ReorderedDuplicatedReadingsAndABackwardClockJumpLoseNeitherMotionNorTheEstimate) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP()
-      << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP()
+        << "minutes of Debug scan matching under AddressSanitizer; runs in the release build";
+  }
   const auto dir = ::groundline::testing::ScratchDir("service_time");
   // With the camera (2 Hz): the estimator holds readings for their frames,
   // and the camera stage runs ahead of it; neither may mistake the frames

@@ -9,6 +9,7 @@
 #include "groundline/core/dataset.h"
 #include "groundline/sim/sim_run.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline::sim {
 namespace {
@@ -16,10 +17,10 @@ namespace {
 // A short zone C run with the camera at 0.1 Hz (a few full-size frames): images, calibration files
 // and the dataset read back; the written intrinsics and mount are the renderer's.
 TEST(SimCameraRun, WritesImagesAndCalibrationThatReadBack) {
-#ifdef GROUNDLINE_SANITIZED
-  // CI time: full-size renders (~70 s under ASan); SimRun covers the writer under ASan.
-  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    // CI time: full-size renders (~70 s under ASan); SimRun covers the writer under ASan.
+    GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+  }
   SimRunOptions options;
   options.zone = Zone::kC;
   options.route.length_m = 60.0;

@@ -16,6 +16,7 @@
 #include "groundline/calibration/mrcal_cameramodel_io.h"
 #include "groundline/calibration/tag_layout.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline::testing {
 namespace {
@@ -122,11 +123,11 @@ TEST(CalibrateFloorCli, RecoversTheSimulatedMountAndReportsErrors) {
 // bounds, per-tag residuals, the rectified floor, thresholds from a config
 // (flags override it), the intrinsics folded in; and the input errors.
 TEST(CalibrateFloorCli, CommissioningReportCarriesVerdictAdviceBoundsAndTheRectifiedFloor) {
-#ifdef GROUNDLINE_SANITIZED
-  // CI time: a Debug executable solving and rectifying a rendered scene (~60 s under ASan);
-  // FloorRectification covers the geometry under ASan.
-  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    // CI time: a Debug executable solving and rectifying a rendered scene (~60 s under ASan);
+    // FloorRectification covers the geometry under ASan.
+    GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+  }
   const std::filesystem::path dir = ScratchDir("floor_report");
   const std::filesystem::path scene = dir / "scene";
   std::string out;

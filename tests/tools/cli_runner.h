@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline::testing {
 
@@ -28,8 +29,8 @@ inline nlohmann::json ReadJson(const std::filesystem::path& path) {
 inline int RunGroundline(const std::string& args, const std::filesystem::path& dir,
                          std::string* output) {
   const std::filesystem::path log = dir / "cli_output.txt";
-  const std::string command =
-      std::string("'") + GROUNDLINE_CLI_PATH + "' " + args + " > '" + log.string() + "' 2>&1";
+  const std::string command = std::string("'") + ::groundline::testing::GroundlineCli() + "' " +
+                              args + " > '" + log.string() + "' 2>&1";
   const int status = std::system(command.c_str());
   *output = ReadText(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

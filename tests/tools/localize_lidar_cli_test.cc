@@ -19,6 +19,7 @@
 #include "cli_runner.h"
 #include "groundline/io/compressed_file.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline {
 namespace {
@@ -62,10 +63,10 @@ std::pair<nlohmann::json, std::string> RunCarmen(const std::filesystem::path& di
 }
 
 TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
-#ifdef GROUNDLINE_SANITIZED
-  // ~4 min of a Debug executable's scan matching under ASan; 1.5 s in release.
-  GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    // ~4 min of a Debug executable's scan matching under ASan; 1.5 s in release.
+    GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+  }
   const std::filesystem::path dir = ::groundline::testing::ScratchDir("localize_lidar");
   const std::filesystem::path dataset = dir / "zone_b";
   std::string out;
@@ -137,10 +138,10 @@ TEST(LocalizeLidarCli, LidarBeatsOdometryOnAShortZoneBRun) {
 // LiDAR's wall lines, and a later drive of the same vehicle dead-reckons far
 // better with `--odometry` than with the nominal geometry.
 TEST(LocalizeOdometryCli, ALocalizedDriveCalibratesTheWheelsForTheNextDrive) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "two LiDAR localizations of 200 m: too slow under AddressSanitizer (Debug); "
-                  "the calibration itself runs under it in integration_odometry_calibration_test";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "two LiDAR localizations of 200 m: too slow under AddressSanitizer (Debug); "
+                    "the calibration itself runs under it in integration_odometry_calibration_test";
+  }
   const std::filesystem::path dir = ::groundline::testing::ScratchDir("localize_odometry");
   WriteLines(dir / "worn.yaml", {"format: groundline-sim-scenario", "version: 1.0", "zone: B",
                                  "route: {length_m: 250, closed_loop: true, "
@@ -219,10 +220,10 @@ TEST(LocalizeOdometryCli, ALocalizedDriveCalibratesTheWheelsForTheNextDrive) {
 }
 
 TEST(LocalizeCarmenCli, ALogWrittenOutOfOrderRunsToTheEndAsInOrder) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
-                  "ordering's unit tests run there";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
+                    "ordering's unit tests run there";
+  }
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.clf.bz2");
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
   const std::filesystem::path data = ::groundline::testing::SharedDataDir() / "lidar2d";
@@ -294,10 +295,10 @@ TEST(LocalizeCarmenCli, ALogWrittenOutOfOrderRunsToTheEndAsInOrder) {
 // at its stamp, and the relation error is that of the FLASER lines' own
 // poses.
 TEST(LocalizeCarmenCli, RawLaserLinesTakeTheirPosesFromTheOdomLines) {
-#ifdef GROUNDLINE_SANITIZED
-  GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
-                  "interpolation's unit tests run there";
-#endif
+  if (::groundline::testing::Sanitized()) {
+    GTEST_SKIP() << "two SLAM runs of a real minute: too slow under AddressSanitizer (Debug); the "
+                    "interpolation's unit tests run there";
+  }
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.clf.bz2");
   GROUNDLINE_REQUIRE_DATA("lidar2d/aces.relations");
   const std::filesystem::path data = ::groundline::testing::SharedDataDir() / "lidar2d";

@@ -30,6 +30,7 @@
 #include "groundline/localization/floor_association.h"
 #include "groundline/perception/hesse_line.h"
 #include "test_data.h"
+#include "tools_under_test.h"
 
 namespace groundline {
 namespace {
@@ -56,16 +57,17 @@ bool HasWarning(const nlohmann::json& summary, const std::string& kind) {
 class LocalizeTrust : public ::testing::Test {
  protected:
   void SetUp() override {
-#ifdef GROUNDLINE_SANITIZED
-    // The camera drive (150 rendered frames) and its relocalizations take
-    // many minutes of a Debug executable under ASan; ~2 min in release.
-    GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
-#endif
+    if (::groundline::testing::Sanitized()) {
+      // The camera drive (150 rendered frames) and its relocalizations take
+      // many minutes of a Debug executable under ASan; ~2 min in release.
+      GTEST_SKIP() << "too slow under AddressSanitizer (Debug); runs in the release build";
+    }
     fs::path base = fs::temp_directory_path();
     if (const char* env = std::getenv("GROUNDLINE_TEST_TMPDIR"); env != nullptr && *env != '\0') {
       base = env;
     }
-    const auto built = fs::last_write_time(GROUNDLINE_CLI_PATH).time_since_epoch().count();
+    const auto built =
+        fs::last_write_time(::groundline::testing::GroundlineCli()).time_since_epoch().count();
     const fs::path shared = base / ("LocalizeTrust.zone_a." + std::to_string(built));
     fs::create_directories(shared);
     dataset_ = shared / "zone_a";
