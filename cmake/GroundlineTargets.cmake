@@ -145,8 +145,8 @@ function(groundline_register_test test executable cost label shards)
   endif()
 endfunction()
 
-# groundline_add_test(<name> [LONG] [RUNS_CLI] [SHARDS n] SOURCES ... [DEPS ...]
-#                     [DEFINITIONS ...] [INCLUDES ...])
+# groundline_add_test(<name> [LONG] [RUNS_CLI] [OPTIMIZED] [SHARDS n] SOURCES ...
+#                     [DEPS ...] [DEFINITIONS ...] [INCLUDES ...])
 # One GoogleTest executable <name>: one ctest entry that runs all its tests in
 # one process, or n entries (SHARDS n, GoogleTest's sharding) that share them
 # out. With the sanitizer twins, also <name>_san, the same objects linked
@@ -166,16 +166,31 @@ endfunction()
 # batch: 57 s against 36 s of CPU, 2026-12-06). A fixture that computes much
 # (a rendered floor, a synthetic drive) goes in a small library of its own,
 # which keeps the build's optimization level and has a twin.
+#
+# OPTIMIZED: the test objects compile at -O1 (without the shared PCH, which
+# is -O0). The linker keeps one copy of each out-of-line template, the first
+# it meets, and a test's objects come before the libraries: Eigen's matrix
+# products instantiated by unoptimized test code then run unoptimized inside
+# the libraries too. Where the tests drive much dense algebra that costs more
+# than the compile time (2 cores, 2026-12-07, plain / sanitized shards summed:
+# calibration_tests 44 / 179 s with -O0 test objects, 14 / 60 s with -O1;
+# localization_tests 28 / 110 s against 9 / 96 s; for 5-9 s more compile
+# CPU each). The service and relocalization tests gained nothing.
 function(groundline_add_test name)
-  cmake_parse_arguments(ARG "LONG;RUNS_CLI" "SHARDS" "SOURCES;DEPS;DEFINITIONS;INCLUDES" ${ARGN})
+  cmake_parse_arguments(ARG "LONG;RUNS_CLI;OPTIMIZED" "SHARDS" "SOURCES;DEPS;DEFINITIONS;INCLUDES"
+                        ${ARGN})
   set(objects ${name}_objects)
   add_library(${objects} OBJECT ${ARG_SOURCES})
   target_link_libraries(${objects} PRIVATE ${ARG_DEPS} groundline_test_support)
   target_compile_definitions(${objects} PRIVATE ${ARG_DEFINITIONS})
   target_include_directories(${objects} PRIVATE ${ARG_INCLUDES})
-  target_compile_options(${objects} PRIVATE -O0)
+  if(ARG_OPTIMIZED)
+    target_compile_options(${objects} PRIVATE -O1)
+  else()
+    target_compile_options(${objects} PRIVATE -O0)
+    groundline_use_test_pch(${objects})
+  endif()
   groundline_set_warnings(${objects})
-  groundline_use_test_pch(${objects})
   # Unoptimized code has no cost that grows faster than the batch, while
   # every batch parses GoogleTest, Eigen and OpenCV again: test sources
   # compile in batches twice the libraries'.
