@@ -3,6 +3,7 @@
 #include <ceres/loss_function.h>
 
 #include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -26,6 +27,15 @@ core::Matrix3 OdometryCovarianceFloor(const SmootherOptions& options) {
   const double m2 = options.odometry_sigma_floor_m * options.odometry_sigma_floor_m;
   const double rad2 = options.odometry_sigma_floor_rad * options.odometry_sigma_floor_rad;
   return core::Vector3(m2, m2, rad2).asDiagonal();
+}
+
+// The number of directions a square-root information constrains.
+int MeasurementRank(const core::Matrix3& sqrt_information) {
+  const Eigen::JacobiSVD<core::Matrix3> svd(sqrt_information);
+  const double largest = svd.singularValues()(0);
+  int rank = 0;
+  for (int k = 0; k < 3; ++k) rank += largest > 0.0 && svd.singularValues()(k) > 1e-9 * largest;
+  return rank;
 }
 
 }  // namespace
@@ -413,8 +423,12 @@ core::Result<KeyframeHealth> SlidingWindowSmoother::AddKeyframe(
         health.relative_chi2 > options_.slip_relative_chi2) {
       health.slip_residual_chi2 =
           OneWheelSlipResidualChi2(motion, r, W, options_.track_m, 3.0 * options_.slip_sigma_m);
-      if (options_.slip_residual_chi2 <= 0.0 ||
-          health.slip_residual_chi2 <= options_.slip_residual_chi2) {
+      // A slip has one parameter: it explains any disagreement in a single
+      // constrained direction (a match that fixes the heading only), so
+      // there it cannot be told from a wrong match and the wheels are kept.
+      if (MeasurementRank(relative->sqrt_information) >= 2 &&
+          (options_.slip_residual_chi2 <= 0.0 ||
+           health.slip_residual_chi2 <= options_.slip_residual_chi2)) {
         const core::Matrix3 slip = SlipCovariance(motion, options_.slip_sigma_m, options_.track_m);
         odometry_covariance += slip;
         predicted.covariance += slip;  // the lines' gate too

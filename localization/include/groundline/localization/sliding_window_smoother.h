@@ -178,8 +178,10 @@ struct SmootherOptions {
   // into the pose (which then fails the gate of every line after it).
   // Otherwise no slip explains it and the measurement is taken for the
   // wrong one (a scan match aliased along an aisle, off by tens of cm): it
-  // is left out of the window. slip_relative_chi2 0: never test;
-  // slip_residual_chi2 0: every disagreement is taken for a slip.
+  // is left out of the window. So is a measurement that constrains one
+  // direction only (the heading at an aisle's end): the slip's one
+  // parameter explains any disagreement there, so the test cannot tell. slip_relative_chi2 0: never
+  // test; slip_residual_chi2 0: every disagreement is taken for a slip.
   double slip_relative_chi2 = 21.1;  // the 0.9999 quantile of 3 dof
   double slip_residual_chi2 = 18.4;  // the 0.9999 quantile of 2 dof
   double track_m = 0.76;             // the wheel track of the slip hypothesis [m]
