@@ -13,6 +13,15 @@
 namespace groundline::localization {
 namespace {
 
+// The wheels' motion over one keyframe span, with the slip tests' covariance
+// (3 mm, 3 mm, 0.26 deg).
+RelativeMotion WheelMotion(const core::SE2& T_start_end) {
+  RelativeMotion motion;
+  motion.T_start_end = T_start_end;
+  motion.covariance = Eigen::Vector3d(1e-5, 1e-5, 2e-5).asDiagonal();
+  return motion;
+}
+
 std::vector<RelativeMotion> RandomMotions(int n, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> ds(0.15, 0.25);
@@ -233,9 +242,7 @@ TEST(SlidingWindowSmoother, AnOdometrySlipThatTheLidarContradictsWidensItsFactor
     SlidingWindowSmoother smoother(options, Atlas());
     smoother.Initialize(0.0, core::SE2(), core::Matrix3::Identity() * 1e-8);
     for (int i = 1; i <= 6; ++i) {
-      RelativeMotion motion;
-      motion.T_start_end = i == 3 ? core::SE2(0.528, 0.0, slip_turn) : step;
-      motion.covariance = Eigen::Vector3d(1e-5, 1e-5, 2e-5).asDiagonal();
+      const RelativeMotion motion = WheelMotion(i == 3 ? core::SE2(0.528, 0.0, slip_turn) : step);
       const auto health = smoother.AddKeyframe(0.5 * i, motion, {}, scan);
       ASSERT_TRUE(health.ok()) << health.status().message();
       EXPECT_EQ(health->slip_from_relative, chi2 > 0.0 && i == 3) << "keyframe " << i;
@@ -262,9 +269,7 @@ TEST(SlidingWindowSmoother, AnOdometrySlipThatTheLidarContradictsWidensItsFactor
 // the wheels'.
 TEST(SlidingWindowSmoother, AHeadingOnlyMatchThatContradictsTheWheelsIsNotTakenForASlip) {
   const core::SE2 step(0.65, 0.0, 0.0);
-  RelativeMotion motion;
-  motion.T_start_end = step;
-  motion.covariance = Eigen::Vector3d(1e-5, 1e-5, 2e-5).asDiagonal();
+  const RelativeMotion motion = WheelMotion(step);
   RelativePoseMeasurement scan;
   scan.sqrt_information = Eigen::Vector3d(0.0, 0.0, 34.0).asDiagonal();  // 1.7 deg
   SmootherOptions options;
@@ -294,9 +299,7 @@ TEST(SlidingWindowSmoother, AHeadingOnlyMatchThatContradictsTheWheelsIsNotTakenF
 // odometry's step; a real slip of the same test is still taken for one.
 TEST(SlidingWindowSmoother, AScanMatchThatNoSlipExplainsIsLeftOut) {
   const core::SE2 step(0.55, 0.0, 0.0);
-  RelativeMotion motion;
-  motion.T_start_end = step;
-  motion.covariance = Eigen::Vector3d(1e-5, 1e-5, 2e-5).asDiagonal();
+  const RelativeMotion motion = WheelMotion(step);
   RelativePoseMeasurement scan;
   scan.sqrt_information = Eigen::Vector3d(30.0, 50.0, 470.0).asDiagonal();
   for (const double residual_chi2 : {0.0, 18.4}) {
