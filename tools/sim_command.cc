@@ -101,6 +101,10 @@ See samples/scenarios/*.yaml and sim/include/groundline/sim/scenario.h.
 With `robots: N` in the scenario, N vehicles drive the zone at once (own
 routes, same floor map), each LiDAR seeing the others as moving boxes; robot k's
 dataset goes to OUT/robot_<k>/ (see samples/scenarios/zone_a_fleet.yaml).
+Robot k yields to robots 0..k-1 (same path, waiting where it must, 2.5 m apart)
+and leaves the floor after its route; where waiting cannot keep two robots
+apart (two routes down one corridor in opposite directions), the run fails
+and says so: try another seed.
 
 Examples:
   groundline sim --zone B --length 1200m --seed 7 --out zone_b_seed7

@@ -15,6 +15,7 @@ std::vector<Occluder> OccludersAt(const World& world, double stamp_s) {
   std::vector<Occluder> out;
   out.reserve(world.moving.size());
   for (const MovingObstacle& m : world.moving) {
+    if (!m.PresentAt(stamp_s)) continue;
     out.push_back({m.FootprintAt(stamp_s), m.z_min_m, m.z_max_m, 0.12});
   }
   return out;

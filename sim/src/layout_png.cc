@@ -177,6 +177,7 @@ core::Status WriteLayoutPng(const World& world, const core::Trajectory* trajecto
     }
   }
   for (const MovingObstacle& m : world.moving) {
+    if (!m.PresentAt(options.moving_obstacle_stamp_s)) continue;
     const OrientedBox box = m.FootprintAt(options.moving_obstacle_stamp_s);
     if (m.IsCircle()) {
       cv::circle(canvas.image(), canvas.Px(box.center_m),

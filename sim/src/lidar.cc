@@ -100,7 +100,7 @@ LaserScan PlanarLidar::Cast(const PoseOfRay& pose_of_ray, double stamp_s, std::u
   const Vector2 sensor_m = (pose_of_ray(0) * o.T_base_lidar).translation();
   std::vector<FrozenObstacle> frozen;
   for (const MovingObstacle& m : moving) {
-    if (m.z_min_m > o.height_m || m.z_max_m < o.height_m) continue;
+    if (m.z_min_m > o.height_m || m.z_max_m < o.height_m || !m.PresentAt(stamp_s)) continue;
     const OrientedBox box = m.FootprintAt(stamp_s);
     // Generous culling: the vehicle moves a little during the sweep.
     if ((box.center_m - sensor_m).norm() > o.range_max_m + box.BoundingRadius() + 1.0) continue;

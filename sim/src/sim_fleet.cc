@@ -1,5 +1,5 @@
 // SimulateFleet (sim_run.h): several robots in one world, each seeing the
-// others in its LiDAR.
+// others in its LiDAR, kept apart by yielding (fleet_traffic.h).
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,6 +24,7 @@ core::Status FleetOptions::Validate() const {
       internal::CheckRange(kOwner, "robot_half_extent_m.y", robot_half_extent_m.y(), 0.05, 5.0),
       internal::CheckRange(kOwner, "robot_height_m", robot_height_m, 0.05, 10.0),
       internal::CheckRange(kOwner, "robot_reflectivity", robot_reflectivity, 0.0, 1.0),
+      traffic.Validate(),
   });
 }
 
@@ -46,6 +47,27 @@ core::Result<std::vector<SimRun>> SimulateFleet(const SimRunOptions& options,
     if (progress) progress("route", static_cast<double>(k) / static_cast<double>(n));
     core::Result<Route> route = internal::PlanRobotRoute(*world, options, seeds[k]);
     if (!route.ok()) return route.status().WithContext("robot " + std::to_string(k));
+    if (k > 0) {
+      std::vector<const core::Trajectory*> before;
+      for (const auto& truth : truths) before.push_back(truth.get());
+      TrafficOptions traffic = fleet.traffic;
+      traffic.max_accel_mps2 = options.route.max_accel_mps2;
+      route = YieldToOthers(*route, before, traffic);
+      if (!route.ok()) return route.status().WithContext("robot " + std::to_string(k));
+      // Priority yielding can leave a robot waiting where one before it
+      // later drives through: two bodies in one place is no data.
+      const double overlap_m = 2.0 * fleet.robot_half_extent_m.norm();
+      for (std::size_t j = 0; j < k; ++j) {
+        const Separation closest = MinimumSeparation(route->T_map_base, *truths[j]);
+        if (closest.distance_m < overlap_m) {
+          return core::Status::Error("robots " + std::to_string(j) + " and " + std::to_string(k) +
+                                     " come within " + std::to_string(closest.distance_m) +
+                                     " m of each other at " + std::to_string(closest.stamp_s) +
+                                     " s (their bodies overlap below " + std::to_string(overlap_m) +
+                                     " m): yielding could not keep them apart; try another seed");
+        }
+      }
+    }
     routes.push_back(std::move(route).value());
     truths.push_back(std::make_shared<const core::Trajectory>(routes.back().T_map_base));
   }
@@ -63,6 +85,7 @@ core::Result<std::vector<SimRun>> SimulateFleet(const SimRunOptions& options,
       other.z_max_m = fleet.robot_height_m;
       other.reflectivity = fleet.robot_reflectivity;
       other.trajectory = truths[j];
+      other.leaves_after_trajectory = true;  // driven off to its dock
       seen.moving.push_back(std::move(other));
     }
     const SimProgress robot_progress = [&](std::string_view stage, double fraction) {

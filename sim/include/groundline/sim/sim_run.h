@@ -31,6 +31,7 @@
 #include "groundline/sim/floor_camera.h"
 #include "groundline/sim/lidar.h"
 #include "groundline/sim/mount_perturbation.h"
+#include "groundline/sim/fleet_traffic.h"
 #include "groundline/sim/route.h"
 #include "groundline/sim/wheel_encoders.h"
 #include "groundline/sim/world.h"
@@ -149,6 +150,9 @@ struct FleetOptions {
   Vector2 robot_half_extent_m = Vector2(0.85, 0.46);
   double robot_height_m = 1.2;
   double robot_reflectivity = 0.6;
+  // How the robots keep apart (fleet_traffic.h): robot k yields to robots
+  // 0..k-1. Its acceleration limit is the route's.
+  TrafficOptions traffic;
 
   core::Status Validate() const;
 };

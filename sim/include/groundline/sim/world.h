@@ -135,8 +135,16 @@ struct MovingObstacle {
   double speed_mps = 1.0;
   double phase_m = 0.0;
   std::shared_ptr<const core::Trajectory> trajectory;
+  // A trajectory-driven obstacle that leaves after its last stamp (a fleet
+  // robot that has driven off to its dock); false: it stays at its last pose.
+  bool leaves_after_trajectory = false;
 
   bool IsCircle() const { return radius_m > 0.0; }
+  // Whether it is on the floor at the stamp.
+  bool PresentAt(double stamp_s) const {
+    return !(leaves_after_trajectory && trajectory && !trajectory->empty() &&
+             stamp_s > trajectory->back().stamp_s);
+  }
   // T_map_obstacle at the stamp (x along the direction of travel).
   core::SE2 PoseAt(double stamp_s) const;
   // The footprint at the stamp (for boxes; circles give a square of the radius).
