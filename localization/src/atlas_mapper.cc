@@ -151,6 +151,9 @@ lidar::LidarSlamOptions AtlasMapperOptions::DefaultSlam() {
   const lidar::LidarSlamOptions loops;  // lidar_slam.h's loop search
   slam.loop_search_every_n_nodes = loops.loop_search_every_n_nodes;
   slam.retain_finished_submaps = true;
+  // Rack aisles repeat every bay (lidar_slam.h, loop_check_aliasing).
+  slam.loop_check_aliasing = true;
+  slam.loop_search.runner_up_distance_m = 0.5;
   return slam;
 }
 

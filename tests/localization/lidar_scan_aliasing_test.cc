@@ -20,28 +20,8 @@ using testing::AddBox;
 using testing::Segment;
 using testing::SimulateScan;
 
-constexpr double kPitchM = 2.7;
-
-// A 2.2 m wide aisle along x over [x0, x1]: uprights (0.1 m x 0.08 m) every
-// kPitchM on both faces (y = +-1.1) and two 1.0 m pallet loads per bay set
-// back 5 cm, a wall behind each rack.
-std::vector<Segment> AisleWorld(double x0, double x1) {
-  std::vector<Segment> walls;
-  for (double x = x0; x + kPitchM <= x1 + 1e-9; x += kPitchM) {
-    for (double side : {-1.0, 1.0}) {
-      const double face = 1.1 * side, depth = 1.1 * side;
-      AddBox(&walls, x, std::min(face, face + 0.08 * side), x + 0.1,
-             std::max(face, face + 0.08 * side));
-      for (double offset : {0.25, 1.45}) {
-        const double y0 = face + 0.05 * side, y1 = face + depth;
-        AddBox(&walls, x + offset, std::min(y0, y1), x + offset + 1.0, std::max(y0, y1));
-      }
-    }
-  }
-  walls.push_back({{x0, -2.4}, {x1, -2.4}});
-  walls.push_back({{x0, 2.4}, {x1, 2.4}});
-  return walls;
-}
+using testing::AisleWorld;
+using testing::kPitchM;
 
 ScanAliasing Detect(const std::vector<Segment>& world, const core::SE2& pose,
                     const ScanAliasingOptions& options = {}) {

@@ -3,6 +3,7 @@
 #ifndef GROUNDLINE_TESTS_LOCALIZATION_LIDAR_TEST_WORLD_H_
 #define GROUNDLINE_TESTS_LOCALIZATION_LIDAR_TEST_WORLD_H_
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -58,6 +59,29 @@ inline double CastRay(const std::vector<Segment>& walls, const core::Vector2& or
   return best;
 }
 
+inline constexpr double kPitchM = 2.7;
+
+// A 2.2 m wide aisle along x over [x0, x1]: uprights (0.1 m x 0.08 m) every
+// kPitchM on both faces (y = +-1.1) and two 1.0 m pallet loads per bay set
+// back 5 cm, a wall behind each rack.
+inline std::vector<Segment> AisleWorld(double x0, double x1) {
+  std::vector<Segment> walls;
+  for (double x = x0; x + kPitchM <= x1 + 1e-9; x += kPitchM) {
+    for (double side : {-1.0, 1.0}) {
+      const double face = 1.1 * side, depth = 1.1 * side;
+      AddBox(&walls, x, std::min(face, face + 0.08 * side), x + 0.1,
+             std::max(face, face + 0.08 * side));
+      for (double offset : {0.25, 1.45}) {
+        const double y0 = face + 0.05 * side, y1 = face + depth;
+        AddBox(&walls, x + offset, std::min(y0, y1), x + offset + 1.0, std::max(y0, y1));
+      }
+    }
+  }
+  walls.push_back({{x0, -2.4}, {x1, -2.4}});
+  walls.push_back({{x0, 2.4}, {x1, 2.4}});
+  return walls;
+}
+
 // A 360-degree scan at 0.5 deg from the base pose (laser at the base), range
 // noise sigma_m with a fixed seed; no-return beams get max_range_m.
 inline localization::lidar::ScanPoints SimulateScan(const std::vector<Segment>& walls,
@@ -85,18 +109,25 @@ inline std::vector<core::Vector2> Positions(const localization::lidar::ScanPoint
   return out;
 }
 
-// A map of the walls from noisy scans at three poses near the origin, each
-// inserted three times (world frame = grid frame).
-inline localization::lidar::ProbabilityGrid RoomMap(const std::vector<Segment>& walls) {
-  localization::lidar::ProbabilityGrid grid({}, core::Vector2(-1.0, -1.0));
-  const core::SE2 poses[] = {{0.0, 0.0, 0.0}, {-1.0, 0.5, 0.3}, {1.0, -1.0, -0.5}};
-  for (unsigned k = 0; k < 3; ++k) {
+// A map of the walls from noisy scans at `poses`, each inserted ten times
+// (world frame = grid frame).
+inline localization::lidar::ProbabilityGrid MapFromScans(const std::vector<Segment>& walls,
+                                                         const std::vector<core::SE2>& poses,
+                                                         const core::Vector2& origin_m) {
+  localization::lidar::ProbabilityGrid grid({}, origin_m);
+  for (unsigned k = 0; k < poses.size(); ++k) {
     const localization::lidar::ScanPoints scan = SimulateScan(walls, poses[k], 0.005, 10 + k);
     std::vector<core::Vector2> hits;
     for (const auto& p : scan.points) hits.push_back(poses[k] * p.point_m);
     for (int repeat = 0; repeat < 10; ++repeat) grid.InsertScan(poses[k].translation(), hits);
   }
   return grid;
+}
+
+// The room mapped from three poses near the origin.
+inline localization::lidar::ProbabilityGrid RoomMap(const std::vector<Segment>& walls) {
+  return MapFromScans(walls, {{0.0, 0.0, 0.0}, {-1.0, 0.5, 0.3}, {1.0, -1.0, -0.5}},
+                      core::Vector2(-1.0, -1.0));
 }
 
 }  // namespace groundline::testing

@@ -25,9 +25,10 @@ const core::Matrix3 kSubmapOriginSqrtInformation = core::Matrix3::Identity() * 1
 }  // namespace
 
 core::Status LidarSlamOptions::Validate() const {
-  for (const core::Status& s : {points.Validate(), grid.Validate(), matcher.Validate(),
-                                information.Validate(), loop_search.Validate(), graph.Validate(),
-                                odometry_noise.Validate(), loop_free_space.Validate()}) {
+  for (const core::Status& s :
+       {points.Validate(), grid.Validate(), matcher.Validate(), information.Validate(),
+        loop_search.Validate(), graph.Validate(), odometry_noise.Validate(),
+        loop_free_space.Validate(), loop_aliasing.Validate()}) {
     if (!s.ok()) return s;
   }
   if (scans_per_submap < 2) return core::Status::Error("scans_per_submap must be >= 2");
@@ -37,6 +38,16 @@ core::Status LidarSlamOptions::Validate() const {
   if (!(min_match_score >= 0.0 && min_match_score < 1.0 && loop_min_score > 0.0 &&
         loop_min_score < 1.0)) {
     return core::Status::Error("scores must be in [0, 1)");
+  }
+  if (!(loop_ambiguity_max_angle_rad >= 0.0 &&
+        loop_ambiguity_max_angle_rad <= 1.5707963267948966)) {
+    return core::Status::Error("loop_ambiguity_max_angle_rad must be in [0, pi/2]");
+  }
+  if (!(max_match_correction_m > 0.0 && max_match_correction_rad > 0.0)) {
+    return core::Status::Error("max_match_correction_m and max_match_correction_rad must be > 0");
+  }
+  if (match_correction_persist_scans < 1) {
+    return core::Status::Error("match_correction_persist_scans must be >= 1");
   }
   if (loop_search_every_n_nodes < 1 || optimize_every_n_nodes < 1 || precomputed_cache_size < 1) {
     return core::Status::Error("loop/optimize periods and cache size must be >= 1");
@@ -62,6 +73,7 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
   report.stamp_s = stamp_s;
   report.T_local_base =
       scans_.empty() ? core::SE2() : last_local_ * last_odom_.Between(T_odom_base);
+  const core::SE2 odometry_prediction = report.T_local_base;
   report.information = ComputeMatchInformation(scan.points, options_.information);
   const std::shared_ptr<const Submap> submap = submaps_.matching_submap();
   if (submap != nullptr && !scan.points.empty()) {
@@ -117,7 +129,26 @@ core::Result<ScanReport> LidarSlam::AddScan(double stamp_s, const core::SE2& T_o
           const core::Vector3 delta = T_submap_base.Minus(prediction);
           T_submap_base = prediction.Plus(delta - v.dot(delta) * v);
         }
-        report.T_local_base = submap->T_local_submap * T_submap_base;
+        const core::SE2 T_local_matched = submap->T_local_submap * T_submap_base;
+        const core::SE2 correction = odometry_prediction.Between(T_local_matched);
+        auto beyond = [this](const core::SE2& c) {
+          return c.translation().norm() > options_.max_match_correction_m ||
+                 std::abs(c.yaw()) > options_.max_match_correction_rad;
+        };
+        bool use = true;
+        if (beyond(correction)) {
+          const bool repeated = gated_streak_ > 0 && !beyond(gated_correction_.Between(correction));
+          gated_streak_ = repeated ? gated_streak_ + 1 : 1;
+          gated_correction_ = correction;
+          use = gated_streak_ >= options_.match_correction_persist_scans;
+        }
+        if (use) {
+          gated_streak_ = 0;
+          report.T_local_base = T_local_matched;
+        } else {
+          report.matched = false;
+          report.match_gated = true;
+        }
       }
     }
   }
@@ -223,6 +254,14 @@ void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report
   const std::vector<core::Vector2> points = PositionsOf(scan);
   const MatchInformation information = ComputeMatchInformation(scan.points, options_.information);
   if (information.rank == 0) return;
+  core::Matrix3 sqrt_information = information.sqrt_information;
+  if (options_.loop_check_aliasing) {
+    const ScanAliasing aliasing = DetectScanAliasing(scan, information, options_.loop_aliasing);
+    if (aliasing.aliased) {
+      sqrt_information = RemoveTranslation(sqrt_information, aliasing.direction);
+      report->loop_scan_aliased = true;
+    }
+  }
   const std::vector<int>& own = node_submaps_[static_cast<std::size_t>(node)];
   for (const std::shared_ptr<Submap>& submap : submaps_.all()) {
     if (submap == nullptr || !submap->finished) continue;  // released, or still active
@@ -236,15 +275,30 @@ void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report
     core::Result<ScanMatchResult> refined =
         MatchScan(submap->grid, points, coarse->T_grid_base, options_.matcher, coarse->T_grid_base);
     if (!refined.ok() || refined->score < options_.loop_min_score) continue;
+    core::Matrix3 loop_sqrt_information = sqrt_information;
+    if (coarse->runner_up) {
+      // The line between the two candidates, in the base frame.
+      const core::Vector2 between =
+          coarse->T_grid_base.Rotation().transpose() *
+          (coarse->runner_up->T_grid_base.translation() - coarse->T_grid_base.translation());
+      const core::Vector2 d = between.normalized();
+      if (std::abs(d.dot(WeakestTranslation(information))) <
+          std::cos(options_.loop_ambiguity_max_angle_rad)) {
+        ++report->loops_rejected_ambiguous;
+        continue;
+      }
+      loop_sqrt_information = RemoveTranslation(loop_sqrt_information, d);
+    }
     const FreeSpaceCheck free_space =
         CheckFreeSpace(submap->grid, scan, refined->T_grid_base, options_.loop_free_space);
     if (!free_space.consistent) {
       ++report->loops_rejected_free_space;
       continue;
     }
-    graph_.AddConstraint({ConstraintKind::kLoop, submap->id, node, refined->T_grid_base,
-                          information.sqrt_information});
+    graph_.AddConstraint(
+        {ConstraintKind::kLoop, submap->id, node, refined->T_grid_base, loop_sqrt_information});
     ++report->loops_found;
+    if (coarse->runner_up) ++report->loops_ambiguous;
   }
 }
 

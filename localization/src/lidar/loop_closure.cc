@@ -13,6 +13,9 @@ core::Status BranchAndBoundOptions::Validate() const {
   }
   if (depth < 1 || depth > 12) return core::Status::Error("depth must be in [1, 12]");
   if (max_points < 1) return core::Status::Error("max_points must be >= 1");
+  if (!(runner_up_distance_m >= 0.0 && runner_up_min_ratio > 0.0 && runner_up_min_ratio <= 1.0)) {
+    return core::Status::Error("need runner_up_distance_m >= 0 and runner_up_min_ratio in (0, 1]");
+  }
   return core::Status::Ok();
 }
 
@@ -68,6 +71,24 @@ struct Search {
   const PrecomputedGrids& grids;
   const std::vector<std::vector<CellIndex>>& scans;  // per angle, cells at zero offset
   int window_cells;
+  // Offsets within exclude_radius_cells of (exclude_x, exclude_y), at any
+  // angle, are not solutions (the runner-up search); radius < 0: none.
+  int exclude_x = 0;
+  int exclude_y = 0;
+  double exclude_radius_cells = -1.0;
+
+  bool Excluded(int x, int y) const {
+    const double dx = x - exclude_x, dy = y - exclude_y;
+    return dx * dx + dy * dy <= exclude_radius_cells * exclude_radius_cells;
+  }
+  // Every offset of the node [x, x + width) x [y, y + width) is excluded.
+  bool AllExcluded(int x, int y, int width) const {
+    if (exclude_radius_cells < 0.0) return false;
+    const int far_x = std::max(std::abs(x - exclude_x), std::abs(x + width - 1 - exclude_x));
+    const int far_y = std::max(std::abs(y - exclude_y), std::abs(y + width - 1 - exclude_y));
+    return static_cast<double>(far_x) * far_x + static_cast<double>(far_y) * far_y <=
+           exclude_radius_cells * exclude_radius_cells;
+  }
 
   double Score(int level, const Candidate& c) const {
     int sum = 0;  // of bytes: exact, and faster than floats
@@ -84,6 +105,7 @@ struct Search {
     Candidate best{0, 0, 0, min_score};
     for (const Candidate& c : candidates) {
       if (c.score <= best.score) break;
+      if (AllExcluded(c.x, c.y, 1 << level)) continue;
       if (level == 0) return c;
       const int half = 1 << (level - 1);
       std::vector<Candidate> children;
@@ -145,10 +167,21 @@ std::optional<BranchAndBoundMatch> BranchAndBoundSearch(
   }
   const Candidate best = search.Branch(candidates, top, min_score);
   if (best.score <= min_score) return std::nullopt;
+  auto pose_of = [&](const Candidate& c) {
+    return core::SE2(center.translation() + core::Vector2(c.x, c.y) * res,
+                     center.yaw() + (c.angle - n_angles) * angle_step);
+  };
   BranchAndBoundMatch match;
-  match.T_grid_base = core::SE2(center.translation() + core::Vector2(best.x, best.y) * res,
-                                center.yaw() + (best.angle - n_angles) * angle_step);
+  match.T_grid_base = pose_of(best);
   match.score = best.score;
+  if (options.runner_up_distance_m > 0.0) {
+    search.exclude_x = best.x;
+    search.exclude_y = best.y;
+    search.exclude_radius_cells = options.runner_up_distance_m / res;
+    const double floor = std::max(min_score, options.runner_up_min_ratio * best.score);
+    const Candidate second = search.Branch(candidates, top, floor);
+    if (second.score > floor) match.runner_up = BranchAndBoundPose{pose_of(second), second.score};
+  }
   return match;
 }
 

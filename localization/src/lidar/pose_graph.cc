@@ -4,6 +4,8 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <Eigen/SVD>
+
 #include <cassert>
 #include <cmath>
 
@@ -18,6 +20,23 @@ std::unique_ptr<std::array<double, 3>> Block(const core::SE2& T) {
 }
 
 constexpr int kMaxRejectionRounds = 4;
+
+// The part of a loop's error (tangent, node frame) in the directions its
+// information constrains: an aliased or degenerate match says nothing along
+// its null directions, so its error there is no sign that it is wrong.
+core::Vector3 ConstrainedError(const core::SE2& E, const core::Matrix3& sqrt_information) {
+  const core::Vector3 e = E.Log();
+  const Eigen::JacobiSVD<core::Matrix3> svd(sqrt_information, Eigen::ComputeFullV);
+  const double largest = svd.singularValues()(0);
+  core::Vector3 kept = core::Vector3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (svd.singularValues()(i) > 1e-9 * largest) {
+      const core::Vector3 v = svd.matrixV().col(i);
+      kept += v * v.dot(e);
+    }
+  }
+  return kept;
+}
 
 }  // namespace
 
@@ -122,8 +141,9 @@ core::Result<PoseGraphSummary> PoseGraph::Optimize() {
     for (PoseGraphConstraint& c : constraints_) {
       if (c.kind != ConstraintKind::kLoop || c.rejected) continue;
       const core::SE2 E = c.T_from_to.Between(submap(c.from).Between(node(c.to)));
-      const double excess = std::max(E.translation().norm() / options_.loop_max_translation_m,
-                                     std::abs(E.yaw()) / options_.loop_max_rotation_rad);
+      const core::Vector3 e = ConstrainedError(E, c.sqrt_information);
+      const double excess = std::max(e.head<2>().norm() / options_.loop_max_translation_m,
+                                     std::abs(e(2)) / options_.loop_max_rotation_rad);
       if (excess > worst_excess) worst_excess = excess, worst = &c;
     }
     if (worst == nullptr) break;

@@ -50,6 +50,10 @@ LidarSlamOptions ScanOdometryOptions::DefaultSlam() {
   // search over every heading finds the scan turned.
   slam.recovery_search.linear_window_m = 0.3;
   slam.recovery_search.angular_window_rad = 0.1;
+  // Per scan (15 Hz) the wheels are off by millimetres, a slip by a few
+  // centimetres; a larger correction is a scan that does not see the submap.
+  slam.max_match_correction_m = 0.1;
+  slam.max_match_correction_rad = 0.05;
   return slam;
 }
 

@@ -75,7 +75,9 @@ namespace groundline::localization {
 struct AtlasMapperOptions {
   // The LiDAR SLAM (loop closures on): the scan odometry's front end tuned
   // for a calibrated AGV (ScanOdometryOptions::DefaultSlam) with the loop
-  // search of lidar_slam.h.
+  // search of lidar_slam.h, whose loops in a place that repeats (a rack
+  // aisle's bays, the next aisle) keep no information along the repetition
+  // (loop_check_aliasing, loop_search.runner_up_distance_m).
   lidar::LidarSlamOptions slam = DefaultSlam();
   // Sightings against the landmarks so far, at the corrected pose with
   // pose_sigma_* as its uncertainty (how far the graph's trajectory may be

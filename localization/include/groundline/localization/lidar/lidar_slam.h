@@ -8,7 +8,9 @@
 //      motion (logs' odometry is sometimes stale, then jumps); the
 //      correlative search runs around both and keeps the better;
 //   2. match the scan against the older active submap (scan_matcher.h); the
-//      result replaces the prediction when its score reaches min_match_score;
+//      result replaces the prediction when its score reaches min_match_score
+//      and it moves the scan no further from the odometry's prediction than
+//      max_match_correction_* (or the same correction persists);
 //      below that, a wide branch-and-bound search (recovery_search) retries;
 //      the Fisher information of the match (match_information.h) says which
 //      directions the scan constrains;
@@ -25,7 +27,9 @@
 //      current global estimate; a match scoring at least loop_min_score after
 //      refinement whose scan also agrees with the submap's free space
 //      (loop_verification.h) becomes a loop constraint (checked again in
-//      PoseGraph::Optimize);
+//      PoseGraph::Optimize), weighted by the scan's match information, less
+//      its weakest translation when the scan is aliased along it
+//      (loop_check_aliasing);
 //   5. the graph is solved every optimize_every_n_nodes nodes when new loop
 //      constraints arrived, and in Finish().
 // Every scan's global pose is its local pose corrected by the graph:
@@ -41,6 +45,7 @@
 #ifndef GROUNDLINE_LOCALIZATION_LIDAR_LIDAR_SLAM_H_
 #define GROUNDLINE_LOCALIZATION_LIDAR_LIDAR_SLAM_H_
 
+#include <limits>
 #include <list>
 #include <map>
 #include <memory>
@@ -54,6 +59,7 @@
 #include "groundline/localization/lidar/loop_verification.h"
 #include "groundline/localization/lidar/match_information.h"
 #include "groundline/localization/lidar/pose_graph.h"
+#include "groundline/localization/lidar/scan_aliasing.h"
 #include "groundline/localization/lidar/scan_matcher.h"
 #include "groundline/localization/lidar/scan_points.h"
 #include "groundline/localization/lidar/submaps.h"
@@ -100,6 +106,20 @@ struct LidarSlamOptions {
   // (see the top of this file); false: the last node's.
   bool interpolate_corrections = true;
   double min_match_score = 0.3;
+  // A match that moves the scan more than this from the odometry's
+  // prediction (since the last scan's matched pose) is not used: the
+  // prediction is kept. With a calibrated vehicle's wheels the correction
+  // per scan is millimetres; a jump of degrees is a scan that does not see
+  // the submap (another vehicle or a person right at the sensor). Infinite:
+  // no gate (a log's stale-then-jumping odometry needs the matcher's
+  // correction, whatever its size).
+  double max_match_correction_m = std::numeric_limits<double>::infinity();
+  double max_match_correction_rad = std::numeric_limits<double>::infinity();
+  // ... unless the scans keep asking for it: a correction beyond the gate
+  // that this many consecutive scans repeat (within the gate of each other)
+  // is the wheels' error, not the scans' (a slip), and the last of them is
+  // used.
+  int match_correction_persist_scans = 3;
   // When the match scores below min_match_score (stale or jumping odometry),
   // a branch-and-bound search over this window around the prediction.
   BranchAndBoundOptions recovery_search{1.0, 3.14159265358979, 5, 150};
@@ -107,6 +127,21 @@ struct LidarSlamOptions {
   // A loop match must also agree with the submap's free space
   // (loop_verification.h) before it enters the graph.
   FreeSpaceCheckOptions loop_free_space;
+  // A loop match of a scan that looks the same shifted along its weakest
+  // direction (a rack aisle repeating every bay, scan_aliasing.h) constrains
+  // only the other directions: in such a place the branch-and-bound finds
+  // the best-scoring bay of its window, which a moved pallet or a passing
+  // vehicle can make the wrong one, and a constraint a bay off pulls the
+  // graph after it. Off by default: a research robot's corridors (the CARMEN
+  // logs) were tuned without it; AtlasMapperOptions::DefaultSlam turns it on.
+  bool loop_check_aliasing = false;
+  ScanAliasingOptions loop_aliasing;
+  // A loop match with a runner-up (loop_search.runner_up_distance_m > 0:
+  // another pose of the window scoring nearly as well) is ambiguous along
+  // the line between them. When that line is within this angle of the
+  // scan's weakest translation, the constraint leaves that translation out;
+  // otherwise the loop is dropped (which aisle, which heading: unknown).
+  double loop_ambiguity_max_angle_rad = 0.35;
   int loop_search_every_n_nodes = 3;
   int optimize_every_n_nodes = 60;
   int precomputed_cache_size = 24;  // submaps whose loop-search grids stay in memory
@@ -123,12 +158,16 @@ struct ScanReport {
   core::SE2 T_local_base;
   bool matched = false;              // false: the prediction was kept (first scan, poor match)
   bool velocity_prediction = false;  // the constant-velocity hypothesis won (step 1)
+  bool match_gated = false;          // a match beyond max_match_correction_*: not used
   ScanMatchResult match;
   MatchInformation information;
   bool keyframe = false;
   int node = -1;  // pose-graph node of a keyframe
   int loops_found = 0;
   int loops_rejected_free_space = 0;  // matches that contradicted a submap's free space
+  bool loop_scan_aliased = false;     // the loop constraints leave out the aliased direction
+  int loops_ambiguous = 0;            // constraints that left out a runner-up's direction
+  int loops_rejected_ambiguous = 0;   // matches with a runner-up off the weakest direction
 };
 
 class LidarSlam {
@@ -165,6 +204,8 @@ class LidarSlam {
   ActiveSubmaps submaps_;
   PoseGraph graph_;
   std::vector<ScanRecord> scans_;
+  int gated_streak_ = 0;               // consecutive matches beyond the gate
+  core::SE2 gated_correction_;         // the last of them
   std::vector<core::SE2> node_local_;  // T_local_node per node
   std::vector<core::SE2> node_odom_;   // T_odom_node per node
   std::vector<double> node_stamp_s_;

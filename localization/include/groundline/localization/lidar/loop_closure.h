@@ -33,6 +33,13 @@ struct BranchAndBoundOptions {
   double angular_window_rad = 20.0 * 3.14159265358979 / 180.0;  // half width
   int depth = 7;         // levels: widths 1 .. 2^(depth-1) cells
   int max_points = 150;  // points used (evenly subsampled)
+  // When > 0, also the best pose at least this far (translation) from the
+  // best one that scores at least runner_up_min_ratio of it, at any angle:
+  // BranchAndBoundMatch::runner_up. A place that repeats within the window
+  // (the next bay of a rack aisle, the next aisle) has one; the best of two
+  // near-equal scores is not evidence of which is right.
+  double runner_up_distance_m = 0.0;
+  double runner_up_min_ratio = 0.9;
 
   core::Status Validate() const;
 };
@@ -61,13 +68,22 @@ class PrecomputedGrids {
   std::vector<Level> levels_;
 };
 
-struct BranchAndBoundMatch {
+struct BranchAndBoundPose {
   core::SE2 T_grid_base;
   double score = 0.0;  // mean probability, [0, 1]
 };
 
+struct BranchAndBoundMatch {
+  core::SE2 T_grid_base;
+  double score = 0.0;  // mean probability, [0, 1]
+  // See BranchAndBoundOptions::runner_up_distance_m; nullopt when not
+  // searched or none scores high enough.
+  std::optional<BranchAndBoundPose> runner_up;
+};
+
 // The best pose in the window around `center` (T_grid_base) with score >=
-// min_score, or nullopt. `grid` is the grid `precomputed` was built from.
+// min_score, or nullopt; and its runner-up (options.runner_up_distance_m). `grid` is the grid
+// `precomputed` was built from.
 std::optional<BranchAndBoundMatch> BranchAndBoundSearch(
     const ProbabilityGrid& grid, const PrecomputedGrids& precomputed,
     const std::vector<core::Vector2>& points_base_m, const core::SE2& center, double min_score,

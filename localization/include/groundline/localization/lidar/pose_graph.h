@@ -11,9 +11,10 @@
 // The first node is held fixed (the map frame is the local frame of the
 // first scan).
 //
-// Optimize() solves, then checks each loop constraint against the graph:
-// the one that disagrees with it most, by more than loop_max_translation_m
-// or loop_max_rotation_rad, is removed and the graph solved again, for up
+// Optimize() solves, then checks each loop constraint against the graph, in
+// the directions its information constrains (an aliased match's error along
+// the aisle is no evidence either way): the one that disagrees with it most,
+// by more than loop_max_translation_m or loop_max_rotation_rad, is removed and the graph solved again, for up
 // to four rounds (a wrong loop bends the graph, so the others are judged
 // again without it).
 //

@@ -75,8 +75,10 @@ struct ScanOdometryOptions {
 
   core::Status Validate() const;
   // LidarSlamOptions tuned for a calibrated AGV's odometry (the simulator's):
-  // its noise, and a poor match retried within 0.3 m and 0.1 rad of the
-  // odometry's prediction only.
+  // its noise, a poor match retried within 0.3 m and 0.1 rad of the
+  // odometry's prediction only, and a match correcting the prediction by
+  // more than 0.1 m or 0.05 rad not used unless the next scans repeat it
+  // (lidar_slam.h, max_match_correction_*).
   static LidarSlamOptions DefaultSlam();
 };
 
