@@ -92,17 +92,28 @@ std::vector<Interval> SafeIntervals(const std::vector<double>& near_s, double pa
   return safe;
 }
 
-// Linear interpolation of per-sample values at a stamp (clamped).
-double ValueAt(const core::Trajectory& stamps, const std::vector<double>& values, double t) {
+// Where a stamp falls in a sampled timeline: the sample at or before it and
+// the fraction of the way to the next (clamped to the ends).
+struct Bracket {
+  std::size_t index;
+  double fraction;
+};
+Bracket BracketOf(const core::Trajectory& stamps, double t) {
   const auto it =
       std::upper_bound(stamps.begin(), stamps.end(), t,
                        [](double s, const core::StampedPose& p) { return s < p.stamp_s; });
-  if (it == stamps.begin()) return values.front();
-  if (it == stamps.end()) return values.back();
+  if (it == stamps.begin()) return {0, 0.0};
+  if (it == stamps.end()) return {stamps.size() - 1, 0.0};
   const auto i = static_cast<std::size_t>(std::distance(stamps.begin(), it));
   const double a = stamps[i - 1].stamp_s, b = stamps[i].stamp_s;
-  const double f = b > a ? (t - a) / (b - a) : 0.0;
-  return values[i - 1] + f * (values[i] - values[i - 1]);
+  return {i - 1, b > a ? (t - a) / (b - a) : 0.0};
+}
+
+// Linear interpolation of per-sample values at a stamp (clamped).
+double ValueAt(const core::Trajectory& stamps, const std::vector<double>& values, double t) {
+  const Bracket at = BracketOf(stamps, t);
+  if (at.fraction == 0.0) return values[at.index];
+  return values[at.index] + at.fraction * (values[at.index + 1] - values[at.index]);
 }
 
 // The planned stamp at which the route reaches arc length s (the first, at
@@ -120,18 +131,14 @@ double StampAtArc(const core::Trajectory& planned, const std::vector<double>& ar
 // (SE(2) geodesic): the retimed route stops and starts between samples, and
 // a pose off that arc would move the differential drive sideways.
 core::SE2 PlannedPoseAt(const core::Trajectory& planned, double t) {
-  const auto it =
-      std::upper_bound(planned.begin(), planned.end(), t,
-                       [](double s, const core::StampedPose& p) { return s < p.stamp_s; });
-  if (it == planned.begin()) return planned.front().pose;
-  if (it == planned.end()) return planned.back().pose;
-  const core::StampedPose& a = *std::prev(it);
-  const core::StampedPose& b = *it;
-  return core::InterpolateSE2(a.pose, b.pose, (t - a.stamp_s) / (b.stamp_s - a.stamp_s));
+  const Bracket at = BracketOf(planned, t);
+  if (at.fraction == 0.0) return planned[at.index].pose;
+  return core::InterpolateSE2(planned[at.index].pose, planned[at.index + 1].pose, at.fraction);
 }
 
 struct Wait {
   double stamp_s;    // planned stamp of the station
+  double arc_m;      // its arc length
   double release_s;  // leave it then
 };
 
@@ -209,7 +216,8 @@ core::Result<std::vector<Wait>> Schedule(const core::Trajectory& planned,
     if (at[k + 1] - at[k] > travel_s + 1e-6) {
       const double v = ValueAt(planned, speeds, stamp[k]);
       const double start_s = v / (2.0 * options.max_accel_mps2);
-      waits.push_back({stamp[k], at[k + 1] - travel_s - start_s});
+      waits.push_back({stamp[k], std::min(k * options.station_spacing_m, arc_end),
+                       at[k + 1] - travel_s - start_s});
     }
   }
   return waits;
@@ -277,7 +285,7 @@ core::Result<Route> YieldToOthers(const Route& route,
     if (next < waits->size()) {
       const Wait& w = (*waits)[next];
       stop_tau = w.stamp_s;
-      const double to_go_m = ValueAt(planned, arc, w.stamp_s) - ValueAt(planned, arc, tau);
+      const double to_go_m = w.arc_m - ValueAt(planned, arc, tau);
       allowed_mps = std::sqrt(2.0 * options.max_brake_mps2 * std::max(0.0, to_go_m));
     }
     // The speed follows min(planned, stopping curve): up at the route's

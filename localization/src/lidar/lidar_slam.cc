@@ -262,6 +262,7 @@ void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report
       report->loop_scan_aliased = true;
     }
   }
+  const core::Vector2 weakest = WeakestTranslation(information);
   const std::vector<int>& own = node_submaps_[static_cast<std::size_t>(node)];
   for (const std::shared_ptr<Submap>& submap : submaps_.all()) {
     if (submap == nullptr || !submap->finished) continue;  // released, or still active
@@ -282,8 +283,7 @@ void LidarSlam::SearchLoops(int node, const ScanPoints& scan, ScanReport* report
           coarse->T_grid_base.Rotation().transpose() *
           (coarse->runner_up->T_grid_base.translation() - coarse->T_grid_base.translation());
       const core::Vector2 d = between.normalized();
-      if (std::abs(d.dot(WeakestTranslation(information))) <
-          std::cos(options_.loop_ambiguity_max_angle_rad)) {
+      if (std::abs(d.dot(weakest)) < std::cos(options_.loop_ambiguity_max_angle_rad)) {
         ++report->loops_rejected_ambiguous;
         continue;
       }
