@@ -267,6 +267,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     }
     loc::MountApplyOptions apply;
     apply.enabled = !flags.self_calibrate_report_only;
+    setup->options.track_floor_texture = true;
     self_calibration.emplace(*setup->camera_mount, calibration::MountSelfCalibrationOptions{},
                              apply);
   }

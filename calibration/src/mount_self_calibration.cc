@@ -71,6 +71,15 @@ core::Status MountSelfCalibrationOptions::Validate() const {
     return OptionError("odometry_sigma_rad_per_sqrt_m", "a sigma > 0");
   if (!(track_correlation >= 0.0 && track_correlation <= 1.0))
     return OptionError("track_correlation", "a correlation in [0, 1]");
+  if (max_flow_points < 1) return OptionError("max_flow_points", "at least 1");
+  if (min_flow_points < 1 || min_flow_points > max_flow_points)
+    return OptionError("min_flow_points", "between 1 and max_flow_points");
+  if (!PositiveFinite(flow_gate_m)) return OptionError("flow_gate_m", "a distance > 0");
+  if (!PositiveFinite(flow_sigma_m)) return OptionError("flow_sigma_m", "a sigma > 0");
+  if (!(flow_correlation >= 0.0 && flow_correlation <= 1.0))
+    return OptionError("flow_correlation", "a correlation in [0, 1]");
+  if (!(std::isfinite(motion_scale_sigma) && motion_scale_sigma >= 0.0 && motion_scale_sigma < 0.1))
+    return OptionError("motion_scale_sigma", "a relative error in [0, 0.1)");
   if (!PositiveFinite(loss_scale)) return OptionError("loss_scale", "a scale > 0");
   for (int i = 0; i < 4; ++i) {
     const std::string c = kComponentNames[i];
@@ -113,6 +122,11 @@ core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
   }
   mean_ = MountComponents(saved.mount) - MountComponents(commissioned_);
   covariance_ = saved.covariance;
+  // The saved covariance carries the motion's scale error (UpdateEstimate).
+  const double scale_variance = ScaleVariance(saved.mount.height_m);
+  if (covariance_(kMountHeight, kMountHeight) > 2.0 * scale_variance) {
+    covariance_(kMountHeight, kMountHeight) -= scale_variance;
+  }
   estimate_ = saved;
   estimate_.mount = commissioned_;
   // A knocked camera stays alarmed until it is recommissioned.
@@ -121,10 +135,16 @@ core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
   return core::Status::Ok();
 }
 
-bool MountSelfCalibrator::HasUsableSegment(const MountFrame& frame) const {
+bool MountSelfCalibrator::HasEvidence(const MountFrame& frame) const {
   for (const FloorSegment& s : frame.segments)
     if ((s.end_m - s.start_m).norm() >= options_.min_segment_length_m) return true;
   return false;
+}
+
+bool MountSelfCalibrator::HasFlowFrom(const MountFrame& frame, const MountFrame& previous) const {
+  return options_.use_floor_flow &&
+         static_cast<int>(frame.flow.points.size()) >= options_.min_flow_points &&
+         FlowFollows(frame.flow, previous);
 }
 
 bool MountSelfCalibrator::FrameQualifies(const MountFrame& frame) const {
@@ -164,11 +184,14 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
     if (window_.empty() && recent_.back().stamp_s > last_windowed_stamp_s_)
       window_.push_back(recent_.back());
     window_.push_back(frame);
-    // A window starts at its first frame with a usable segment: frames
-    // before it hold no evidence, and a marking crossing the view (a joint
-    // is in view for about a second) then fits in one window instead of
-    // being cut between two, each with too few sightings.
-    while (window_.size() > 1 && !HasUsableSegment(window_.front())) window_.erase(window_.begin());
+    // A window starts at its first frame with evidence (a usable segment, or
+    // texture tracked from it into the next frame): frames before it hold
+    // none, and a marking crossing the view (a joint is in view for about a
+    // second) then fits in one window instead of being cut between two,
+    // each with too few sightings.
+    while (window_.size() > 1 && !HasEvidence(window_.front()) &&
+           !HasFlowFrom(window_[1], window_.front()))
+      window_.erase(window_.begin());
     if (window_.back().stamp_s - window_.front().stamp_s >= options_.window_s)
       changed = CloseWindow() || changed;
   }
@@ -255,14 +278,20 @@ void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
   estimate_.last_update_s = stamp_s;
 }
 
+double MountSelfCalibrator::ScaleVariance(double height_m) const {
+  const double sigma = height_m * options_.motion_scale_sigma;
+  return sigma * sigma;
+}
+
 void MountSelfCalibrator::UpdateEstimate() {
   estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
+  estimate_.covariance(kMountHeight, kMountHeight) += ScaleVariance(estimate_.mount.height_m);
   std::ostringstream what;
   bool alarm = false;
   for (int i = 0; i < 4; ++i) {
     const double change = mean_(i);
-    const double sigma = std::sqrt(covariance_(i, i));
+    const double sigma = std::sqrt(estimate_.covariance(i, i));
     // Confidently beyond the limit: an estimate near it with the uncertainty
     // of a few windows is no knock.
     if (std::abs(change) - options_.alarm_threshold(i) > options_.alarm_sigmas * sigma) {

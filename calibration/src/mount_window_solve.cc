@@ -60,6 +60,60 @@ struct ObservationCost {
   Eigen::Matrix2d sqrt_info_;
 };
 
+// One patch of floor texture seen from two frames: its point in the
+// previous frame, remapped under the candidate mount and moved by the two
+// frames' poses into the current frame, then seen as the current frame's BEV
+// (its mount) shows it, must be where the current frame saw it. The residual
+// is in the current BEV's own coordinates, where the tracking error is: in
+// the candidate mount's floor coordinates it would scale with the candidate
+// (a lower camera shrinks the view and the noise with it), and least squares
+// would shrink the view to shrink the noise (a height biased low by about
+// N sigma^2 over the odometry's scale information).
+struct FlowCost {
+  FlowCost(const Eigen::Vector2d& previous, const CameraMount& previous_used,
+           const Eigen::Vector2d& current, const CameraMount& current_used,
+           const CameraMount& reference, double inverse_sigma)
+      : previous_(previous),
+        current_(current),
+        previous_used_(previous_used),
+        current_used_(current_used),
+        reference_(reference),
+        inverse_sigma_(inverse_sigma) {}
+
+  template <typename T>
+  bool operator()(const T* c, const T* pose0, const T* pose1, T* residual) const {
+    using std::cos;
+    using std::sin;
+    const T height = T(reference_.height_m) + c[kMountHeight];
+    const T pitch = T(reference_.pitch_rad) + c[kMountPitch];
+    const T roll = T(reference_.roll_rad) + c[kMountRoll];
+    const T yaw = T(reference_.yaw_rad) + c[kMountYaw];
+    Eigen::Matrix<T, 2, 1> q0;
+    if (!RemapFloorPoint<T>(previous_, previous_used_, height, pitch, roll, yaw, reference_, &q0))
+      return false;
+    // Into the window frame by pose0, out of it into the current frame by pose1.
+    const T c0 = cos(pose0[2]), s0 = sin(pose0[2]);
+    const T wx = c0 * q0.x() - s0 * q0.y() + pose0[0];
+    const T wy = s0 * q0.x() + c0 * q0.y() + pose0[1];
+    const T c1 = cos(pose1[2]), s1 = sin(pose1[2]);
+    const T dx = wx - pose1[0], dy = wy - pose1[1];
+    const Eigen::Matrix<T, 2, 1> q1(c1 * dx + s1 * dy, -s1 * dx + c1 * dy);
+    Eigen::Matrix<T, 2, 1> predicted;
+    if (!RemapFloorPointBetween<T>(q1, reference_, height, pitch, roll, yaw,
+                                   T(current_used_.height_m), T(current_used_.pitch_rad),
+                                   T(current_used_.roll_rad), T(current_used_.yaw_rad),
+                                   current_used_, &predicted))
+      return false;
+    residual[0] = (predicted.x() - current_.x()) * inverse_sigma_;
+    residual[1] = (predicted.y() - current_.y()) * inverse_sigma_;
+    return true;
+  }
+
+  Eigen::Vector2d previous_, current_;
+  CameraMount previous_used_, current_used_, reference_;
+  double inverse_sigma_;
+};
+
 // The odometry between two consecutive frames' poses.
 struct OdometryCost {
   OdometryCost(const core::SE2& measured, double sigma_m, double sigma_rad)
@@ -288,6 +342,41 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
                              o.odometry_sigma_rad_per_sqrt_m * sqrt_distance)),
         nullptr, poses[k].data(), poses[k + 1].data());
   }
+  if (o.use_floor_flow) {
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      const FloorFlow& flow = frames[k].flow;
+      if (static_cast<int>(flow.points.size()) < o.min_flow_points ||
+          !FlowFollows(flow, frames[k - 1]))
+        continue;
+      // The pairs whose points meet under the starting mount and the
+      // odometry; at most max_flow_points of them, spread over the list.
+      const core::SE2 T0(poses[k - 1][0], poses[k - 1][1], poses[k - 1][2]);
+      const core::SE2 T1(poses[k][0], poses[k][1], poses[k][2]);
+      std::vector<int> kept;
+      for (std::size_t i = 0; i < flow.points.size(); ++i) {
+        Eigen::Vector2d q0, q1;
+        if (!RemapFloorPoint(flow.points[i].first, flow.previous_mount, prior_mount, &q0) ||
+            !RemapFloorPoint(flow.points[i].second, frames[k].mount_used, prior_mount, &q1))
+          continue;
+        if (((T1 * q1) - (T0 * q0)).norm() <= o.flow_gate_m) kept.push_back(static_cast<int>(i));
+      }
+      const int n = std::min(static_cast<int>(kept.size()), o.max_flow_points);
+      if (n < o.min_flow_points) continue;
+      const double inflation = 1.0 + o.flow_correlation * (n - 1.0);
+      const double inverse_sigma = 1.0 / (o.flow_sigma_m * std::sqrt(inflation));
+      for (int j = 0; j < n; ++j) {
+        const auto& pair = flow.points[kept[static_cast<std::size_t>(j) * kept.size() / n]];
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<FlowCost, 2, 4, 3, 3>(
+                new FlowCost(pair.first, flow.previous_mount, pair.second, frames[k].mount_used,
+                             reference, inverse_sigma)),
+            new ceres::CauchyLoss(o.loss_scale), c.data(), poses[k - 1].data(),
+            poses[k].data());
+      }
+      ++out.flow_pairs;
+      out.flow_points += n;
+    }
+  }
   for (Landmark& l : landmarks) {
     ++out.landmarks;
     const double inflation =
@@ -318,9 +407,9 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   }
   out.structure_pairs = static_cast<int>(structure.size());
   out.spacing_pairs = static_cast<int>(spacings.size());
-  if (landmarks.empty()) {
+  if (landmarks.empty() && out.flow_pairs == 0) {
     return Failed(out, "no marking tracked through " + std::to_string(o.min_track_frames) +
-                           " frames");
+                           " frames and no floor texture tracked");
   }
 
   ceres::Solver::Options solver;
@@ -363,6 +452,10 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
 }
 
 }  // namespace
+
+bool FlowFollows(const FloorFlow& flow, const MountFrame& previous) {
+  return std::abs(flow.previous_stamp_s - previous.stamp_s) < 1e-3;
+}
 
 MountWindowSolution SolveMountWindow(const std::vector<MountFrame>& frames,
                                      const CameraMount& reference,

@@ -53,6 +53,7 @@ bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
     frame.segments.push_back({line.endpoint_a_base_m, line.endpoint_b_base_m,
                               line.covariance - line.mount_covariance});
   }
+  frame.flow = keyframe.floor.texture_flow;
   return calibrator_.AddFrame(frame);
 }
 

@@ -13,6 +13,7 @@ using internal::LocalizerImpl;
 
 core::Status LocalizerOptions::Validate() const {
   if (core::Status s = keyframes.Validate(); !s.ok()) return s.WithContext("keyframes");
+  if (core::Status s = texture_flow.Validate(); !s.ok()) return s.WithContext("texture_flow");
   if (core::Status s = noise.Validate(); !s.ok()) return s.WithContext("noise");
   if (core::Status s = smoother.Validate(); !s.ok()) return s.WithContext("smoother");
   if (core::Status s = scan_odometry.Validate(); !s.ok()) return s.WithContext("scan_odometry");

@@ -48,6 +48,7 @@ core::Result<std::unique_ptr<LocalizerImpl>> LocalizerImpl::Create(const Localiz
     }
     impl->smoother = std::make_unique<SlidingWindowSmoother>(smoother, std::move(atlas));
   }
+  if (options.track_floor_texture) impl->flow_tracker.emplace(options.texture_flow);
   if (needs_lidar) impl->lidar = std::make_unique<LidarStage>(*setup.lidar, impl->options);
   if (needs_lidar && options.mode == LocalizerMode::kMapping) {
     // The joint solve's wheel factors take the localizer's odometry noise
@@ -382,6 +383,8 @@ std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame,
   if (frame.observations) {
     ConvertedObservations seen = std::move(*frame.observations);
     seen.observations.stamp_s = stamp_s;
+    if (flow_tracker && seen.bev) flow_tracker->Track(*seen.bev, &seen.observations);
+    seen.bev.reset();
     return seen;
   }
   if (!frame.load || !setup.camera) return std::nullopt;
@@ -390,6 +393,7 @@ std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame,
   core::Result<ConvertedObservations> seen =
       setup.camera->Observe(grey, stamp_s, &bev, &extraction_scratch);
   if (!seen.ok()) return std::nullopt;
+  if (flow_tracker) flow_tracker->Track(bev, *setup.camera, &seen->observations);
   return std::move(seen).value();
 }
 
@@ -506,7 +510,7 @@ std::optional<KeyframeOutput> LocalizerImpl::Relocalize(const core::WheelEncoder
   }
   const std::optional<PoseEstimate> pose = relocalizer->AddFrame(
       r.stamp_s, motion,
-      seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt, nullptr});
+      seen ? seen->observations : FloorObservations{r.stamp_s, {}, {}, std::nullopt, nullptr, {}});
   if (!pose) return std::nullopt;
   relocalized = *pose;
   relocalizer_odometry.reset();

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "groundline/localization/floor_flow_tracker.h"
 #include "groundline/localization/localizer.h"
 #include "groundline/localization/odometry_integrator.h"
 #include "groundline/perception/line_extractor.h"
@@ -75,6 +76,7 @@ class LocalizerImpl {
   std::optional<PendingFrame> pending;
   // The camera front end's frame-sized buffers, reused from frame to frame.
   cv::Mat bev;
+  std::optional<FloorFlowTracker> flow_tracker;  // options.track_floor_texture
   perception::ExtractionScratch extraction_scratch;
   std::optional<double> last_reading_s;
   double last_frame_s = -std::numeric_limits<double>::infinity();

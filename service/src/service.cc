@@ -39,6 +39,9 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
   options.localizer = PresetOptions(config.preset);
 #pragma GCC diagnostic pop
   options.localizer.smoother.upkeep.enabled = config.keep_atlas_current;
+  // The self-calibration's motion evidence: the floor's texture tracked from
+  // keyframe to keyframe (the camera stage hands each frame's BEV on).
+  options.localizer.track_floor_texture = config.self_calibration;
   options.front_end.bev = config.Bev();
   options.atlas_path = config.atlas;
   options.odometry_calibration_path = config.odometry_calibration;

@@ -119,6 +119,10 @@ void Service::Impl::CameraStage() {
     core::Result<loc::ConvertedObservations> seen =
         grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())
                                 : camera->Observe(grey, job->stamp_s, &bev, &scratch);
+    if (seen.ok() && localizer->options().track_floor_texture) {
+      seen->bev = loc::BevFrame{bev.clone(), camera->remap().valid_mask(), camera->remap().grid(),
+                                camera->mount()};
+    }
     if (seen.ok()) {
       ++camera_processed;
       if (Clock::now() - last_bev > std::chrono::milliseconds(500)) {

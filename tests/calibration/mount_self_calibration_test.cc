@@ -164,6 +164,84 @@ TEST(SolveMountWindow, SaysWhyAWindowHasNoEvidence) {
   EXPECT_NE(w.message.find("no marking tracked through 3 frames"), std::string::npos) << w.message;
 }
 
+// The floor's texture alone (no marking in view): the same patch of floor
+// seen from consecutive frames fixes every component, because a wrong mount
+// moves it otherwise than the vehicle does.
+TEST(SolveMountWindow, RecoversTheMountFromTheFloorTextureAlone) {
+  Drive d;
+  d.texture_points = 40;
+  d.texture_sigma_m = 1e-9;
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 0.6, -0.3, -4.0, 0.8);
+  const auto frames = Frames(d, 2.0, 3.6, truth, commissioned);
+  const MountWindowSolution w =
+      SolveMountWindow(frames, commissioned, MountVector::Zero(), MountSelfCalibrationOptions{});
+  ASSERT_TRUE(w.ok) << w.message;
+  EXPECT_EQ(w.landmarks, 0);
+  EXPECT_EQ(w.flow_pairs, static_cast<int>(frames.size()) - 1);
+  const MountVector c_w = w.information.ldlt().solve(w.information_vector);
+  const MountVector truth_c = Difference(truth, commissioned);
+  EXPECT_NEAR(c_w(kMountPitch) * kRadToDeg, truth_c(kMountPitch) * kRadToDeg, 0.005);
+  EXPECT_NEAR(c_w(kMountRoll) * kRadToDeg, truth_c(kMountRoll) * kRadToDeg, 0.005);
+  EXPECT_NEAR(c_w(kMountHeight) * 1e3, truth_c(kMountHeight) * 1e3, 0.1);
+  EXPECT_NEAR(c_w(kMountYaw) * kRadToDeg, truth_c(kMountYaw) * kRadToDeg, 0.005);
+}
+
+// Texture that does not move with the floor (a fifth of the patches: the
+// edges of things standing on it, glare) is gated and down-weighted.
+TEST(SolveMountWindow, TexturePatchesThatDoNotMoveWithTheFloorAreNotFollowed) {
+  Drive d;
+  d.texture_points = 50;
+  d.texture_outlier_share = 0.2;
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, -0.4, 0.2, 3.0, -0.5);
+  const auto frames = Frames(d, 2.0, 3.6, truth, commissioned);
+  const MountWindowSolution w =
+      SolveMountWindow(frames, commissioned, MountVector::Zero(), MountSelfCalibrationOptions{});
+  ASSERT_TRUE(w.ok) << w.message;
+  const MountVector c_w = w.information.ldlt().solve(w.information_vector);
+  const MountVector truth_c = Difference(truth, commissioned);
+  EXPECT_NEAR(c_w(kMountPitch) * kRadToDeg, truth_c(kMountPitch) * kRadToDeg, 0.03);
+  EXPECT_NEAR(c_w(kMountRoll) * kRadToDeg, truth_c(kMountRoll) * kRadToDeg, 0.08);
+  EXPECT_NEAR(c_w(kMountHeight) * 1e3, truth_c(kMountHeight) * 1e3, 1.0);
+  EXPECT_NEAR(c_w(kMountYaw) * kRadToDeg, truth_c(kMountYaw) * kRadToDeg, 0.08);
+  // Pairs without their previous frame in the window are not used: the
+  // window's first frame was tracked from a frame before it.
+  EXPECT_EQ(w.flow_pairs, static_cast<int>(frames.size()) - 1);
+}
+
+// The texture's information is what its errors show (the model made exact:
+// white point noise as stated, exact odometry, no outliers, no correlation).
+TEST(SolveMountWindow, ItsTextureInformationIsConsistentWithItsErrors) {
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 0.2, 0.1, 2.0, -0.1);
+  MountSelfCalibrationOptions options;
+  options.flow_sigma_m = 0.001;
+  options.flow_correlation = 0.0;
+  options.odometry_sigma_m_per_sqrt_m = 1e-7;
+  options.odometry_sigma_rad_per_sqrt_m = 1e-7;
+  options.loss_scale = 1e3;
+  Drive d;
+  d.texture_points = 30;
+  d.texture_sigma_m = 0.001 / std::sqrt(2.0);  // a pair's difference has the stated sigma
+  double nees_sum = 0.0;
+  int n = 0;
+  for (double t0 = 1.0; t0 < 100.0; t0 += 4.0) {
+    d.previous.reset();
+    const auto frames = Frames(d, t0, t0 + 1.6, truth, commissioned);
+    const MountWindowSolution w =
+        SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
+    ASSERT_TRUE(w.ok) << w.message;
+    const MountVector e =
+        w.information.ldlt().solve(w.information_vector) - Difference(truth, commissioned);
+    nees_sum += e.dot(w.information * e);
+    ++n;
+  }
+  const double nees = nees_sum / n;
+  EXPECT_GT(nees, 4.0 * 0.5) << n << " windows";
+  EXPECT_LT(nees, 4.0 * 2.0) << n << " windows";
+}
+
 struct SelfCalRun {
   std::vector<double> stamps;
   std::vector<MountEstimate> estimates;
@@ -267,6 +345,60 @@ TEST(MountSelfCalibrator, AKnockRaisesTheAlarmWithinFiveSecondsAndSaysWhatMoved)
   EXPECT_NE(message.find("roll changed by -0.4"), std::string::npos) << message;
   EXPECT_NE(message.find("limit 0.25)"), std::string::npos) << message;
   EXPECT_NE(message.find("recommission"), std::string::npos) << message;
+}
+
+// In an aisle without any marking in view, the floor's texture alone alarms
+// a knock within five seconds (windows close every 1.5 s of driving).
+TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSeconds) {
+  Drive d;
+  d.texture_points = 40;
+  d.texture_sigma_m = 0.001;
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const CameraMount knocked = Moved(commissioned, 0.3, -0.4, 0.0, 1.2);
+  const SelfCalRun run = Simulate(d, cal, 0.0, 40.0, [&](double t) {
+    return t < 20.0 ? commissioned : knocked;
+  });
+  double first_alarm_s = -1.0;
+  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
+    if (run.estimates[i].alarm) {
+      first_alarm_s = run.stamps[i];
+      break;
+    }
+  }
+  ASSERT_GE(first_alarm_s, 20.0);
+  EXPECT_LE(first_alarm_s, 25.0);
+  EXPECT_EQ(cal.estimate().steps, 1);
+  const MountVector e = Difference(cal.estimate().mount, knocked);
+  EXPECT_LT(std::abs(e(kMountYaw)) * kRadToDeg, 0.05);
+  EXPECT_LT(std::abs(e(kMountRoll)) * kRadToDeg, 0.05);
+  const std::string& message = cal.estimate().alarm_message;
+  EXPECT_NE(message.find("yaw changed by +1.2"), std::string::npos) << message;
+}
+
+// The texture without drift: no step, no alarm, and the truth inside the
+// estimate's 3 sigma throughout (the height's includes the wheels' scale).
+TEST(MountSelfCalibrator, TheFloorTextureWithoutDriftRaisesNoAlarmAndStaysConsistent) {
+  Drive d;
+  d.texture_points = 40;
+  d.texture_sigma_m = 0.001;
+  d.texture_outlier_share = 0.05;
+  const CameraMount commissioned;
+  MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
+  const SelfCalRun run = Simulate(d, cal, 0.0, 90.0, [&](double) { return commissioned; });
+  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
+    EXPECT_FALSE(run.estimates[i].alarm) << run.estimates[i].alarm_message;
+    const MountVector e = Difference(run.estimates[i].mount, commissioned);
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_LT(std::abs(e(c)), 3.0 * std::sqrt(run.estimates[i].covariance(c, c)))
+          << "component " << c << " at " << run.stamps[i] << " s";
+    }
+  }
+  EXPECT_EQ(cal.estimate().steps, 0);
+  EXPECT_GT(cal.estimate().windows_used, 50);
+  const MountVector e = Difference(cal.estimate().mount, commissioned);
+  EXPECT_LT(std::abs(e(kMountPitch)) * kRadToDeg, 0.02);
+  EXPECT_LT(std::abs(e(kMountHeight)) * 1e3, 0.5);
 }
 
 // The first window decides much (the start is the commissioning's wide

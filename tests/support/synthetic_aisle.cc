@@ -93,6 +93,28 @@ MountFrame MakeFrame(Drive& d, double t, const CameraMount& truth, const CameraM
     s.covariance = Eigen::Vector2d(1e-6, 1e-5).asDiagonal();
     f.segments.push_back(s);
   }
+  if (d.texture_points > 0 && d.previous && d.previous->stamp_s < t) {
+    f.flow.previous_stamp_s = d.previous->stamp_s;
+    f.flow.previous_mount = d.previous->used;
+    const core::SE2 T_previous_base = d.previous->T_odom_base.Inverse() * f.T_odom_base;
+    std::normal_distribution<double> texture_noise(0.0, d.texture_sigma_m);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), shift(-0.05, 0.05);
+    for (int tries = 0; static_cast<int>(f.flow.points.size()) < d.texture_points && tries < 2000;
+         ++tries) {
+      const Eigen::Vector2d now(ux(d.rng), uy(d.rng));
+      const Eigen::Vector2d then = T_previous_base * now;
+      if (!InView(now) || !InView(then)) continue;
+      Eigen::Vector2d seen_then, seen_now;
+      if (!RemapFloorPoint(then, d.previous->truth, d.previous->used, &seen_then) ||
+          !RemapFloorPoint(now, truth, used, &seen_now))
+        continue;
+      seen_then += Eigen::Vector2d(texture_noise(d.rng), texture_noise(d.rng));
+      seen_now += Eigen::Vector2d(texture_noise(d.rng), texture_noise(d.rng));
+      if (unit(d.rng) < d.texture_outlier_share) seen_now += Eigen::Vector2d(shift(d.rng), shift(d.rng));
+      f.flow.points.emplace_back(seen_then, seen_now);
+    }
+  }
+  d.previous = Drive::Previous{t, f.T_odom_base, truth, used};
   return f;
 }
 

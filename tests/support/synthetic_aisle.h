@@ -8,6 +8,7 @@
 #define GROUNDLINE_TESTS_SUPPORT_SYNTHETIC_AISLE_H_
 
 #include <Eigen/Core>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -45,7 +46,21 @@ struct Drive {
   double wobble_m = 0.04;     // lateral path deviation amplitude
   double sigma_m = 0.001;     // endpoint noise across the line
   int clutter_per_frame = 0;  // random segments that are no marking
+  // The floor's texture: this many patches tracked from the previous frame
+  // into each frame (MountFrame::flow), each point with this noise per axis;
+  // a share of them move as no floor point does (the edge of something
+  // standing on the floor, glare): outliers.
+  int texture_points = 0;
+  double texture_sigma_m = 0.001;
+  double texture_outlier_share = 0.0;
   std::mt19937 rng{7};
+  // The frame made last (the texture is tracked from it).
+  struct Previous {
+    double stamp_s;
+    core::SE2 T_odom_base;
+    CameraMount truth, used;
+  };
+  std::optional<Previous> previous;
 };
 
 // The truth's pose at t: along x at speed, a gentle lateral wobble.

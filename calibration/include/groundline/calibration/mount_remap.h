@@ -48,27 +48,41 @@ Eigen::Matrix<T, 3, 3> BaseFromCameraRotation(const T& pitch_rad, const T& roll_
   return Rz * Ry * Rx * LevelCameraRotation().cast<T>();
 }
 
-// The floor point under mount B = (height_m, pitch_rad, roll_rad, yaw_rad)
-// given as scalars (forward_m and lateral_m from `to_offsets`) of the floor
-// point p_a measured under mount `from`. Returns false, leaving p_b alone,
-// when the ray does not go down under B (d.z >= -1e-9 |d|): the point would be
-// at or beyond B's horizon.
+// The floor point p_b under mount B of the floor point p_a measured under
+// mount A, both mounts' height, pitch, roll and yaw given as scalars (double
+// or Ceres Jets; forward_m and lateral_m from `from_offsets` and
+// `to_offsets`). Returns false, leaving p_b alone, when the ray does not go
+// down under B (d.z >= -1e-9 |d|): the point would be at or beyond B's
+// horizon.
 template <typename T>
-bool RemapFloorPoint(const Eigen::Vector2d& p_a, const CameraMount& from, const T& height_m,
-                     const T& pitch_rad, const T& roll_rad, const T& yaw_rad,
-                     const CameraMount& to_offsets, Eigen::Matrix<T, 2, 1>* p_b) {
-  const Eigen::Matrix3d R_a =
-      BaseFromCameraRotation(from.pitch_rad, from.roll_rad, from.yaw_rad);
-  const Eigen::Vector3d r_cam =
-      R_a.transpose() * Eigen::Vector3d(p_a.x() - from.forward_m, p_a.y() - from.lateral_m,
-                                        -from.height_m);
-  const Eigen::Matrix<T, 3, 1> d =
-      BaseFromCameraRotation(pitch_rad, roll_rad, yaw_rad) * r_cam.cast<T>();
-  if (!(d.z() < T(-1e-9) * T(r_cam.norm()))) return false;
+bool RemapFloorPointBetween(const Eigen::Matrix<T, 2, 1>& p_a, const CameraMount& from_offsets,
+                            const T& from_height_m, const T& from_pitch_rad,
+                            const T& from_roll_rad, const T& from_yaw_rad,
+                            const T& height_m, const T& pitch_rad, const T& roll_rad,
+                            const T& yaw_rad, const CameraMount& to_offsets,
+                            Eigen::Matrix<T, 2, 1>* p_b) {
+  const Eigen::Matrix<T, 3, 3> R_a =
+      BaseFromCameraRotation(from_pitch_rad, from_roll_rad, from_yaw_rad);
+  const Eigen::Matrix<T, 3, 1> r_cam =
+      R_a.transpose() * Eigen::Matrix<T, 3, 1>(p_a.x() - T(from_offsets.forward_m),
+                                               p_a.y() - T(from_offsets.lateral_m),
+                                               -from_height_m);
+  const Eigen::Matrix<T, 3, 1> d = BaseFromCameraRotation(pitch_rad, roll_rad, yaw_rad) * r_cam;
+  if (!(d.z() < T(-1e-9) * r_cam.norm())) return false;
   const T s = height_m / -d.z();
   (*p_b)(0) = T(to_offsets.forward_m) + s * d.x();
   (*p_b)(1) = T(to_offsets.lateral_m) + s * d.y();
   return true;
+}
+
+// The same from a whole mount `from` (doubles) to mount B given as scalars.
+template <typename T>
+bool RemapFloorPoint(const Eigen::Vector2d& p_a, const CameraMount& from, const T& height_m,
+                     const T& pitch_rad, const T& roll_rad, const T& yaw_rad,
+                     const CameraMount& to_offsets, Eigen::Matrix<T, 2, 1>* p_b) {
+  return RemapFloorPointBetween<T>(p_a.cast<T>(), from, T(from.height_m), T(from.pitch_rad),
+                                   T(from.roll_rad), T(from.yaw_rad), height_m, pitch_rad,
+                                   roll_rad, yaw_rad, to_offsets, p_b);
 }
 
 // The same to `reference` changed by a correction (added to its pitch, roll,

@@ -91,6 +91,17 @@ struct FloorSegment {
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
 };
 
+// The floor's texture tracked from the previous frame into this one
+// (perception/floor_texture_flow.h): pairs of floor points in base_link, the
+// previous one under the previous frame's mount, the current one under this
+// frame's. Under the right mount each pair is one point of the floor seen
+// from two poses.
+struct FloorFlow {
+  double previous_stamp_s = 0.0;  // the frame the points were tracked from
+  CameraMount previous_mount;     // its BEV's mount
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (previous, current)
+};
+
 // One camera frame's lines and where the vehicle was.
 struct MountFrame {
   double stamp_s = 0.0;
@@ -99,6 +110,8 @@ struct MountFrame {
   // The mount the frame's BEV was made with (the segments are under it).
   CameraMount mount_used;
   std::vector<FloorSegment> segments;
+  // The texture tracked from the frame before (none: no texture evidence).
+  FloorFlow flow;
 };
 
 // The defaults are the reference floor camera's (0.58 m high, 42.4 deg):
@@ -137,7 +150,14 @@ struct MountSelfCalibrationOptions {
   // Odometry noise of the frames' relative poses: per metre driven (along
   // and across, m/sqrt(m)) and heading (rad/sqrt(m)).
   double odometry_sigma_m_per_sqrt_m = 0.002;
-  double odometry_sigma_rad_per_sqrt_m = 0.0005;
+  double odometry_sigma_rad_per_sqrt_m = 0.006;
+  // The relative error of the motion's scale (the wheels' radii, 0.1 %):
+  // it scales every window's motion alike, and the height from the motion
+  // with it, so no number of windows averages it away. The estimate's
+  // height variance carries (height * motion_scale_sigma)^2 beside what the
+  // windows leave (not fused: every window has the same error). 0: the scale
+  // is exact.
+  double motion_scale_sigma = 1e-3;
   // The correlation of a marking's errors between the frames of a window:
   // what pulls a line off in one frame (a scuff beside it, its wear, the
   // texture under it) pulls it off in the next, so N sightings are worth
@@ -146,6 +166,22 @@ struct MountSelfCalibrationOptions {
   // (the rendered zone B drives, seeds 5 and 12, put roll 5 sigma off with
   // independent sightings); 0: independent (white noise, the synthetic tests).
   double track_correlation = 1.0;
+  // The floor's texture (MountFrame::flow): each pair's two points, moved
+  // into the window frame by their frames' poses, must meet. A pair is used
+  // when its frame follows the one it was tracked from in the window, and
+  // when its points meet within flow_gate_m under the window's starting
+  // mount and the odometry (what stands on the floor, glare and the vehicle's
+  // shadow do not move with the floor). flow_sigma_m: each point's tracking
+  // error per axis on the floor. The errors of one frame pair's points are
+  // correlated (the vehicle's vibration moves the whole view, the texture
+  // under a window is smooth): N points are worth N / (1 + rho (N - 1))
+  // independent ones.
+  bool use_floor_flow = true;
+  int max_flow_points = 60;    // per frame pair, the rest dropped evenly
+  int min_flow_points = 12;    // fewer: the frame pair is not used
+  double flow_gate_m = 0.02;
+  double flow_sigma_m = 0.001;
+  double flow_correlation = 0.02;
   // Cauchy loss scale of the whitened observation and structure residuals.
   double loss_scale = 2.0;
   // The window's regularizing prior about the running estimate (taken out of
@@ -177,7 +213,9 @@ struct MountSelfCalibrationOptions {
 // The running estimate.
 struct MountEstimate {
   CameraMount mount;  // the estimated mount itself (forward/lateral as commissioned)
-  MountMatrix covariance = MountMatrix::Zero();  // of (pitch, roll, height, yaw)
+  // Of (pitch, roll, height, yaw); the height variance includes the motion's
+  // scale error (MountSelfCalibrationOptions::motion_scale_sigma).
+  MountMatrix covariance = MountMatrix::Zero();
   bool alarm = false;
   std::string alarm_message;  // what changed and by how much, when alarm
   // Counters since the start.
@@ -203,9 +241,14 @@ struct MountWindowSolution {
   int observations = 0;
   int structure_pairs = 0;
   int spacing_pairs = 0;
+  int flow_pairs = 0;   // frame pairs with texture evidence
+  int flow_points = 0;  // their points used
   int iterations = 0;
   double final_cost = 0.0;
 };
+
+// Whether `flow` was tracked from `previous` (its stamp, to a millisecond).
+bool FlowFollows(const FloorFlow& flow, const MountFrame& previous);
 
 // Solves one window: frames of one straight drive, their segments under
 // their mount_used; the correction is to `reference` (pitch, roll, height,
@@ -237,10 +280,13 @@ class MountSelfCalibrator {
 
  private:
   bool FrameQualifies(const MountFrame& frame) const;
-  bool HasUsableSegment(const MountFrame& frame) const;
+  bool HasEvidence(const MountFrame& frame) const;
+  bool HasFlowFrom(const MountFrame& frame, const MountFrame& previous) const;
   bool CloseWindow();
   void Fuse(const MountWindowSolution& window, double stamp_s);
   void UpdateEstimate();
+  // The height variance of the motion's scale error (motion_scale_sigma).
+  double ScaleVariance(double height_m) const;
 
   CameraMount commissioned_;
   MountSelfCalibrationOptions options_;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "groundline/calibration/camera_extrinsics.h"
+#include "groundline/calibration/mount_self_calibration.h"
 #include "groundline/core/floor_map.h"
 #include "groundline/perception/hesse_line.h"
 
@@ -71,6 +72,9 @@ struct FloorObservations {
   // frames). Unset: unknown, and the frame is no evidence that a landmark is
   // gone.
   std::shared_ptr<const FloorView> view;
+  // The floor's texture tracked from the frame observed before
+  // (FloorFlowTracker; empty: not tracked), for the mount's self-calibration.
+  calibration::FloorFlow texture_flow;
 };
 
 }  // namespace groundline::localization

@@ -58,6 +58,7 @@
 #include "groundline/localization/diff_drive_odometry.h"
 #include "groundline/localization/floor_front_end.h"
 #include "groundline/localization/keyframe_selector.h"
+#include "groundline/perception/floor_texture_flow.h"
 #include "groundline/localization/lidar/scan_odometry.h"
 #include "groundline/localization/lidar/scan_points.h"
 #include "groundline/localization/lidar/wall_lines.h"
@@ -80,6 +81,12 @@ struct LocalizerOptions {
   // against the atlas' wall and rack-face lines.
   bool use_wall_lines = true;
   KeyframeSelector::Options keyframes;
+  // The floor's texture tracked from each keyframe's BEV into the next
+  // (FloorFlowTracker, into FloorObservations::texture_flow): the motion
+  // evidence of the mount's self-calibration in every frame. Off unless the
+  // mount is self-calibrated (it costs a few milliseconds per keyframe).
+  bool track_floor_texture = false;
+  perception::FloorTextureFlowOptions texture_flow;
   // kLines / kMapping: a keyframe without a frame after this much driving,
   // so that the window keeps up with the odometry when the camera is blind.
   double blind_keyframe_m = 1.0;

@@ -16,13 +16,30 @@
 #ifndef GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
 #define GROUNDLINE_LOCALIZATION_OBSERVATIONS_FROM_EXTRACTION_H_
 
+#include <opencv2/core.hpp>
+#include <optional>
+
 #include "groundline/localization/floor_observation.h"
+#include "groundline/perception/bev_remap.h"
 #include "groundline/perception/line_extractor.h"
 
 namespace groundline::localization {
 
+// A frame's bird's-eye view as the front end made it: the image, its seen
+// cells (255), its grid and the mount it was made with.
+struct BevFrame {
+  cv::Mat image;
+  cv::Mat seen;
+  perception::BevGrid grid;
+  calibration::CameraMount mount;
+};
+
 struct ConvertedObservations {
   FloorObservations observations;
+  // The BEV the observations were made from, when a camera stage hands it
+  // on for the floor's texture to be tracked at the keyframe
+  // (FloorFlowTracker); dropped once tracked.
+  std::optional<BevFrame> bev;
   int dropped_lines = 0;      // covariance not SPD
   int dropped_junctions = 0;  // covariance not SPD
   int skipped_bar_edges = 0;  // single_bar_edge lines (not the atlas's centre line)
