@@ -93,6 +93,8 @@ core::Status MountSelfCalibrationOptions::Validate() const {
   if (!(step_probability > 0.5 && step_probability < 1.0))
     return OptionError("step_probability", "a probability in (0.5, 1)");
   if (step_windows < 1) return OptionError("step_windows", "at least 1");
+  if (step_evidence_windows == 1 || step_evidence_windows < 0)
+    return OptionError("step_evidence_windows", "0 (off) or at least 2");
   if (alarm_windows < 1) return OptionError("alarm_windows", "at least 1");
   if (!(std::isfinite(alarm_sigmas) && alarm_sigmas >= 0.0))
     return OptionError("alarm_sigmas", "a number >= 0");
@@ -200,6 +202,29 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
   return changed;
 }
 
+double EvidenceNis(const MountMatrix& information, const MountVector& information_vector,
+                   const MountVector& mean, const MountMatrix& covariance, int* dims) {
+  const Eigen::SelfAdjointEigenSolver<MountMatrix> eig(information);
+  const double max_value = eig.eigenvalues().maxCoeff();
+  Eigen::Matrix<double, 4, Eigen::Dynamic> U(4, 0);
+  Eigen::VectorXd values(0);
+  for (int i = 0; i < 4; ++i) {
+    if (eig.eigenvalues()(i) > 1e-9 * max_value && eig.eigenvalues()(i) > 0.0) {
+      U.conservativeResize(Eigen::NoChange, U.cols() + 1);
+      U.col(U.cols() - 1) = eig.eigenvectors().col(i);
+      values.conservativeResize(values.size() + 1);
+      values(values.size() - 1) = eig.eigenvalues()(i);
+    }
+  }
+  *dims = static_cast<int>(U.cols());
+  if (U.cols() == 0) return 0.0;
+  const Eigen::VectorXd z = (U.transpose() * information_vector).cwiseQuotient(values);
+  const Eigen::VectorXd y = z - U.transpose() * mean;
+  const Eigen::MatrixXd S =
+      U.transpose() * covariance * U + Eigen::MatrixXd(values.cwiseInverse().asDiagonal());
+  return core::SquaredMahalanobis<Eigen::Dynamic>(y, S);
+}
+
 bool MountSelfCalibrator::CloseWindow() {
   std::vector<MountFrame> frames;
   frames.swap(window_);
@@ -219,31 +244,14 @@ bool MountSelfCalibrator::CloseWindow() {
     const double dt = std::max(0.0, stamp_s - last_fused_stamp_s_);
     covariance_ += (options_.random_walk_per_sqrt_s.array().square() * dt).matrix().asDiagonal();
   }
-  // The innovation in the directions the window sees.
-  const Eigen::SelfAdjointEigenSolver<MountMatrix> eig(w.information);
-  const double max_value = eig.eigenvalues().maxCoeff();
-  Eigen::Matrix<double, 4, Eigen::Dynamic> U(4, 0);
-  Eigen::VectorXd values(0);
-  for (int i = 0; i < 4; ++i) {
-    if (eig.eigenvalues()(i) > 1e-9 * max_value && eig.eigenvalues()(i) > 0.0) {
-      U.conservativeResize(Eigen::NoChange, U.cols() + 1);
-      U.col(U.cols() - 1) = eig.eigenvectors().col(i);
-      values.conservativeResize(values.size() + 1);
-      values(values.size() - 1) = eig.eigenvalues()(i);
-    }
-  }
-  if (U.cols() == 0) {
+  const double gate_probability = options_.step_probability;
+  int dims = 0;
+  const double nis = EvidenceNis(w.information, w.information_vector, mean_, covariance_, &dims);
+  if (dims == 0) {
     ++estimate_.windows_rejected;
     return false;
   }
-  const Eigen::VectorXd z = (U.transpose() * w.information_vector).cwiseQuotient(values);
-  const Eigen::VectorXd y = z - U.transpose() * mean_;
-  const Eigen::MatrixXd S =
-      U.transpose() * covariance_ * U + Eigen::MatrixXd(values.cwiseInverse().asDiagonal());
-  const double nis = core::SquaredMahalanobis<Eigen::Dynamic>(y, S);
-  const double gate =
-      core::ChiSquareQuantile(static_cast<int>(U.cols()), options_.step_probability);
-  if (nis > gate) {
+  if (nis > core::ChiSquareQuantile(dims, gate_probability)) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) return false;
     // A step: restart from the commissioned uncertainty about the current
@@ -254,13 +262,50 @@ bool MountSelfCalibrator::CloseWindow() {
     Fuse(suspect_.back(), stamp_s);
     estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
     suspect_.clear();
+    recent_windows_.clear();
     UpdateEstimate();
     return true;
   }
   // A lone outlier window before this one is dropped.
   estimate_.windows_rejected += static_cast<int>(suspect_.size());
   suspect_.clear();
+  recent_windows_.push_back({w, mean_, covariance_, stamp_s});
   Fuse(w, stamp_s);
+  if (options_.step_evidence_windows > 0 &&
+      static_cast<int>(recent_windows_.size()) > options_.step_evidence_windows) {
+    recent_windows_.pop_front();
+  }
+  if (options_.step_evidence_windows > 0 &&
+      static_cast<int>(recent_windows_.size()) == options_.step_evidence_windows) {
+    // A step too small for one window: the last windows' evidence together
+    // against the estimate from before them (with the random walk since).
+    const RecentWindow& first = recent_windows_.front();
+    MountMatrix information = MountMatrix::Zero();
+    MountVector information_vector = MountVector::Zero();
+    for (const RecentWindow& r : recent_windows_) {
+      information += r.window.information;
+      information_vector += r.window.information_vector;
+    }
+    MountMatrix before = first.covariance_before;
+    before += (options_.random_walk_per_sqrt_s.array().square() *
+               std::max(0.0, stamp_s - first.stamp_s))
+                  .matrix()
+                  .asDiagonal();
+    const double together =
+        EvidenceNis(information, information_vector, first.mean_before, before, &dims);
+    if (dims > 0 && together > core::ChiSquareQuantile(dims, gate_probability)) {
+      // Restart from the estimate before them, with all but the first (which
+      // may straddle the step).
+      ++estimate_.steps;
+      mean_ = first.mean_before;
+      covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+      for (std::size_t i = 1; i < recent_windows_.size(); ++i) {
+        Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
+        --estimate_.windows_used;  // fused once already
+      }
+      recent_windows_.clear();
+    }
+  }
   UpdateEstimate();
   return true;
 }

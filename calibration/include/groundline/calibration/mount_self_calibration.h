@@ -198,6 +198,12 @@ struct MountSelfCalibrationOptions {
   // chi-square quantile step_probability for step_windows windows in a row.
   double step_probability = 0.9999;
   int step_windows = 2;
+  // A step too small for one window (5 mm of height is 4-5 sigma of one
+  // window's): the evidence of the last step_evidence_windows windows
+  // together, against the estimate from before them, over the same gate is
+  // a step too; the estimate restarts from before them with all of them but
+  // the first (which may straddle it). 0: off.
+  int step_evidence_windows = 4;
   // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
   // height_m, yaw_rad) by more than alarm_sigmas sigma.
   MountVector alarm_threshold =
@@ -250,6 +256,13 @@ struct MountWindowSolution {
 // Whether `flow` was tracked from `previous` (its stamp, to a millisecond).
 bool FlowFollows(const FloorFlow& flow, const MountFrame& previous);
 
+// The normalized innovation squared of evidence given in information form
+// (information, information vector) against an estimate (mean, covariance),
+// in the directions the evidence sees; *dims: how many (0: none, and 0
+// returned).
+double EvidenceNis(const MountMatrix& information, const MountVector& information_vector,
+                   const MountVector& mean, const MountMatrix& covariance, int* dims);
+
 // Solves one window: frames of one straight drive, their segments under
 // their mount_used; the correction is to `reference` (pitch, roll, height,
 // yaw added), regularized about `prior_correction`.
@@ -299,6 +312,14 @@ class MountSelfCalibrator {
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;            // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
+  // The last windows fused, with the estimate from before each.
+  struct RecentWindow {
+    MountWindowSolution window;
+    MountVector mean_before;
+    MountMatrix covariance_before;
+    double stamp_s = 0.0;
+  };
+  std::deque<RecentWindow> recent_windows_;
   MountEstimate estimate_;
 };
 
