@@ -153,12 +153,36 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     << "<h1>" << internal::XmlEscape(title) << "</h1>\n";
   if (history.empty()) return h.str() + "<p>No samples.</p></body></html>\n";
   const double t0 = history.front().stamp_s, t1 = std::max(history.back().stamp_s, t0 + 1e-3);
+  // The alarm's episodes: from the sample that raised it to the last that
+  // kept it (the message of each, first and last: the estimate goes on).
+  struct Episode {
+    double raised_s, last_s;
+    std::string first_message, last_message;
+    bool standing;  // to the end of the run
+  };
+  std::vector<Episode> episodes;
   int alarms = 0;
-  for (const SelfCalibrationSample& s : history) alarms += s.alarm ? 1 : 0;
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const SelfCalibrationSample& s = history[i];
+    if (!s.alarm) continue;
+    ++alarms;
+    if (i == 0 || !history[i - 1].alarm) {
+      episodes.push_back({s.stamp_s, s.stamp_s, s.alarm_message, s.alarm_message, false});
+    }
+    episodes.back().last_s = s.stamp_s;
+    episodes.back().last_message = s.alarm_message;
+    episodes.back().standing = i + 1 == history.size();
+  }
   h << "<p>" << history.size() << " keyframes from " << FormatNumber("%.1f", t0) << " s to "
     << FormatNumber("%.1f", t1) << " s; " << history.back().windows << " windows fused, "
-    << history.back().steps << " steps detected; the alarm was raised at " << alarms
-    << " keyframes. Blue: the estimate, its 3-sigma band shaded; grey dashes: the commissioned "
+    << history.back().steps << " steps detected; ";
+  if (episodes.empty()) {
+    h << "no alarm";
+  } else {
+    h << "the alarm stood at " << alarms << " keyframes, raised first at "
+      << FormatNumber("%.1f", episodes.front().raised_s) << " s";
+  }
+  h << ". Blue: the estimate, its 3-sigma band shaded; grey dashes: the commissioned "
        "mount (the estimate's start)";
   if (truth != nullptr && !truth->empty()) {
     h << "; black: the true mount of the simulation (evaluation only, not available on a "
@@ -275,16 +299,19 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     }
     h << "</svg>\n";
   }
-  // The alarm messages, each once, with the first time it was given.
-  std::vector<std::pair<double, std::string>> messages;
-  for (const SelfCalibrationSample& s : history) {
-    if (s.alarm && (messages.empty() || messages.back().second != s.alarm_message))
-      messages.emplace_back(s.stamp_s, s.alarm_message);
-  }
   h << "<h2>Alarms</h2>\n";
-  if (messages.empty()) h << "<p>None.</p>\n";
-  for (const auto& [t, m] : messages)
-    h << "<p class='alarm-message'>" << FormatNumber("%.1f s: ", t) << internal::XmlEscape(m) << "</p>\n";
+  if (episodes.empty()) h << "<p>None.</p>\n";
+  for (const Episode& e : episodes) {
+    h << "<p class='alarm-message'>Raised at " << FormatNumber("%.1f s", e.raised_s)
+      << (e.standing ? ", standing at the end of the run"
+                     : ", last at " + FormatNumber("%.1f s", e.last_s))
+      << ": " << internal::XmlEscape(e.first_message);
+    if (e.last_message != e.first_message) {
+      h << "<br>At " << FormatNumber("%.1f s", e.last_s) << ": "
+        << internal::XmlEscape(e.last_message);
+    }
+    h << "</p>\n";
+  }
   h << "</body></html>\n";
   return h.str();
 }

@@ -123,7 +123,11 @@ TEST(SelfCalibrationHistory, ThePageHasAPanelPerComponentTheTruthAndTheAlarms) {
   EXPECT_EQ(count("class='band'"), 4);
   EXPECT_EQ(count("class='truth'"), 4);
   EXPECT_EQ(count("class='alarm'"), 4);  // one alarmed keyframe, one mark per panel
-  EXPECT_NE(html.find("3.0 s: roll changed by 0.4 deg"), std::string::npos);
+  // The alarm as one episode: when it was raised, that it stood to the end.
+  EXPECT_NE(html.find("Raised at 3.0 s, standing at the end of the run: roll changed by 0.4 deg"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("the alarm stood at 1 keyframes, raised first at 3.0 s"), std::string::npos);
   EXPECT_NE(html.find("run &lt;1&gt;"), std::string::npos);  // the title escaped
   EXPECT_EQ(SelfCalibrationHistoryHtml(*history, nullptr, "x").find("class='truth'"),
             std::string::npos);
