@@ -116,6 +116,28 @@ TEST(SolveMountWindow, RecoversEveryComponentFromOneNoiseFreeWindow) {
   EXPECT_NEAR(c_w(kMountYaw) * kRadToDeg, truth_c(kMountYaw) * kRadToDeg, 0.005);
 }
 
+// Windows of 1.6 s every 4 s along the drive: the normalized estimation
+// error squared of their mount, averaged, is about 4 (the dimension).
+void ExpectWindowsConsistent(Drive& d, const CameraMount& truth, const CameraMount& commissioned,
+                             const MountSelfCalibrationOptions& options) {
+  double nees_sum = 0.0;
+  int n = 0;
+  for (double t0 = 1.0; t0 < 100.0; t0 += 4.0) {
+    d.previous.reset();  // no texture tracked from before the window
+    const auto frames = Frames(d, t0, t0 + 1.6, truth, commissioned);
+    const MountWindowSolution w =
+        SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
+    ASSERT_TRUE(w.ok) << w.message;
+    const MountVector e =
+        w.information.ldlt().solve(w.information_vector) - Difference(truth, commissioned);
+    nees_sum += e.dot(w.information * e);
+    ++n;
+  }
+  const double nees = nees_sum / n;
+  EXPECT_GT(nees, 4.0 * 0.5) << n << " windows";
+  EXPECT_LT(nees, 4.0 * 2.0) << n << " windows";
+}
+
 // The window's covariance is what its errors show: over windows of noisy
 // observations, the normalized estimation error squared averages about 4.
 // The model is made exact for this world (its markings are exactly parallel
@@ -135,21 +157,7 @@ TEST(SolveMountWindow, ItsInformationIsConsistentWithItsErrors) {
   options.track_correlation = 0.0;  // the noise is drawn anew in every frame
   Drive d;
   d.world = Aisle(200.0);
-  double nees_sum = 0.0;
-  int n = 0;
-  for (double t0 = 1.0; t0 < 100.0; t0 += 4.0) {
-    const auto frames = Frames(d, t0, t0 + 1.6, truth, commissioned);
-    const MountWindowSolution w =
-        SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
-    ASSERT_TRUE(w.ok) << w.message;
-    const MountVector e =
-        w.information.ldlt().solve(w.information_vector) - Difference(truth, commissioned);
-    nees_sum += e.dot(w.information * e);
-    ++n;
-  }
-  const double nees = nees_sum / n;
-  EXPECT_GT(nees, 4.0 * 0.5) << n << " windows";
-  EXPECT_LT(nees, 4.0 * 2.0) << n << " windows";
+  ExpectWindowsConsistent(d, truth, commissioned, options);
 }
 
 TEST(SolveMountWindow, SaysWhyAWindowHasNoEvidence) {
@@ -164,13 +172,20 @@ TEST(SolveMountWindow, SaysWhyAWindowHasNoEvidence) {
   EXPECT_NE(w.message.find("no marking tracked through 3 frames"), std::string::npos) << w.message;
 }
 
+// An aisle without markings: only the floor's texture, `points` patches per
+// frame with `sigma_m` of tracking noise per axis.
+Drive TextureDrive(int points, double sigma_m) {
+  Drive d;
+  d.texture_points = points;
+  d.texture_sigma_m = sigma_m;
+  return d;
+}
+
 // The floor's texture alone (no marking in view): the same patch of floor
 // seen from consecutive frames fixes every component, because a wrong mount
 // moves it otherwise than the vehicle does.
 TEST(SolveMountWindow, RecoversTheMountFromTheFloorTextureAlone) {
-  Drive d;
-  d.texture_points = 40;
-  d.texture_sigma_m = 1e-9;
+  Drive d = TextureDrive(40, 1e-9);
   const CameraMount commissioned;
   const CameraMount truth = Moved(commissioned, 0.6, -0.3, -4.0, 0.8);
   const auto frames = Frames(d, 2.0, 3.6, truth, commissioned);
@@ -190,8 +205,7 @@ TEST(SolveMountWindow, RecoversTheMountFromTheFloorTextureAlone) {
 // Texture that does not move with the floor (a fifth of the patches: the
 // edges of things standing on it, glare) is gated and down-weighted.
 TEST(SolveMountWindow, TexturePatchesThatDoNotMoveWithTheFloorAreNotFollowed) {
-  Drive d;
-  d.texture_points = 50;
+  Drive d = TextureDrive(50, 0.001);
   d.texture_outlier_share = 0.2;
   const CameraMount commissioned;
   const CameraMount truth = Moved(commissioned, -0.4, 0.2, 3.0, -0.5);
@@ -221,25 +235,8 @@ TEST(SolveMountWindow, ItsTextureInformationIsConsistentWithItsErrors) {
   options.odometry_sigma_m_per_sqrt_m = 1e-7;
   options.odometry_sigma_rad_per_sqrt_m = 1e-7;
   options.loss_scale = 1e3;
-  Drive d;
-  d.texture_points = 30;
-  d.texture_sigma_m = 0.001 / std::sqrt(2.0);  // a pair's difference has the stated sigma
-  double nees_sum = 0.0;
-  int n = 0;
-  for (double t0 = 1.0; t0 < 100.0; t0 += 4.0) {
-    d.previous.reset();
-    const auto frames = Frames(d, t0, t0 + 1.6, truth, commissioned);
-    const MountWindowSolution w =
-        SolveMountWindow(frames, commissioned, MountVector::Zero(), options);
-    ASSERT_TRUE(w.ok) << w.message;
-    const MountVector e =
-        w.information.ldlt().solve(w.information_vector) - Difference(truth, commissioned);
-    nees_sum += e.dot(w.information * e);
-    ++n;
-  }
-  const double nees = nees_sum / n;
-  EXPECT_GT(nees, 4.0 * 0.5) << n << " windows";
-  EXPECT_LT(nees, 4.0 * 2.0) << n << " windows";
+  Drive d = TextureDrive(30, 0.001 / std::sqrt(2.0));  // a pair's difference: the stated sigma
+  ExpectWindowsConsistent(d, truth, commissioned, options);
 }
 
 struct SelfCalRun {
@@ -261,6 +258,13 @@ SelfCalRun Simulate(Drive& d, MountSelfCalibrator& cal, double t0, double t1, Tr
     run.truths.push_back(truth);
   }
   return run;
+}
+
+// The stamp of the first estimate with the alarm raised (-1: none).
+double FirstAlarmS(const SelfCalRun& run) {
+  for (std::size_t i = 0; i < run.stamps.size(); ++i)
+    if (run.estimates[i].alarm) return run.stamps[i];
+  return -1.0;
 }
 
 TEST(MountSelfCalibrator, TracksAOneDegreePitchStepWithinTenSeconds) {
@@ -332,13 +336,7 @@ TEST(MountSelfCalibrator, AKnockRaisesTheAlarmWithinFiveSecondsAndSaysWhatMoved)
   const SelfCalRun run = Simulate(d, cal, 0.0, 40.0, [&](double t) {
     return t < 20.0 ? commissioned : knocked;
   });
-  double first_alarm_s = -1.0;
-  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
-    if (run.estimates[i].alarm) {
-      first_alarm_s = run.stamps[i];
-      break;
-    }
-  }
+  const double first_alarm_s = FirstAlarmS(run);
   ASSERT_GE(first_alarm_s, 20.0);
   EXPECT_LE(first_alarm_s, 25.0);
   const std::string& message = cal.estimate().alarm_message;
@@ -350,22 +348,14 @@ TEST(MountSelfCalibrator, AKnockRaisesTheAlarmWithinFiveSecondsAndSaysWhatMoved)
 // In an aisle without any marking in view, the floor's texture alone alarms
 // a knock within five seconds (windows close every 1.5 s of driving).
 TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSeconds) {
-  Drive d;
-  d.texture_points = 40;
-  d.texture_sigma_m = 0.001;
+  Drive d = TextureDrive(40, 0.001);
   const CameraMount commissioned;
   MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
   const CameraMount knocked = Moved(commissioned, 0.3, -0.4, 0.0, 1.2);
   const SelfCalRun run = Simulate(d, cal, 0.0, 40.0, [&](double t) {
     return t < 20.0 ? commissioned : knocked;
   });
-  double first_alarm_s = -1.0;
-  for (std::size_t i = 0; i < run.stamps.size(); ++i) {
-    if (run.estimates[i].alarm) {
-      first_alarm_s = run.stamps[i];
-      break;
-    }
-  }
+  const double first_alarm_s = FirstAlarmS(run);
   ASSERT_GE(first_alarm_s, 20.0);
   EXPECT_LE(first_alarm_s, 25.0);
   EXPECT_EQ(cal.estimate().steps, 1);
@@ -382,9 +372,7 @@ TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSecon
 // end), each is found as a step (the height's only by the last windows
 // together), and neither is a knock.
 TEST(MountSelfCalibrator, TheFloorTextureTracksAPayloadAndAHeightLossWithinTenSeconds) {
-  Drive d;
-  d.texture_points = 40;
-  d.texture_sigma_m = 0.001;
+  Drive d = TextureDrive(40, 0.001);
   const CameraMount commissioned;
   MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
   const CameraMount payload = Moved(commissioned, 1.0, 0.0, 0.0, 0.0);
@@ -410,9 +398,7 @@ TEST(MountSelfCalibrator, TheFloorTextureTracksAPayloadAndAHeightLossWithinTenSe
 // The texture without drift: no step, no alarm, and the truth inside the
 // estimate's 3 sigma throughout (the height's includes the wheels' scale).
 TEST(MountSelfCalibrator, TheFloorTextureWithoutDriftRaisesNoAlarmAndStaysConsistent) {
-  Drive d;
-  d.texture_points = 40;
-  d.texture_sigma_m = 0.001;
+  Drive d = TextureDrive(40, 0.001);
   d.texture_outlier_share = 0.05;
   const CameraMount commissioned;
   MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
