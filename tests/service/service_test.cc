@@ -490,11 +490,13 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
   std::ifstream health(dir / "out" / "health.jsonl");
   std::string text;
   int lines = 0, windows = 0;
+  double last_pitch_deg = 0.0;
   while (std::getline(health, text)) {
     const nlohmann::json line = nlohmann::json::parse(text);
     ASSERT_TRUE(line.contains("selfcal_pitch_deg")) << text;
     EXPECT_FALSE(line["selfcal_alarm"].get<bool>()) << text;
     windows = line["selfcal_windows"].get<int>();
+    last_pitch_deg = line["selfcal_pitch_deg"].get<double>();
     if (windows > 0) {
       EXPECT_NEAR(line["selfcal_pitch_deg"].get<double>(), 42.4, 0.5) << text;
       EXPECT_NEAR(line["selfcal_height_m"].get<double>(), 0.58, 0.02) << text;
@@ -502,7 +504,12 @@ TEST(Service, SelfCalibrationReportsTheMountOnEveryKeyframe) {
     ++lines;
   }
   EXPECT_GT(lines, 50);
-  EXPECT_GE(windows, 1);
+  // The camera stage hands each frame's BEV on, and the floor's texture is
+  // tracked at the keyframes: a window every 1.5 s of straight driving (7 in
+  // this 32 s drive when written, pitch 0.0003 deg off), where the joints
+  // crossing the view alone give one every few seconds.
+  EXPECT_GE(windows, 5);
+  EXPECT_NEAR(last_pitch_deg, 42.4, 0.05);
 
   // The estimate is kept for a restart: mount_estimate.json holds the last
   // one, and the next run (same output directory) starts from it.
