@@ -80,6 +80,9 @@ core::Status MountSelfCalibrationOptions::Validate() const {
     return OptionError("flow_correlation", "a correlation in [0, 1]");
   if (!(std::isfinite(motion_scale_sigma) && motion_scale_sigma >= 0.0 && motion_scale_sigma < 0.1))
     return OptionError("motion_scale_sigma", "a relative error in [0, 0.1)");
+  if (!(std::isfinite(motion_heading_sigma_rad) && motion_heading_sigma_rad >= 0.0 &&
+        motion_heading_sigma_rad < 0.1))
+    return OptionError("motion_heading_sigma_rad", "an angle in [0, 0.1) rad");
   if (!PositiveFinite(loss_scale)) return OptionError("loss_scale", "a scale > 0");
   for (int i = 0; i < 4; ++i) {
     const std::string c = kComponentNames[i];
@@ -124,10 +127,11 @@ core::Status MountSelfCalibrator::Restore(const CameraMount& saved_commissioned,
   }
   mean_ = MountComponents(saved.mount) - MountComponents(commissioned_);
   covariance_ = saved.covariance;
-  // The saved covariance carries the motion's scale error (UpdateEstimate).
-  const double scale_variance = ScaleVariance(saved.mount.height_m);
-  if (covariance_(kMountHeight, kMountHeight) > 2.0 * scale_variance) {
-    covariance_(kMountHeight, kMountHeight) -= scale_variance;
+  // The saved covariance carries the motion's systematic errors
+  // (UpdateEstimate).
+  const MountVector systematic = SystematicVariance(saved.mount.height_m);
+  for (int i = 0; i < 4; ++i) {
+    if (covariance_(i, i) > 2.0 * systematic(i)) covariance_(i, i) -= systematic(i);
   }
   estimate_ = saved;
   estimate_.mount = commissioned_;
@@ -323,15 +327,17 @@ void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
   estimate_.last_update_s = stamp_s;
 }
 
-double MountSelfCalibrator::ScaleVariance(double height_m) const {
-  const double sigma = height_m * options_.motion_scale_sigma;
-  return sigma * sigma;
+MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {
+  MountVector v = MountVector::Zero();
+  v(kMountHeight) = std::pow(height_m * options_.motion_scale_sigma, 2);
+  v(kMountYaw) = std::pow(options_.motion_heading_sigma_rad, 2);
+  return v;
 }
 
 void MountSelfCalibrator::UpdateEstimate() {
   estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
-  estimate_.covariance(kMountHeight, kMountHeight) += ScaleVariance(estimate_.mount.height_m);
+  estimate_.covariance.diagonal() += SystematicVariance(estimate_.mount.height_m);
   std::ostringstream what;
   bool alarm = false;
   for (int i = 0; i < 4; ++i) {

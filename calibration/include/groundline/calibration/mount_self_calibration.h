@@ -158,6 +158,12 @@ struct MountSelfCalibrationOptions {
   // windows leave (not fused: every window has the same error). 0: the scale
   // is exact.
   double motion_scale_sigma = 1e-3;
+  // The same for the yaw: wheels of unequal radii make the odometry curve
+  // where the vehicle drives straight, and a window reads half the heading
+  // the odometry turns between two frames as yaw (the floor moved straight
+  // back in the view). The reference vehicle, wheels 0.1 % off each, 0.76 m
+  // apart, frames 0.28 m apart: 0.26 mrad (0.015 deg). 0: none.
+  double motion_heading_sigma_rad = 2.6e-4;
   // The correlation of a marking's errors between the frames of a window:
   // what pulls a line off in one frame (a scuff beside it, its wear, the
   // texture under it) pulls it off in the next, so N sightings are worth
@@ -219,8 +225,9 @@ struct MountSelfCalibrationOptions {
 // The running estimate.
 struct MountEstimate {
   CameraMount mount;  // the estimated mount itself (forward/lateral as commissioned)
-  // Of (pitch, roll, height, yaw); the height variance includes the motion's
-  // scale error (MountSelfCalibrationOptions::motion_scale_sigma).
+  // Of (pitch, roll, height, yaw); the height and yaw variances include the
+  // motion's systematic errors (MountSelfCalibrationOptions::motion_scale_sigma,
+  // motion_heading_sigma_rad).
   MountMatrix covariance = MountMatrix::Zero();
   bool alarm = false;
   std::string alarm_message;  // what changed and by how much, when alarm
@@ -298,8 +305,9 @@ class MountSelfCalibrator {
   bool CloseWindow();
   void Fuse(const MountWindowSolution& window, double stamp_s);
   void UpdateEstimate();
-  // The height variance of the motion's scale error (motion_scale_sigma).
-  double ScaleVariance(double height_m) const;
+  // The variances of the motion's systematic errors, added to the
+  // estimate's (motion_scale_sigma, motion_heading_sigma_rad).
+  MountVector SystematicVariance(double height_m) const;
 
   CameraMount commissioned_;
   MountSelfCalibrationOptions options_;
