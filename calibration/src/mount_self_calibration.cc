@@ -248,14 +248,13 @@ bool MountSelfCalibrator::CloseWindow() {
     const double dt = std::max(0.0, stamp_s - last_fused_stamp_s_);
     covariance_ += (options_.random_walk_per_sqrt_s.array().square() * dt).matrix().asDiagonal();
   }
-  const double gate_probability = options_.step_probability;
   int dims = 0;
   const double nis = EvidenceNis(w.information, w.information_vector, mean_, covariance_, &dims);
   if (dims == 0) {
     ++estimate_.windows_rejected;
     return false;
   }
-  if (nis > core::ChiSquareQuantile(dims, gate_probability)) {
+  if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) return false;
     // A step: restart from the commissioned uncertainty about the current
@@ -297,7 +296,7 @@ bool MountSelfCalibrator::CloseWindow() {
                   .asDiagonal();
     const double together =
         EvidenceNis(information, information_vector, first.mean_before, before, &dims);
-    if (dims > 0 && together > core::ChiSquareQuantile(dims, gate_probability)) {
+    if (dims > 0 && together > core::ChiSquareQuantile(dims, options_.step_probability)) {
       // Restart from the estimate before them, with all but the first (which
       // may straddle the step).
       ++estimate_.steps;

@@ -32,9 +32,6 @@ class FloorFlowTracker {
   // The same for the BEV `front_end` has just made (FloorFrontEnd::Observe).
   void Track(const cv::Mat& bev, const FloorFrontEnd& front_end, FloorObservations* observations);
 
-  // Forgets the last BEV (a gap, a re-initialization).
-  void Reset() { has_previous_ = false; }
-
  private:
   perception::FloorTextureFlowOptions options_;
   bool has_previous_ = false;
