@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -256,7 +257,11 @@ bool MountSelfCalibrator::CloseWindow() {
   }
   if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
     suspect_.push_back(w);
-    if (static_cast<int>(suspect_.size()) < options_.step_windows) return false;
+    if (static_cast<int>(suspect_.size()) < options_.step_windows) {
+      estimate_.step_suspected = true;
+      estimate_.suspected_components = MountComponents(commissioned_) + w.correction;
+      return false;
+    }
     // A step: restart from the commissioned uncertainty about the current
     // mean and take the last window that showed it (the first may straddle
     // the step, half of its frames under the old mount).
@@ -264,6 +269,9 @@ bool MountSelfCalibrator::CloseWindow() {
     covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
     Fuse(suspect_.back(), stamp_s);
     estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
+    // The windows that showed the step are updates in a row that disagree
+    // with the mount from before: they count toward alarm_windows.
+    alarm_streak_ = std::max(alarm_streak_, static_cast<int>(suspect_.size()) - 1);
     suspect_.clear();
     recent_windows_.clear();
     UpdateEstimate();
@@ -334,6 +342,8 @@ MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {
 }
 
 void MountSelfCalibrator::UpdateEstimate() {
+  estimate_.step_suspected = false;
+  estimate_.suspected_components.setZero();
   estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
   estimate_.covariance.diagonal() += SystematicVariance(estimate_.mount.height_m);

@@ -44,6 +44,9 @@ core::Status FloorFrontEndOptions::Validate() const {
   if (!(min_frame_stddev >= 0.0 && min_frame_stddev < 128.0)) {
     return core::Status::Error("min_frame_stddev: expected 0..128 grey levels");
   }
+  if (!(std::isfinite(mount_error_sightings) && mount_error_sightings >= 1.0)) {
+    return core::Status::Error("mount_error_sightings: expected a finite count >= 1");
+  }
   return core::Status::Ok();
 }
 
@@ -90,7 +93,12 @@ core::Result<FloorFrontEnd> FloorFrontEnd::WithMount(
     return core::Status::Error(
         "floor front end: the mount's covariance is not symmetric positive semi-definite");
   }
-  core::Result<FloorFrontEnd> built = Build(remap_->camera(), mount, remap_options_, options_);
+  // The same mount (only its uncertainty changed): the table and the
+  // extractor are shared, not rebuilt.
+  core::Result<FloorFrontEnd> built =
+      calibration::SameMount(mount, remap_->mount(), 0.0)
+          ? core::Result<FloorFrontEnd>(*this)
+          : Build(remap_->camera(), mount, remap_options_, options_);
   if (!built.ok()) return built.status();
   built->mount_covariance_ = mount_covariance;
   return built;
@@ -99,6 +107,7 @@ core::Result<FloorFrontEnd> FloorFrontEnd::WithMount(
 void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
   if (mount_covariance_.isZero(0.0)) return;
   const calibration::CameraMount& mount = remap_->mount();
+  const Eigen::Matrix4d common = options_.mount_error_sightings * mount_covariance_;
   for (LineObservation& line : observations->lines) {
     Eigen::Matrix<double, 2, 4> Ja, Jb;
     Eigen::Matrix2d J_line_a, J_line_b;
@@ -111,13 +120,13 @@ void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
     if (!through.ok()) continue;
     const Eigen::Matrix<double, 2, 4> J = J_line_a * Ja + J_line_b * Jb;
     line.mount_covariance = perception::CovarianceInDescriptionOf(
-        *through, line.line_base, J * mount_covariance_ * J.transpose());
+        *through, line.line_base, J * common * J.transpose());
     line.covariance += line.mount_covariance;
   }
   for (JunctionObservation& junction : observations->junctions) {
     Eigen::Matrix<double, 2, 4> J;
     if (!calibration::FloorPointMountJacobian(junction.point_base_m, mount, &J)) continue;
-    junction.covariance += J * mount_covariance_ * J.transpose();
+    junction.covariance += J * common * J.transpose();
   }
 }
 

@@ -39,7 +39,7 @@ core::Result<std::optional<KeyframeMountCalibration::MountUpdate>>
 KeyframeMountCalibration::Restore(const calibration::SavedMountEstimate& saved) {
   if (core::Status s = calibrator_.Restore(saved.commissioned, saved.estimate); !s.ok()) return s;
   if (!apply_.enabled) return std::optional<MountUpdate>();
-  return NextUpdate(/*bounded=*/false);
+  return NextUpdate(/*bounded=*/false, /*may_move=*/true, /*always=*/false);
 }
 
 bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
@@ -60,14 +60,23 @@ bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
 std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::DueMountUpdate(
     double stamp_s) {
   if (!apply_.enabled) return std::nullopt;
-  if (last_update_s_ && stamp_s - *last_update_s_ < apply_.min_interval_s) return std::nullopt;
-  std::optional<MountUpdate> update = NextUpdate(/*bounded=*/true);
-  if (update) last_update_s_ = stamp_s;
+  const calibration::MountEstimate& e = calibrator_.estimate();
+  // A window held as a possible step widens the lines at once (the mount may
+  // already be that far off), and a confirmed or dropped one narrows them
+  // again: neither waits for min_interval_s.
+  const bool suspicion_changed =
+      e.step_suspected != handed_suspicion_ ||
+      (e.step_suspected && e.suspected_components != handed_suspected_components_);
+  const bool may_move = !last_update_s_ || stamp_s - *last_update_s_ >= apply_.min_interval_s;
+  if (!may_move && !suspicion_changed) return std::nullopt;
+  const calibration::CameraMount before = applied_;
+  std::optional<MountUpdate> update = NextUpdate(/*bounded=*/true, may_move, suspicion_changed);
+  if (update && !calibration::SameMount(update->mount, before, 0.0)) last_update_s_ = stamp_s;
   return update;
 }
 
 std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::NextUpdate(
-    bool bounded) {
+    bool bounded, bool may_move, bool always) {
   const calibration::MountEstimate& e = calibrator_.estimate();
   const calibration::MountVector estimated = calibration::MountComponents(e.mount);
   calibration::MountVector target;
@@ -83,12 +92,12 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
     follows[i] = sigma < apply_.max_sigma(i) || moved > apply_.min_significance * sigma;
     target(i) = follows[i] ? estimated(i) : commissioned_components(i);
     const double change = target(i) - current(i);
-    if (std::abs(change) <= apply_.min_change(i)) continue;
+    if (!may_move || std::abs(change) <= apply_.min_change(i)) continue;
     next(i) = bounded ? current(i) + std::clamp(change, -apply_.max_step(i), apply_.max_step(i))
                       : target(i);
     moves = true;
   }
-  if (!moves) return std::nullopt;
+  if (!moves && !always) return std::nullopt;
   MountUpdate update;
   update.mount = calibration::WithMountComponents(applied_, next);
   // The estimate's uncertainty of the components that follow it, and what a
@@ -99,6 +108,13 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
       if (follows[j]) update.covariance(i, j) = e.covariance(i, j);
     update.covariance(i, i) += (target(i) - next(i)) * (target(i) - next(i));
   }
+  // A possible step: the mount may be where the suspect window showed it.
+  if (e.step_suspected) {
+    const calibration::MountVector off = e.suspected_components - next;
+    update.covariance += off * off.transpose();
+  }
+  handed_suspicion_ = e.step_suspected;
+  handed_suspected_components_ = e.suspected_components;
   applied_ = update.mount;
   ++mount_updates_;
   return update;

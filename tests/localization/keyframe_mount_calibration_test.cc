@@ -61,7 +61,10 @@ KeyframeOutput KeyframeOf(const calibration::MountFrame& f) {
 // taken off at 30 s. The BEV (frames made under the applied mount) follows
 // in steps of at most max_step, at most one per min_interval_s, is on the
 // loaded mount before the unloading and back on the commissioned one at the
-// end; the estimate is not disturbed by the frames' changing mount.
+// end; the estimate is not disturbed by the frames' changing mount. While a
+// window is held as a possible step, the lines are widened at once by how
+// far it puts the mount (an update of the covariance alone), and narrowed
+// again when the step is confirmed.
 TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   Drive d;
   d.world = Aisle(200.0);
@@ -70,27 +73,55 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   const MountApplyOptions apply;
   KeyframeMountCalibration cal(commissioned, calibration::MountSelfCalibrationOptions{}, apply);
   CameraMount bev_mount = commissioned;
-  std::vector<double> update_stamps;
+  std::vector<double> update_stamps;  // of the updates that moved the mount
+  int updates = 0, suspicion_updates = 0;
+  std::vector<double> suspected_at;  // the first update of each suspicion
+  bool suspected = false;
   std::optional<CameraMount> bev_when_unloaded;
   for (double t = 0.0; t < 50.0; t += 1.0 / d.rate_hz) {
     const CameraMount truth = t < 10.0 || t >= 30.0 ? commissioned : loaded;
     if (t >= 30.0 && !bev_when_unloaded) bev_when_unloaded = bev_mount;
     cal.AddKeyframe(KeyframeOf(MakeFrame(d, t, truth, bev_mount)));
-    if (const auto update = cal.DueMountUpdate(t)) {
-      const MountVector step = Difference(update->mount, bev_mount);
-      for (int i = 0; i < 4; ++i)
-        EXPECT_LE(std::abs(step(i)), apply.max_step(i) + 1e-12) << "t " << t << " component " << i;
-      EXPECT_TRUE(SameMount(update->mount, cal.applied()));
-      // The covariance is the estimate's in the components that follow it.
-      for (int i = 0; i < 4; ++i) EXPECT_GE(update->covariance(i, i), 0.0);
-      if (!update_stamps.empty()) {
-        EXPECT_GE(t - update_stamps.back(), apply.min_interval_s - 1e-9);
-      }
-      update_stamps.push_back(t);
-      bev_mount = update->mount;
+    const calibration::MountEstimate& e = cal.estimate();
+    const auto update = cal.DueMountUpdate(t);
+    // A suspicion's coming and going is handed out at the keyframe it came,
+    // and an update that leaves the mount is one of them.
+    if (e.step_suspected != suspected) {
+      EXPECT_TRUE(update.has_value()) << "t " << t;
     }
+    if (update && SameMount(update->mount, bev_mount, 0.0)) {
+      EXPECT_NE(e.step_suspected, suspected) << "t " << t;
+    }
+    if (!update) continue;
+    ++updates;
+    EXPECT_TRUE(SameMount(update->mount, cal.applied()));
+    for (int i = 0; i < 4; ++i) EXPECT_GE(update->covariance(i, i), 0.0);
+    if (e.step_suspected) {
+      // As wide as the suspect window puts the mount from the one applied.
+      const MountVector off = e.suspected_components - calibration::MountComponents(update->mount);
+      for (int i = 0; i < 4; ++i) EXPECT_GE(update->covariance(i, i), 0.999 * off(i) * off(i));
+      if (!suspected) suspected_at.push_back(t);
+    }
+    suspected = e.step_suspected;
+    if (SameMount(update->mount, bev_mount, 0.0)) {
+      ++suspicion_updates;
+      continue;
+    }
+    const MountVector step = Difference(update->mount, bev_mount);
+    for (int i = 0; i < 4; ++i)
+      EXPECT_LE(std::abs(step(i)), apply.max_step(i) + 1e-12) << "t " << t << " component " << i;
+    if (!update_stamps.empty()) {
+      EXPECT_GE(t - update_stamps.back(), apply.min_interval_s - 1e-9);
+    }
+    update_stamps.push_back(t);
+    bev_mount = update->mount;
   }
   ASSERT_GE(update_stamps.size(), 10u);  // 1 deg there and back in steps of 0.2 deg at least
+  // Both steps were suspected within a window or two (1.5 s each) of happening.
+  ASSERT_GE(suspected_at.size(), 2u);
+  EXPECT_GT(suspected_at[0], 10.0);
+  EXPECT_LT(suspected_at[0], 13.5);
+  EXPECT_GE(suspicion_updates, 2);
   ASSERT_TRUE(bev_when_unloaded.has_value());
   const MountVector loaded_off = Difference(*bev_when_unloaded, loaded);
   EXPECT_LT(std::abs(loaded_off(kMountPitch)) * kRadToDeg, 0.05);
@@ -104,7 +135,7 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   EXPECT_LT(std::abs(estimate_off(kMountPitch)) * kRadToDeg, 0.05);
   EXPECT_LT(std::abs(estimate_off(kMountHeight)) * 1e3, 1.0);
   EXPECT_FALSE(cal.estimate().alarm) << cal.estimate().alarm_message;
-  EXPECT_EQ(cal.mount_updates(), static_cast<int>(update_stamps.size()));
+  EXPECT_EQ(cal.mount_updates(), updates);
 }
 
 // A component whose sigma stays above max_sigma keeps its value; disabled,
@@ -233,8 +264,9 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
   EXPECT_LT(std::abs(r.tape->line_base.rho_m - 0.3), 0.005);
   EXPECT_LT(std::abs(std::abs(r.tape->line_base.alpha_rad) - M_PI / 2) * kRadToDeg, 0.3);
 
-  // The mount's uncertainty is carried into each line: J C J^T added, J the
-  // line through the endpoints moved by the mount (central differences here).
+  // The mount's uncertainty is carried into each line: N J C J^T added, J the
+  // line through the endpoints moved by the mount (central differences here),
+  // N the sightings that share the mount's error.
   Eigen::Matrix4d C = MountVector(std::pow(0.05 * kDegToRad, 2), std::pow(0.05 * kDegToRad, 2),
                                   std::pow(1e-3, 2), std::pow(0.05 * kDegToRad, 2))
                           .asDiagonal();
@@ -263,7 +295,7 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
     const Eigen::Matrix2d added = with_c->observations.lines[i].covariance - base.covariance;
     const Eigen::Matrix2d expected = perception::CovarianceInDescriptionOf(
         perception::LineFromPoints(base.endpoint_a_base_m, base.endpoint_b_base_m).value(),
-        base.line_base, J * C * J.transpose());
+        base.line_base, FloorFrontEndOptions{}.mount_error_sightings * J * C * J.transpose());
     EXPECT_NEAR(added(0, 0), expected(0, 0), 1e-3 * expected(0, 0) + 1e-12) << i;
     EXPECT_NEAR(added(1, 1), expected(1, 1), 1e-3 * expected(1, 1) + 1e-12) << i;
     EXPECT_NEAR(added(0, 1), expected(0, 1), 1e-3 * std::abs(expected(0, 1)) + 1e-12) << i;

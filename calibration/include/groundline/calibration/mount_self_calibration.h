@@ -42,7 +42,8 @@
 //
 // The alarm (a knocked camera): the estimate differs from the commissioned
 // mount by more than a component's threshold, and by 2 sigma more, after two
-// window updates in a row. The
+// window updates in a row (the windows in a row that showed a step count
+// among them: each disagreed with the mount from before). The
 // thresholds separate a bent bracket (roll, yaw) from the load a vehicle
 // carries (pitch, height within a payload's range).
 //
@@ -216,6 +217,9 @@ struct MountSelfCalibrationOptions {
       (MountVector() << 0.026, 0.0044, 0.015, 0.0087).finished();  // 1.5, 0.25 deg, 15 mm, 0.5 deg
   double alarm_sigmas = 2.0;
   // ... after this many window updates in a row (a lone window can be off).
+  // A step's windows count: each of them disagreed with the mount from
+  // before, so at a step confirmed by step_windows windows the alarm is
+  // raised at once when the restarted estimate meets the condition.
   int alarm_windows = 2;
   int max_solver_iterations = 30;
 
@@ -231,6 +235,12 @@ struct MountEstimate {
   MountMatrix covariance = MountMatrix::Zero();
   bool alarm = false;
   std::string alarm_message;  // what changed and by how much, when alarm
+  // A window held as a possible step (over the step gate, fewer than
+  // step_windows in a row so far): the mount's components as that window
+  // showed them (pitch_rad, roll_rad, height_m, yaw_rad). Until the next
+  // window confirms or drops it, the mount may be this far from `mount`.
+  bool step_suspected = false;
+  MountVector suspected_components = MountVector::Zero();
   // Counters since the start.
   int frames = 0;
   int frames_gated = 0;  // not straight or steady

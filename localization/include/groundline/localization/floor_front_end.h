@@ -32,6 +32,15 @@ struct FloorFrontEndOptions {
   // a grid of samples) is blank: a covered lens, a blacked-out or saturated
   // camera. It is refused (an error), not read as a floor without markings.
   double min_frame_stddev = 2.0;
+  // The mount's error is one error common to every frame until the mount
+  // changes: each keyframe that sees a marking sees it displaced alike. The
+  // smoother takes each keyframe's sighting as independent, so the mount's
+  // share of a line's covariance (WithMount) is multiplied by the number of
+  // keyframes that see one marking: N independent sightings of R + N C carry
+  // the information of one marking seen with R / N + C, which is what N
+  // sightings with a common error C carry. The reference camera sees 1.8 m of
+  // floor along the drive and keyframes are 0.2-0.35 m apart: 5-9 sightings.
+  double mount_error_sightings = 6.0;
 
   core::Status Validate() const;
 };
@@ -59,10 +68,12 @@ class FloorFrontEnd {
   // with the mount's uncertainty: `mount_covariance` over (pitch_rad,
   // roll_rad, height_m, yaw_rad) (mount_self_calibration.h's order), carried
   // into every line's and junction's covariance (J C J^T through
-  // calibration::FloorPointMountJacobian; zero: none, as Create). The
+  // calibration::FloorPointMountJacobian, times the options'
+  // mount_error_sightings; zero: none, as Create). The
   // remap table is rebuilt on this one's grid (the BEV keeps its size and
   // extent; cells the new mount does not see become unseen); the extractor is
-  // rebuilt for the new table. About the cost of Create: not per frame.
+  // rebuilt for the new table. About the cost of Create: not per frame
+  // (the same mount with another covariance shares this one's table: cheap).
   // Errors: an invalid mount, a covariance that is not symmetric positive
   // semi-definite, a mount that sees none of the grid.
   core::Result<FloorFrontEnd> WithMount(const calibration::CameraMount& mount,

@@ -69,7 +69,12 @@ class KeyframeMountCalibration {
 
   // The mount to rebuild the BEV with at stamp_s, when a rebuild is due
   // (MountApplyOptions), with the covariance of the components that follow
-  // the estimate (the others are zero: they are the commissioned ones). The caller
+  // the estimate (the others are zero: they are the commissioned ones). While
+  // the estimator holds a window as a possible step
+  // (MountEstimate::step_suspected), the covariance also holds how far that
+  // window puts the mount from the one handed out: an update with the mount
+  // unchanged is handed out when the suspicion comes and when it goes, at
+  // once. The caller
   // rebuilds (Localizer::SetCameraMount, the service's camera stage); this
   // object takes the mount as applied.
   struct MountUpdate {
@@ -91,12 +96,17 @@ class KeyframeMountCalibration {
   int mount_updates() const { return mount_updates_; }
 
  private:
-  std::optional<MountUpdate> NextUpdate(bool bounded);
+  // may_move: the mount may change (else only the covariance); always: an
+  // update even when the mount does not change.
+  std::optional<MountUpdate> NextUpdate(bool bounded, bool may_move, bool always);
 
   calibration::MountSelfCalibrator calibrator_;
   MountApplyOptions apply_;
   calibration::CameraMount applied_;
-  std::optional<double> last_update_s_;
+  std::optional<double> last_update_s_;  // the last update that moved the mount
+  // The suspicion of a step in the last update handed out.
+  bool handed_suspicion_ = false;
+  calibration::MountVector handed_suspected_components_ = calibration::MountVector::Zero();
   int mount_updates_ = 0;
 };
 
