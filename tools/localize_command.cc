@@ -268,8 +268,12 @@ int RunLocalize(const LocalizeFlags& flags) {
     loc::MountApplyOptions apply;
     apply.enabled = !flags.self_calibrate_report_only;
     setup->options.track_floor_texture = true;
-    self_calibration.emplace(*setup->camera_mount, calibration::MountSelfCalibrationOptions{},
-                             apply);
+    calibration::MountSelfCalibrationOptions self_calibration_options;
+    if (setup->odometry_calibration) {
+      self_calibration_options =
+          loc::WithOdometryCalibration(self_calibration_options, *setup->odometry_calibration);
+    }
+    self_calibration.emplace(*setup->camera_mount, self_calibration_options, apply);
   }
   const loc::Atlas atlas_copy = setup->setup.atlas;
   const loc::DiffDriveParams drive_used = setup->setup.drive;
@@ -628,7 +632,9 @@ CLI::App* AddLocalizeCommand(CLI::App& parent, CommandRunner* run) {
   cmd->add_option("--odometry", flags->odometry_path,
                   "The vehicle's odometry calibration (--odometry-out of an earlier run): "
                   "each wheel's radius, the track and the wheel noise in place of the "
-                  "manifest's nominal geometry and the preset's noise")
+                  "manifest's nominal geometry and the preset's noise; with --self-calibrate "
+                  "its uncertainty is the motion's scale and curvature error, which sets how "
+                  "well the camera's height and yaw are known")
       ->check(CLI::ExistingFile);
   cmd->add_option("--odometry-out", flags->odometry_out_path,
                   "--mode lines: after the run, calibrate the odometry (wheel radii, track, "

@@ -99,6 +99,7 @@ core::Status MountSelfCalibrationOptions::Validate() const {
   if (step_windows < 1) return OptionError("step_windows", "at least 1");
   if (step_evidence_windows == 1 || step_evidence_windows < 0)
     return OptionError("step_evidence_windows", "0 (off) or at least 2");
+  if (quick_step_frames < 0) return OptionError("quick_step_frames", "0 (off) or more");
   if (alarm_windows < 1) return OptionError("alarm_windows", "at least 1");
   if (!(std::isfinite(alarm_sigmas) && alarm_sigmas >= 0.0))
     return OptionError("alarm_sigmas", "a number >= 0");
@@ -182,6 +183,7 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
   bool changed = false;
   const bool qualifies = FrameQualifies(frame);
   if (!qualifies) ++estimate_.frames_gated;
+  if (qualifies) CheckFramePair(frame);
   const bool gap =
       !window_.empty() && frame.stamp_s - window_.back().stamp_s > options_.max_frame_gap_s;
   if ((!qualifies || gap) && !window_.empty()) changed = CloseWindow();
@@ -205,6 +207,34 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
   recent_.push_back(frame);
   while (recent_.size() > 2) recent_.pop_front();
   return changed;
+}
+
+void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
+  if (options_.quick_step_frames <= 0) return;
+  if (!HasFlowFrom(frame, recent_.back())) {
+    quick_streak_ = 0;
+    return;
+  }
+  const MountWindowSolution pair =
+      SolveMountWindow({recent_.back(), frame}, commissioned_, mean_, options_);
+  int dims = 0;
+  const double nis = pair.ok ? EvidenceNis(pair.information, pair.information_vector, mean_,
+                                           covariance_, &dims)
+                             : 0.0;
+  const bool over = dims > 0 && nis > core::ChiSquareQuantile(dims, options_.step_probability);
+  quick_streak_ = over ? quick_streak_ + 1 : 0;
+  // A window that holds the suspicion knows the mount better than a pair.
+  if (!suspect_.empty()) return;
+  if (quick_streak_ >= options_.quick_step_frames) {
+    estimate_.step_suspected = true;
+    estimate_.suspected_components = MountComponents(commissioned_) + pair.correction;
+    quick_suspicion_ = true;
+  } else if (!over && quick_suspicion_) {
+    // The frames agree with the estimate again and no window holds a step.
+    estimate_.step_suspected = false;
+    estimate_.suspected_components.setZero();
+    quick_suspicion_ = false;
+  }
 }
 
 double EvidenceNis(const MountMatrix& information, const MountVector& information_vector,
@@ -258,6 +288,7 @@ bool MountSelfCalibrator::CloseWindow() {
   if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) {
+      quick_suspicion_ = false;  // a window holds it now
       estimate_.step_suspected = true;
       estimate_.suspected_components = MountComponents(commissioned_) + w.correction;
       return false;
@@ -344,6 +375,7 @@ MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {
 void MountSelfCalibrator::UpdateEstimate() {
   estimate_.step_suspected = false;
   estimate_.suspected_components.setZero();
+  quick_suspicion_ = false;
   estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
   estimate_.covariance.diagonal() += SystematicVariance(estimate_.mount.height_m);

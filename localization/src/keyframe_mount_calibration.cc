@@ -120,6 +120,19 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
   return update;
 }
 
+calibration::MountSelfCalibrationOptions WithOdometryCalibration(
+    calibration::MountSelfCalibrationOptions options, const OdometryCalibration& odometry) {
+  const core::Matrix3& C = odometry.drive_covariance;  // (left, right, track)
+  const double radius_m = 0.5 * (odometry.drive.LeftRadius() + odometry.drive.RightRadius());
+  const double mean_variance = 0.25 * (C(0, 0) + C(1, 1) + 2.0 * C(0, 1));
+  const double difference_variance = C(0, 0) + C(1, 1) - 2.0 * C(0, 1);
+  constexpr double kDefaultDifference = 1.4142135623730951e-3;  // sqrt(2) * 0.1 %
+  options.motion_scale_sigma = std::sqrt(std::max(0.0, mean_variance)) / radius_m;
+  options.motion_heading_sigma_rad *=
+      std::sqrt(std::max(0.0, difference_variance)) / radius_m / kDefaultDifference;
+  return options;
+}
+
 nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e,
                                          const calibration::CameraMount* applied) {
   using calibration::kMountHeight;
@@ -140,6 +153,7 @@ nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e,
   if (e.alarm) j["selfcal_alarm_message"] = e.alarm_message;
   j["selfcal_windows"] = e.windows_used;
   j["selfcal_steps"] = e.steps;
+  j["selfcal_step_suspected"] = e.step_suspected;
   if (applied) {
     j["selfcal_applied_pitch_deg"] = applied->pitch_rad * core::kRadToDeg;
     j["selfcal_applied_roll_deg"] = applied->roll_rad * core::kRadToDeg;

@@ -57,8 +57,12 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
       return core::Status::Error(config.replay_dataset +
                                  ": localizer.self_calibration needs the dataset's camera");
     }
-    impl->self_calibration.emplace(*setup->camera_mount,
-                                   calibration::MountSelfCalibrationOptions{});
+    calibration::MountSelfCalibrationOptions self_calibration_options;
+    if (setup->odometry_calibration) {
+      self_calibration_options =
+          loc::WithOdometryCalibration(self_calibration_options, *setup->odometry_calibration);
+    }
+    impl->self_calibration.emplace(*setup->camera_mount, self_calibration_options);
   }
   impl->drive = setup->setup.drive;
   impl->camera = setup->setup.camera;

@@ -361,8 +361,9 @@ TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSecon
   ASSERT_GE(first_alarm_s, 20.0);
   EXPECT_LE(first_alarm_s, 25.0);
   EXPECT_EQ(cal.estimate().steps, 1);
-  // The first window over the step gate is held as a suspected step, with
-  // the mount it showed; the next confirms the step, and the windows that
+  // The floor's texture of two frame pairs in a row over the step gate marks
+  // a suspected step, with the mount the last of them showed, before any
+  // window closes; the windows then confirm the step, and the windows that
   // showed it count toward the alarm's: it is raised with the step.
   std::optional<std::size_t> suspected, stepped;
   for (std::size_t i = 0; i < run.stamps.size(); ++i) {
@@ -372,10 +373,14 @@ TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSecon
   ASSERT_TRUE(suspected && stepped);
   EXPECT_LT(*suspected, *stepped);
   EXPECT_GE(run.stamps[*suspected], 20.0);
-  const MountVector shown =
-      run.estimates[*suspected].suspected_components - MountComponents(knocked);
-  EXPECT_LT(std::abs(shown(kMountYaw)) * kRadToDeg, 0.3);
-  EXPECT_LT(std::abs(shown(kMountRoll)) * kRadToDeg, 0.15);
+  EXPECT_LE(run.stamps[*suspected], 20.0 + 2.0 / d.rate_hz + 1e-9);
+  // One frame pair sees the knock's yaw (1.2 deg) to a few tenths of a
+  // degree; the suspicion holds until the step is confirmed.
+  for (std::size_t i = *suspected; i < *stepped; ++i) {
+    EXPECT_TRUE(run.estimates[i].step_suspected) << "t " << run.stamps[i];
+    const MountVector shown = run.estimates[i].suspected_components - MountComponents(knocked);
+    EXPECT_LT(std::abs(shown(kMountYaw)) * kRadToDeg, 0.45) << "t " << run.stamps[i];
+  }
   EXPECT_FALSE(run.estimates[*stepped].step_suspected);
   EXPECT_DOUBLE_EQ(first_alarm_s, run.stamps[*stepped]);
   const MountVector e = Difference(cal.estimate().mount, knocked);
@@ -484,6 +489,9 @@ TEST(MountSelfCalibrationOptions, ErrorsNameTheField) {
   o = {};
   o.known_spacings_m = {1.2, std::nan("")};
   EXPECT_NE(o.Validate().message().find("'known_spacings_m'"), std::string::npos);
+  o = {};
+  o.quick_step_frames = -1;
+  EXPECT_NE(o.Validate().message().find("'quick_step_frames'"), std::string::npos);
 }
 
 }  // namespace

@@ -229,6 +229,40 @@ TapeAndBar Find(const FloorObservations& seen) {
   return found;
 }
 
+// A calibrated odometry's uncertainty replaces the defaults' systematic
+// errors: radii known to 0.1 % each, independently, give the default heading
+// sigma (the default stands for that) and a mean radius known to 0.1 %
+// / sqrt(2); an error common to both wheels scales the motion without
+// curving it (scale sigma 0.1 %, heading sigma 0); radii known exactly
+// leave neither.
+TEST(KeyframeMountCalibration, ACalibratedOdometrySetsTheMotionsSystematicErrors) {
+  const calibration::MountSelfCalibrationOptions defaults;
+  OdometryCalibration odometry;
+  odometry.drive.wheel_radius_m = 0.125;
+  const double s = 0.125e-3;  // 0.1 % of the radius
+  odometry.drive_covariance = core::Matrix3::Zero();
+  odometry.drive_covariance(0, 0) = odometry.drive_covariance(1, 1) = s * s;
+  odometry.drive_covariance(2, 2) = 1e-6;  // the track's plays no part
+  calibration::MountSelfCalibrationOptions o = WithOdometryCalibration(defaults, odometry);
+  EXPECT_NEAR(o.motion_heading_sigma_rad, defaults.motion_heading_sigma_rad, 1e-12);
+  EXPECT_NEAR(o.motion_scale_sigma, 1e-3 / std::sqrt(2.0), 1e-12);
+  EXPECT_TRUE(o.Validate().ok());
+
+  odometry.drive_covariance(0, 1) = odometry.drive_covariance(1, 0) = s * s;
+  o = WithOdometryCalibration(defaults, odometry);
+  EXPECT_NEAR(o.motion_scale_sigma, 1e-3, 1e-12);
+  EXPECT_NEAR(o.motion_heading_sigma_rad, 0.0, 1e-9);
+
+  odometry.drive_covariance.setZero();
+  o = WithOdometryCalibration(defaults, odometry);
+  EXPECT_EQ(o.motion_scale_sigma, 0.0);
+  EXPECT_EQ(o.motion_heading_sigma_rad, 0.0);
+  EXPECT_TRUE(o.Validate().ok());
+  // Everything else is kept.
+  EXPECT_EQ(o.window_s, defaults.window_s);
+  EXPECT_EQ(o.flow_sigma_m, defaults.flow_sigma_m);
+}
+
 TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
   Eigen::Matrix3d K;
   K << 1132.0, 0.0, 639.5, 0.0, 1132.0, 511.5, 0.0, 0.0, 1.0;

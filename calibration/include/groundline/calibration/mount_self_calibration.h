@@ -211,6 +211,14 @@ struct MountSelfCalibrationOptions {
   // a step too; the estimate restarts from before them with all of them but
   // the first (which may straddle it). 0: off.
   int step_evidence_windows = 4;
+  // A step suspected before a window closes: the floor's texture of one
+  // frame pair (the frame and the one before, solved as a window of two)
+  // over the step gate for this many frame pairs in a row. It only marks a
+  // suspected step (MountEstimate::step_suspected, so that the localizer
+  // widens the lines at once, within a few frames of a payload or a knock
+  // instead of the one or two windows a step takes to show); the estimate
+  // waits for the windows. 0: off.
+  int quick_step_frames = 2;
   // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
   // height_m, yaw_rad) by more than alarm_sigmas sigma.
   MountVector alarm_threshold =
@@ -313,6 +321,9 @@ class MountSelfCalibrator {
   bool HasEvidence(const MountFrame& frame) const;
   bool HasFlowFrom(const MountFrame& frame, const MountFrame& previous) const;
   bool CloseWindow();
+  // The frame pair (the last frame, `frame`) over the step gate: counts
+  // quick_streak_ and marks a suspected step (quick_step_frames).
+  void CheckFramePair(const MountFrame& frame);
   void Fuse(const MountWindowSolution& window, double stamp_s);
   void UpdateEstimate();
   // The variances of the motion's systematic errors, added to the
@@ -327,6 +338,8 @@ class MountSelfCalibrator {
   double last_fused_stamp_s_ = -1.0;
   double last_windowed_stamp_s_ = -1e300;  // the last frame of the last window
   int alarm_streak_ = 0;                   // updates in a row with the alarm's condition
+  int quick_streak_ = 0;                   // frame pairs in a row over the step gate
+  bool quick_suspicion_ = false;           // step_suspected from frame pairs, no window
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;            // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row

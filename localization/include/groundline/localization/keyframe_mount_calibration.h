@@ -16,6 +16,7 @@
 #include "groundline/calibration/mount_estimate_file.h"
 #include "groundline/calibration/mount_self_calibration.h"
 #include "groundline/localization/localizer.h"
+#include "groundline/localization/odometry_calibration.h"
 
 namespace groundline::localization {
 
@@ -110,11 +111,22 @@ class KeyframeMountCalibration {
   int mount_updates_ = 0;
 };
 
+// The self-calibration's options for a vehicle whose odometry was
+// calibrated (odometry_calibration.h): the motion's systematic errors are
+// the calibration's own uncertainty instead of the defaults' (each wheel
+// 0.1 % off its nominal radius). motion_scale_sigma becomes the relative
+// sigma of the mean radius; motion_heading_sigma_rad is scaled by the
+// relative sigma of the radii's difference against the defaults'
+// sqrt(2) * 0.1 % (the heading a window reads as yaw is proportional to it).
+calibration::MountSelfCalibrationOptions WithOdometryCalibration(
+    calibration::MountSelfCalibrationOptions options, const OdometryCalibration& odometry);
+
 // The health fields of an estimate, in the extrinsics file's convention
 // (docs/extrinsics.md): selfcal_pitch_deg, selfcal_roll_deg,
 // selfcal_height_m, selfcal_yaw_deg, their 1-sigma selfcal_*_sigma_*,
 // selfcal_alarm and, when raised, selfcal_alarm_message; selfcal_windows
-// (windows fused so far) and selfcal_steps; with `applied`, the mount the
+// (windows fused so far), selfcal_steps and selfcal_step_suspected (a window
+// held as a possible step); with `applied`, the mount the
 // BEV is made with: selfcal_applied_pitch_deg, _roll_deg, _height_m, _yaw_deg.
 nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& estimate,
                                          const calibration::CameraMount* applied = nullptr);
