@@ -112,7 +112,7 @@ MountSelfCalibrator::MountSelfCalibrator(const CameraMount& commissioned,
     : commissioned_(commissioned), options_(options) {
   assert(commissioned.Validate().ok());
   assert(options.Validate().ok());
-  covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+  covariance_ = InitialCovariance();
   UpdateEstimate();
 }
 
@@ -226,14 +226,9 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
   // A window that holds the suspicion knows the mount better than a pair.
   if (!suspect_.empty()) return;
   if (quick_streak_ >= options_.quick_step_frames) {
-    estimate_.step_suspected = true;
-    estimate_.suspected_components = MountComponents(commissioned_) + pair.correction;
-    quick_suspicion_ = true;
+    Suspect(pair.correction, /*from_frames=*/true);
   } else if (!over && quick_suspicion_) {
-    // The frames agree with the estimate again and no window holds a step.
-    estimate_.step_suspected = false;
-    estimate_.suspected_components.setZero();
-    quick_suspicion_ = false;
+    ClearSuspicion();  // the frames agree again and no window holds a step
   }
 }
 
@@ -277,7 +272,7 @@ bool MountSelfCalibrator::CloseWindow() {
   // The random walk since the last fusion.
   if (last_fused_stamp_s_ >= 0.0) {
     const double dt = std::max(0.0, stamp_s - last_fused_stamp_s_);
-    covariance_ += (options_.random_walk_per_sqrt_s.array().square() * dt).matrix().asDiagonal();
+    covariance_ += RandomWalkCovariance(dt);
   }
   int dims = 0;
   const double nis = EvidenceNis(w.information, w.information_vector, mean_, covariance_, &dims);
@@ -288,16 +283,14 @@ bool MountSelfCalibrator::CloseWindow() {
   if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) {
-      quick_suspicion_ = false;  // a window holds it now
-      estimate_.step_suspected = true;
-      estimate_.suspected_components = MountComponents(commissioned_) + w.correction;
+      Suspect(w.correction, /*from_frames=*/false);
       return false;
     }
     // A step: restart from the commissioned uncertainty about the current
     // mean and take the last window that showed it (the first may straddle
     // the step, half of its frames under the old mount).
     ++estimate_.steps;
-    covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+    covariance_ = InitialCovariance();
     Fuse(suspect_.back(), stamp_s);
     estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
     // The windows that showed the step are updates in a row that disagree
@@ -328,11 +321,8 @@ bool MountSelfCalibrator::CloseWindow() {
       information += r.window.information;
       information_vector += r.window.information_vector;
     }
-    MountMatrix before = first.covariance_before;
-    before += (options_.random_walk_per_sqrt_s.array().square() *
-               std::max(0.0, stamp_s - first.stamp_s))
-                  .matrix()
-                  .asDiagonal();
+    const MountMatrix before =
+        first.covariance_before + RandomWalkCovariance(std::max(0.0, stamp_s - first.stamp_s));
     const double together =
         EvidenceNis(information, information_vector, first.mean_before, before, &dims);
     if (dims > 0 && together > core::ChiSquareQuantile(dims, options_.step_probability)) {
@@ -340,7 +330,7 @@ bool MountSelfCalibrator::CloseWindow() {
       // may straddle the step).
       ++estimate_.steps;
       mean_ = first.mean_before;
-      covariance_ = options_.initial_sigma.array().square().matrix().asDiagonal();
+      covariance_ = InitialCovariance();
       for (std::size_t i = 1; i < recent_windows_.size(); ++i) {
         Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
         --estimate_.windows_used;  // fused once already
@@ -365,6 +355,26 @@ void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
   estimate_.last_update_s = stamp_s;
 }
 
+MountMatrix MountSelfCalibrator::InitialCovariance() const {
+  return options_.initial_sigma.array().square().matrix().asDiagonal();
+}
+
+MountMatrix MountSelfCalibrator::RandomWalkCovariance(double dt_s) const {
+  return (options_.random_walk_per_sqrt_s.array().square() * dt_s).matrix().asDiagonal();
+}
+
+void MountSelfCalibrator::Suspect(const MountVector& correction, bool from_frames) {
+  estimate_.step_suspected = true;
+  estimate_.suspected_components = MountComponents(commissioned_) + correction;
+  quick_suspicion_ = from_frames;
+}
+
+void MountSelfCalibrator::ClearSuspicion() {
+  estimate_.step_suspected = false;
+  estimate_.suspected_components.setZero();
+  quick_suspicion_ = false;
+}
+
 MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {
   MountVector v = MountVector::Zero();
   v(kMountHeight) = std::pow(height_m * options_.motion_scale_sigma, 2);
@@ -373,9 +383,7 @@ MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {
 }
 
 void MountSelfCalibrator::UpdateEstimate() {
-  estimate_.step_suspected = false;
-  estimate_.suspected_components.setZero();
-  quick_suspicion_ = false;
+  ClearSuspicion();
   estimate_.mount = WithMountComponents(commissioned_, MountComponents(commissioned_) + mean_);
   estimate_.covariance = covariance_;
   estimate_.covariance.diagonal() += SystematicVariance(estimate_.mount.height_m);

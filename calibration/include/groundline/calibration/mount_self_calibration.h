@@ -326,6 +326,14 @@ class MountSelfCalibrator {
   void CheckFramePair(const MountFrame& frame);
   void Fuse(const MountWindowSolution& window, double stamp_s);
   void UpdateEstimate();
+  // The commissioning's covariance (a start, a restart after a step) and the
+  // random walk's over dt_s.
+  MountMatrix InitialCovariance() const;
+  MountMatrix RandomWalkCovariance(double dt_s) const;
+  // Marks a suspected step at the mount `correction` shows (from frame
+  // pairs, or from a window over the step gate), or clears it.
+  void Suspect(const MountVector& correction, bool from_frames);
+  void ClearSuspicion();
   // The variances of the motion's systematic errors, added to the
   // estimate's (motion_scale_sigma, motion_heading_sigma_rad).
   MountVector SystematicVariance(double height_m) const;
