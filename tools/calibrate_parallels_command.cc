@@ -47,9 +47,11 @@ with their sigmas, and writes into --out:
                          each image's BEV with its lines (green: paired with
                          the image's longest line, in red; grey: unpaired)
 
-The BEV grid and the least line length scale with the mount's height (the
-reference camera, 0.58 m high and pitched 42 deg down, looks 0.6-2.4 m ahead,
-+-1 m, in 1 cm cells, with lines of 20 cm or more). A camera pitched much
+The BEV grid, the least line length and the widths of bars (markings wider
+than the ridge filter, found as two facing edges) scale with the mount's
+height (the reference camera, 0.58 m high and pitched 42 deg down, looks
+0.6-2.4 m ahead, +-1 m, in 1 cm cells, with lines of 20 cm or more and bars
+8-70 cm wide). A camera pitched much
 less looks farther for its height: give it its grid with --grid (the floor
 it sees well, in base_link) and the length of its shortest marking (a dash)
 with --min-line-length. Bright markings are used (tape, paint); --dark adds

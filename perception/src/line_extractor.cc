@@ -42,6 +42,24 @@ core::Status LineExtractorOptions::Validate() const {
     return bad("min_dark_narrow_share", "a number in [0, 1]");
   }
   if (!(max_dark_sagitta_m > 0.0)) return bad("max_dark_sagitta_m", "a number > 0");
+  if (!(dark_sagitta_significance >= 0.0)) {
+    return bad("dark_sagitta_significance", "a number >= 0");
+  }
+  if (!(dark_min_significant_sagitta_m >= 0.0)) {
+    return bad("dark_min_significant_sagitta_m", "a number >= 0");
+  }
+  if (!(dark_arc_max_radius_m >= 0.0)) return bad("dark_arc_max_radius_m", "a number >= 0");
+  if (!(dark_short_length_m >= 0.0)) return bad("dark_short_length_m", "a number >= 0");
+  if (!(dark_short_max_rms_m > 0.0)) return bad("dark_short_max_rms_m", "a number > 0");
+  if (!(min_bright_side_ratio >= 0.0 && min_bright_side_ratio <= 1.0)) {
+    return bad("min_bright_side_ratio", "a number in [0, 1]");
+  }
+  if (!(bright_side_min_grey_share >= 0.0)) {
+    return bad("bright_side_min_grey_share", "a number >= 0");
+  }
+  if (!(reference_floor_grey >= 0.0 && reference_floor_grey <= 255.0)) {
+    return bad("reference_floor_grey", "a grey level in [0, 255] (0: off)");
+  }
   if (!(same_marking_distance_m >= 0.0)) return bad("same_marking_distance_m", "a number >= 0");
   if (!(same_marking_angle_deg >= 0.0)) return bad("same_marking_angle_deg", "a number >= 0");
   if (!(side_offset_cells > 0.0)) return bad("side_offset_cells", "a number > 0");
@@ -283,7 +301,8 @@ std::optional<internal::CandidateLine> FitSegment(
     return std::nullopt;
   }
   candidate.line.energy = Mean(energies);
-  candidate.sagitta_m = internal::SagittaM(candidate.line.line, candidate.centres_m);
+  candidate.sagitta = internal::MeasureSagitta(candidate.line.line, candidate.centres_m,
+                                               options.CorrelationSamples());
   return candidate;
 }
 
@@ -403,7 +422,15 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev) const {
 LineExtraction LineExtractor::Extract(const cv::Mat& bev, ExtractionScratch* scratch) const {
   assert(bev.type() == CV_8UC1 && bev.rows == grid_.rows() && bev.cols == grid_.cols());
   assert(scratch != nullptr);
-  bev.convertTo(scratch->bev_float, CV_32F);
+  // Exposure: the grey-level thresholds are for a floor of the reference
+  // grey; a darker frame is scaled up to it (LineExtractorOptions::reference_floor_grey).
+  double floor_median_grey = internal::MedianGrey(bev, search_mask_);
+  double gain = 1.0;
+  if (options_.reference_floor_grey > 0.0 && floor_median_grey > 0.0) {
+    gain = std::max(1.0, options_.reference_floor_grey / floor_median_grey);
+    floor_median_grey *= gain;
+  }
+  bev.convertTo(scratch->bev_float, CV_32F, gain);
   const cv::Mat& bev_float = scratch->bev_float;
   filter_.Compute(bev_float, &scratch->hessian);
   AnalyzeRidges(scratch->hessian, &scratch->ridges, &scratch->ridge);
@@ -411,7 +438,6 @@ LineExtraction LineExtractor::Extract(const cv::Mat& bev, ExtractionScratch* scr
 
   LineExtraction result;
   const double side_offset_m = options_.side_offset_cells * grid_.cell_m();
-  const double floor_median_grey = internal::MedianGrey(bev, search_mask_);
   for (const LinePolarity polarity : {LinePolarity::kBright, LinePolarity::kDark}) {
     const bool bright = polarity == LinePolarity::kBright;
     if (bright ? !options_.bright : !options_.dark) continue;

@@ -55,8 +55,10 @@ void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double o
   candidate->centre_grey = centre / count;
 }
 
-double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m) {
-  if (points_m.size() < 3) return 0.0;
+Sagitta MeasureSagitta(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m,
+                       double correlation_samples) {
+  Sagitta result;
+  if (points_m.size() < 4) return result;
   const Eigen::Vector2d d = line.Direction();
   double lo = d.dot(points_m.front()), hi = lo;
   for (const Eigen::Vector2d& p : points_m) {
@@ -72,8 +74,24 @@ double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& point
     A += phi * phi.transpose();
     b += phi * SignedDistance(line, p);
   }
-  const Eigen::Vector3d q = A.ldlt().solve(b);
-  return std::abs(q(2)) * 0.25 * (hi - lo) * (hi - lo);
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt = A.ldlt();
+  const Eigen::Vector3d q = ldlt.solve(b);
+  double ss = 0.0;
+  for (const Eigen::Vector2d& p : points_m) {
+    const double t = d.dot(p) - mid;
+    const double r = SignedDistance(line, p) - (q(0) + q(1) * t + q(2) * t * t);
+    ss += r * r;
+  }
+  const double n = static_cast<double>(points_m.size());
+  // Residual variance per centre; neighbouring centres share their smoothing,
+  // so the curvature's variance grows by the correlation length in samples.
+  const double var = ss / (n - 3.0) * std::max(1.0, correlation_samples);
+  const double var_c = var * ldlt.solve(Eigen::Vector3d::UnitZ())(2);
+  const double quarter_span2 = 0.25 * (hi - lo) * (hi - lo);
+  result.sagitta_m = std::abs(q(2)) * quarter_span2;
+  result.sigma_m = std::sqrt(std::max(0.0, var_c)) * quarter_span2;
+  result.span_m = hi - lo;
+  return result;
 }
 
 double MedianGrey(const cv::Mat& bev, const cv::Mat& mask) {
@@ -118,6 +136,54 @@ double Overlap(const ExtractedLine& a, const ExtractedLine& b) {
   return std::min(a1, b1) - std::max(a0, b0);
 }
 
+namespace {
+
+// A dark line significantly curved, and more than a saw cut's residual bend
+// (the lens model's error bends a straight joint into an arc of tens of
+// metres): a tire's scuff, an arc of a few metres.
+bool IsArc(const Sagitta& sagitta, const LineExtractorOptions& options) {
+  if (!(sagitta.sagitta_m > options.dark_min_significant_sagitta_m &&
+        sagitta.sagitta_m > options.dark_sagitta_significance * sagitta.sigma_m)) {
+    return false;
+  }
+  const double radius = sagitta.span_m * sagitta.span_m / (8.0 * sagitta.sagitta_m);
+  return radius < options.dark_arc_max_radius_m;
+}
+
+// The largest mean contrast (centre minus side, grey levels) of a bright
+// candidate against the side along sign * normal, over offsets of 1 ..
+// max_cells cells.
+double MaxSideContrast(const cv::Mat& bev_float, const BevGrid& grid, const CandidateLine& candidate,
+                       double sign, double max_cells) {
+  const Eigen::Vector2d n = sign * grid.cell_m() * candidate.line.line.Normal();
+  double best = -std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= static_cast<int>(std::floor(max_cells)); ++k) {
+    double sum = 0.0;
+    int count = 0;
+    for (size_t i = 0; i < candidate.centres_m.size(); i += 2) {
+      const Eigen::Vector2d& p = candidate.centres_m[i];
+      const Eigen::Vector2d c = grid.CellOfFloorPoint(p);
+      const Eigen::Vector2d q = grid.CellOfFloorPoint(p + k * n);
+      const float centre = SampleBilinear(bev_float, c.x(), c.y());
+      const float side = SampleBilinear(bev_float, q.x(), q.y());
+      if (centre == 0.0f || side == 0.0f) continue;  // unseen
+      sum += centre - side;
+      ++count;
+    }
+    if (count > 0) best = std::max(best, sum / count);
+  }
+  return best;
+}
+
+// A short dark piece is believed only when its centres line up as a saw
+// cut's do: a scuff's or a stain's edge is ragged.
+bool IsRaggedShortDark(const ExtractedLine& line, const LineExtractorOptions& options) {
+  return (line.end_m - line.start_m).norm() < options.dark_short_length_m &&
+         line.rms_residual_m > options.dark_short_max_rms_m;
+}
+
+}  // namespace
+
 void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                  double floor_median_grey, const cv::Mat& bev_float, const BevGrid& grid,
                  const LineExtractorOptions& options, std::vector<ExtractedLine>* out,
@@ -140,7 +206,8 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
     }
     if (polarity == LinePolarity::kDark &&
         (candidates[i].narrow_share < options.min_dark_narrow_share ||
-         candidates[i].sagitta_m > options.max_dark_sagitta_m)) {
+         candidates[i].sagitta.sagitta_m > options.max_dark_sagitta_m ||
+         IsArc(candidates[i].sagitta, options) || IsRaggedShortDark(candidates[i].line, options))) {
       continue;
     }
     const auto sharp = [&](bool both_sides) {
@@ -149,7 +216,24 @@ void SelectLines(std::vector<CandidateLine> candidates, LinePolarity polarity,
                                              options.flank_max_cells, 0.5 * min_contrast);
       return !(s < options.min_flank_sharpness);  // NaN (not measured): kept
     };
-    if (std::min(plus, minus) >= min_contrast) {
+    // A narrow bright line is brighter than both sides alike (tape on
+    // concrete); much brighter than one side only, it is the lit flank of a
+    // shadow or a stain: an edge, for the bar and single-edge tests.
+    // The weaker side's contrast is its best over the offsets up to
+    // side_offset (a tape split by the joint under it falls into the groove
+    // 2-3 cm out, then rises onto the tape's other half).
+    const auto symmetric = [&] {
+      if (polarity != LinePolarity::kBright) return true;
+      const double needed = options.min_bright_side_ratio * std::max(plus, minus);
+      if (std::min(plus, minus) >= needed ||
+          std::min(plus, minus) >= options.bright_side_min_grey_share * candidates[i].centre_grey) {
+        return true;
+      }
+      const double weak_sign = plus < minus ? 1.0 : -1.0;  // +n when contrast_plus is weaker
+      return MaxSideContrast(bev_float, grid, candidates[i], weak_sign,
+                             options.side_offset_cells) >= needed;
+    };
+    if (std::min(plus, minus) >= min_contrast && symmetric()) {
       if (!sharp(true)) continue;
       out->push_back(candidates[i].line);
     } else if (polarity == LinePolarity::kBright && std::max(plus, minus) >= min_contrast) {

@@ -16,6 +16,22 @@
 namespace groundline::perception::internal {
 
 // A fitted line before the side test, with its floor centres.
+// Straightness: the centres' deviation across a line fitted by a parabola in
+// the position along it (y = a + b t + c t^2, t centred): the parabola's
+// sagitta over the centres' span, |c| (L / 2)^2, metres, and its standard
+// deviation from the residuals about the parabola. A straight marking gives
+// a sagitta within its noise; an arc of radius R over a length L gives
+// L^2 / (8 R).
+struct Sagitta {
+  double sagitta_m = 0.0;
+  double sigma_m = 0.0;
+  double span_m = 0.0;  // of the centres along the line
+};
+// correlation_samples: how many neighbouring centres share one centre's error
+// (LineExtractorOptions::CorrelationSamples).
+Sagitta MeasureSagitta(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m,
+                       double correlation_samples);
+
 struct CandidateLine {
   ExtractedLine line;
   std::vector<Eigen::Vector2d> centres_m;
@@ -27,14 +43,10 @@ struct CandidateLine {
   // The share of centres where the line is a narrow ridge of its polarity
   // (MeasureSideContrast).
   double narrow_share = 0.0;
-  double sagitta_m = 0.0;  // SagittaM of the centres about the line
+  Sagitta sagitta;  // MeasureSagitta of the centres about the line
 };
 
-// Straightness: the centres' deviation across `line` fitted by a parabola in
-// the position along it; the parabola's sagitta over the centres' span
-// (|c| (L / 2)^2 for y = a + b t + c t^2, t centred), metres. A straight
-// marking gives noise; an arc of radius R over a length L gives L^2 / (8 R).
-double SagittaM(const HesseLine& line, const std::vector<Eigen::Vector2d>& points_m);
+
 
 // Fills contrast_plus / contrast_minus / centre_grey from the BEV (CV_32FC1),
 // and narrow_share: the share of the centres (seen with both sides) whose

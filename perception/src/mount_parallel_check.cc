@@ -53,6 +53,8 @@ MountParallelCheckOptions MountParallelCheckOptions::ForHeight(double height_m) 
   g.y_max_m *= scale;
   g.cell_m *= scale;
   o.extractor.min_line_length_m *= scale;
+  o.extractor.bar_min_width_m *= scale;
+  o.extractor.bar_max_width_m *= scale;
   o.extractor.dark = false;
   return o;
 }

@@ -123,6 +123,11 @@ TEST(DuckietownBev, ParallelRoadLinesStayParallel) {
   LineExtractorOptions extract;
   extract.dark = false;
   extract.min_line_length_m = 0.08;
+  // The white edge line is 4.5 cm wide, 18 cells: wider than the ridge, so
+  // it is found as a bar of two facing edges, whose ridges lie on its inner
+  // flanks 2-3 cm apart (the default least bar width is for warehouse bars at
+  // 1 cm cells).
+  extract.bar_min_width_m = 0.015;
   const LineExtractor extractor(remap, extract);
   const LineExtraction out = extractor.Extract(bev);
   // The white edge on the right and the yellow centre dashes on the left.
@@ -165,6 +170,7 @@ TEST(DuckietownBev, SelfCalibratedPitchMakesTheRoadEdgesParallelFromThreeDegrees
     options.bev.grid = {0.15, 0.75, -0.3, 0.3, 0.0025};
     options.extractor.dark = false;
     options.extractor.min_line_length_m = 0.04;
+    options.extractor.bar_min_width_m = 0.015;  // the 4.5 cm white line, as above
     const cv::Mat road =
         cv::imread((dir / "frame1_distorted.jpg").string(), cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(road.empty());

@@ -3,7 +3,9 @@
 // edge (a rack's, a pallet's, the vehicle's) is no line, while the one
 // visible edge of a painted stripe on the same concrete is; lit concrete
 // between two shadows is no bar, while paint bars are; a row of luminaire
-// glare spots lined up along the aisle, even merged into a band, is no line.
+// glare spots lined up along the aisle, even merged into a band, is no line;
+// the lit flank of a shadow beside a darker patch is no tape, while a tape
+// beside a shadow's edge is; a faint joint on a dim floor is found.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -212,6 +214,90 @@ TEST(LineExtractorGeneralization, RowOfGlareSpotsGivesNoLine) {
         }
       }
     }
+  }
+}
+
+// A strip of lit floor between a shadow and a slightly darker patch (wet or
+// worn concrete): bright against both sides, as a tape, but much brighter
+// than one side only, and its other side is the same floor a few percent off.
+// It is taken as an edge, and as an edge it is a shadow's (the roughness
+// test).
+TEST(LineExtractorGeneralization, LitFlankBesideADarkerPatchGivesNoLine) {
+  const BevGrid grid(BevGridOptions{});
+  for (const double alpha_deg : {0.0, 90.0}) {
+    for (const double strip_m : {0.05, 0.08}) {
+      const Eigen::Vector2d d(std::cos(alpha_deg * kPi / 180), std::sin(alpha_deg * kPi / 180));
+      const Eigen::Vector2d n(-d.y(), d.x());
+      const Eigen::Vector2d edge(1.5, 0.1);
+      const Floor floor = [&](const Eigen::Vector2d& p) {
+        const double across = n.dot(p - edge);
+        const double light = across > 0.0 ? 0.4 : across > -strip_m ? 1.0 : 0.9;
+        return 90.0 * Texture(p, 11) * light;
+      };
+      const cv::Mat bev = RenderBev(grid, floor);
+      const std::string what = "a lit flank " + std::to_string(strip_m) + " m wide at " +
+                               std::to_string(alpha_deg) + " deg";
+      ExpectNoLines(MakeExtractor(grid).Extract(bev), what.c_str());
+      if (strip_m == 0.05 && alpha_deg == 0.0) {
+        // It is the side test that rejects it: a tape line otherwise.
+        LineExtractorOptions options;
+        options.min_bright_side_ratio = 0.0;
+        options.bright_side_min_grey_share = 0.0;
+        const LineExtraction out = MakeExtractor(grid, options).Extract(bev);
+        ASSERT_EQ(out.lines.size(), 1u);
+        EXPECT_FALSE(out.lines[0].from_bar_edges || out.lines[0].single_bar_edge);
+      }
+    }
+  }
+}
+
+// The control: a narrow tape with a shadow's edge 5 cm beside it, so that
+// one side is the shadowed floor and the other the lit floor, is still a
+// line (its lit side is darker than the paint by much more than a few
+// percent of its grey).
+TEST(LineExtractorGeneralization, TapeBesideAShadowEdgeIsFound) {
+  const BevGrid grid(BevGridOptions{});
+  const Floor floor = [&](const Eigen::Vector2d& p) {
+    if (std::abs(p.y() - 0.2) < 0.025) return 170.0;
+    return 90.0 * Texture(p, 13) * (p.y() > 0.275 ? 0.4 : 1.0);
+  };
+  const LineExtraction out = MakeExtractor(grid).Extract(RenderBev(grid, floor));
+  ASSERT_EQ(out.lines.size(), 1u);
+  EXPECT_EQ(out.lines[0].kind.polarity, LinePolarity::kBright);
+  // The shadow's step, within the ridge filter's reach, pulls the centre
+  // toward it by about 5 mm.
+  EXPECT_NEAR(out.lines[0].line.rho_m, 0.2, 0.007);
+  EXPECT_GT(out.lines[0].LengthM(), 1.2);
+}
+
+// A saw-cut joint, 10 mm wide and 40 % darker than its floor, on concrete
+// whose median grey is 30 (dim light, or an exposure set for a brighter
+// floor): 12 grey levels deep, below the joints' grey-level thresholds,
+// which are for a floor of the reference grey. The frame is scaled up to it
+// first, and the joint is found as on a floor of grey 75.
+TEST(LineExtractorGeneralization, JointOnADimFloorIsFound) {
+  const BevGrid grid(BevGridOptions{});
+  for (const double alpha_deg : {0.0, 90.0}) {
+    const Eigen::Vector2d d(std::cos(alpha_deg * kPi / 180), std::sin(alpha_deg * kPi / 180));
+    const Eigen::Vector2d n(-d.y(), d.x());
+    const Eigen::Vector2d through(1.6, -0.1);
+    const Floor floor = [&](const Eigen::Vector2d& p) {
+      const bool joint = std::abs(n.dot(p - through)) < 0.006;
+      return 30.0 * Texture(p, 17) * (joint ? 0.5 : 1.0);
+    };
+    const cv::Mat bev = RenderBev(grid, floor, 1.0);
+    SCOPED_TRACE("joint at " + std::to_string(alpha_deg) + " deg");
+    const LineExtraction out = MakeExtractor(grid).Extract(bev);
+    ASSERT_EQ(out.lines.size(), 1u);
+    EXPECT_EQ(out.lines[0].kind.polarity, LinePolarity::kDark);
+    // The texture, +-12 % at 4 cm, moves a groove this faint by up to 5 mm
+    // (0.2 mm on plain concrete; measured over four textures).
+    EXPECT_NEAR(std::abs(out.lines[0].line.rho_m), std::abs(n.dot(through)), 0.006);
+    EXPECT_GT(out.lines[0].LengthM(), 1.0);
+    // Without the exposure's scaling the joint is too faint.
+    LineExtractorOptions options;
+    options.reference_floor_grey = 0.0;
+    EXPECT_EQ(MakeExtractor(grid, options).Extract(bev).lines.size(), 0u);
   }
 }
 

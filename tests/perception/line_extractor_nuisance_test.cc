@@ -40,14 +40,20 @@ Floor Streak(double half_width_m, bool arc, double concrete = 80.0) {
 }
 
 // As narrow as a joint (1.5 cm at half depth), but curved: the straightness
-// test rejects it.
+// tests reject it, each on its own (the sagitta's bound, and the arc test).
 TEST(LineExtractorNuisance, ScuffArcGivesNoLine) {
   const BevGrid grid(BevGridOptions{});
   const cv::Mat bev = RenderBev(grid, Streak(0.015, true));
   ExpectNoLines(MakeExtractor(grid).Extract(bev), "a scuff arc");
-  LineExtractorOptions options;
-  options.max_dark_sagitta_m = 1.0;
-  EXPECT_GE(CountLines(MakeExtractor(grid, options).Extract(bev), LinePolarity::kDark), 1);
+  LineExtractorOptions no_bound;
+  no_bound.max_dark_sagitta_m = 1.0;
+  ExpectNoLines(MakeExtractor(grid, no_bound).Extract(bev), "a scuff arc, arc test alone");
+  LineExtractorOptions no_arc;
+  no_arc.dark_arc_max_radius_m = 0.0;
+  ExpectNoLines(MakeExtractor(grid, no_arc).Extract(bev), "a scuff arc, sagitta bound alone");
+  LineExtractorOptions neither = no_bound;
+  neither.dark_arc_max_radius_m = 0.0;
+  EXPECT_GE(CountLines(MakeExtractor(grid, neither).Extract(bev), LinePolarity::kDark), 1);
 }
 
 // Straight and as dark as a joint, but 4 cm wide at half depth: the

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace groundline::perception {
@@ -291,6 +292,37 @@ TEST(LineExtractor, ScratchBuffersAreReusedAndLeaveTheResultUnchanged) {
   expect_same(extractor.Extract(b, &scratch), fresh_b);
   for (std::size_t i = 0; i < buffers.size(); ++i) EXPECT_EQ(buffers[i]->data, before[i]) << i;
   expect_same(extractor.Extract(a, &scratch), fresh_a);
+}
+
+// Each out-of-range option is reported by its name.
+TEST(LineExtractor, OptionErrorsNameTheField) {
+  EXPECT_TRUE(LineExtractorOptions{}.Validate().ok());
+  const auto expect_named = [](LineExtractorOptions o, const char* field) {
+    const core::Status s = o.Validate();
+    EXPECT_FALSE(s.ok()) << field;
+    EXPECT_NE(s.message().find(field), std::string::npos) << s.message();
+  };
+  LineExtractorOptions o;
+  o.reference_floor_grey = -1.0;
+  expect_named(o, "reference_floor_grey");
+  o = {};
+  o.reference_floor_grey = 300.0;
+  expect_named(o, "reference_floor_grey");
+  o = {};
+  o.dark_arc_max_radius_m = -1.0;
+  expect_named(o, "dark_arc_max_radius_m");
+  o = {};
+  o.dark_sagitta_significance = std::nan("");
+  expect_named(o, "dark_sagitta_significance");
+  o = {};
+  o.dark_short_max_rms_m = 0.0;
+  expect_named(o, "dark_short_max_rms_m");
+  o = {};
+  o.min_bright_side_ratio = 1.5;
+  expect_named(o, "min_bright_side_ratio");
+  o = {};
+  o.bright_side_min_grey_share = -0.1;
+  expect_named(o, "bright_side_min_grey_share");
 }
 
 }  // namespace

@@ -61,6 +61,13 @@ struct LineExtractorOptions {
   JunctionOptions junctions;
   bool bright = true;  // look for bright lines (tape)
   bool dark = true;    // look for dark lines (joints)
+  // Exposure: the grey-level thresholds below are for a floor whose median
+  // grey in the BEV is about this (the reference camera's exposure). A darker
+  // frame (dim light, an exposure set for brighter floor, dark concrete) is
+  // scaled up to it before extraction, so that a joint 40 % darker than its
+  // floor is found at grey 30 as at grey 75. Brighter frames are left as they
+  // are. 0: off.
+  double reference_floor_grey = 75.0;
   // The dark energy threshold is clamped to at most this (<= 0:
   // segments.max_energy): an 8 mm joint's energy at sigma 3.5 cells is low,
   // and where an oil stain's edges lift the frame's Otsu threshold the joint
@@ -97,6 +104,15 @@ struct LineExtractorOptions {
   double max_side_asymmetry = 0.3;
   double side_offset_cells = 7.0;
   double min_side_contrast = 3.0;        // grey levels of the BEV, bright lines
+  // A narrow bright line is darker on both sides: its weaker side contrast
+  // (the best over offsets up to side_offset_cells) is at least
+  // min_bright_side_ratio of its stronger one, or at least
+  // bright_side_min_grey_share of its own grey. Otherwise it is taken as an
+  // edge, for the bar and single-edge tests: the lit flank of a shadow or a
+  // stain is much brighter than its dark side only, and its other side is the
+  // same lit floor, a few percent off its grey.
+  double min_bright_side_ratio = 0.35;
+  double bright_side_min_grey_share = 0.15;
   double min_bright_excess = 10.0;       // bright line centre over the frame's median grey
   double min_dark_side_contrast = 16.0;  // dark lines (joints are darker than scuffs)
   // A joint is a thin groove (8 mm + blur): at a centre, the grey level
@@ -113,6 +129,20 @@ struct LineExtractorOptions {
   // (0.6 m of a 2 m arc: 22 mm); true joints and tapes measured <= 11 mm
   // (simulator, seeds 1-3).
   double max_dark_sagitta_m = 0.012;
+  // .. and not an arc: a sagitta over dark_min_significant_sagitta_m and over
+  // dark_sagitta_significance of its own standard deviation (from the
+  // centres' scatter about the parabola) whose radius is under
+  // dark_arc_max_radius_m is a tire's scuff. A saw cut is straight on the
+  // floor; the lens model's residual error bends it in the BEV into an arc of
+  // tens of metres (up to 5 mm over 1.4 m), which passes.
+  double dark_sagitta_significance = 3.0;
+  double dark_min_significant_sagitta_m = 0.0015;
+  double dark_arc_max_radius_m = 8.0;
+  // A dark line shorter than dark_short_length_m whose centres scatter about
+  // it by more than dark_short_max_rms_m (RMS) is dropped: a saw cut is
+  // straight to the ridge's noise, a piece of scuff or stain edge is ragged.
+  double dark_short_length_m = 0.5;
+  double dark_short_max_rms_m = 0.0015;
   double bar_min_width_m = 0.08;     // two facing edges of a wide bar this far apart ..
   double bar_max_width_m = 0.70;     // .. up to this ..
   double bar_max_angle_rad = 0.035;  // .. and parallel within this

@@ -39,9 +39,11 @@ struct MountParallelCheckOptions {
 
   // The preset for a camera `height_m` above the floor: the BEV grid of
   // `ForLineExtraction` (0.6-2.4 m ahead, +-1 m, 1 cm cells, for the
-  // reference camera 0.58 m high) and the extractor's least line length
-  // scaled by height_m / 0.58 (a camera half as high sees the same view of a
-  // floor half the size); bright markings (tape, paint) only.
+  // reference camera 0.58 m high) and the extractor's least line length and
+  // bar widths scaled by height_m / 0.58 (a camera half as high sees the same
+  // view of a floor half the size: a 10 cm robot's road tape is 4-5 cm wide,
+  // a bar of two edges where a warehouse's 8-70 cm bars are); bright markings
+  // (tape, paint) only.
   static MountParallelCheckOptions ForHeight(double height_m);
 
   core::Status Validate() const;
