@@ -12,16 +12,24 @@
 
 namespace groundline::perception::internal {
 
+namespace {
+
+// The BEV's grey level (CV_32FC1, bilinear) at a floor point, base_link
+// metres; 0 where the camera does not see.
+float SampleFloor(const cv::Mat& bev_float, const BevGrid& grid, const Eigen::Vector2d& p_m) {
+  const Eigen::Vector2d cell = grid.CellOfFloorPoint(p_m);
+  return SampleBilinear(bev_float, cell.x(), cell.y());
+}
+
+}  // namespace
+
 void MeasureSideContrast(const cv::Mat& bev_float, const BevGrid& grid, double offset_m,
                          double near_offset_m, double min_local_contrast,
                          CandidateLine* candidate) {
   const Eigen::Vector2d n = candidate->line.line.Normal();
   double centre = 0.0, plus = 0.0, minus = 0.0;
   int count = 0;
-  auto sample = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
-    return SampleBilinear(bev_float, cell.x(), cell.y());
-  };
+  auto sample = [&](const Eigen::Vector2d& p) { return SampleFloor(bev_float, grid, p); };
   for (size_t i = 0; i < candidate->centres_m.size(); i += 2) {
     const Eigen::Vector2d& p = candidate->centres_m[i];
     const float c = sample(p), a = sample(p + offset_m * n), b = sample(p - offset_m * n);
@@ -156,18 +164,18 @@ bool IsArc(const Sagitta& sagitta, const LineExtractorOptions& options) {
 double MaxSideContrast(const cv::Mat& bev_float, const BevGrid& grid, const CandidateLine& candidate,
                        double sign, double max_cells) {
   const Eigen::Vector2d n = sign * grid.cell_m() * candidate.line.line.Normal();
+  std::vector<float> centres;  // every other centre's grey, as MeasureSideContrast samples
+  for (size_t i = 0; i < candidate.centres_m.size(); i += 2) {
+    centres.push_back(SampleFloor(bev_float, grid, candidate.centres_m[i]));
+  }
   double best = -std::numeric_limits<double>::infinity();
-  for (int k = 1; k <= static_cast<int>(std::floor(max_cells)); ++k) {
+  for (int k = 1; k <= static_cast<int>(max_cells); ++k) {
     double sum = 0.0;
     int count = 0;
-    for (size_t i = 0; i < candidate.centres_m.size(); i += 2) {
-      const Eigen::Vector2d& p = candidate.centres_m[i];
-      const Eigen::Vector2d c = grid.CellOfFloorPoint(p);
-      const Eigen::Vector2d q = grid.CellOfFloorPoint(p + k * n);
-      const float centre = SampleBilinear(bev_float, c.x(), c.y());
-      const float side = SampleBilinear(bev_float, q.x(), q.y());
-      if (centre == 0.0f || side == 0.0f) continue;  // unseen
-      sum += centre - side;
+    for (size_t j = 0; j < centres.size(); ++j) {
+      const float side = SampleFloor(bev_float, grid, candidate.centres_m[2 * j] + k * n);
+      if (centres[j] == 0.0f || side == 0.0f) continue;  // unseen
+      sum += centres[j] - side;
       ++count;
     }
     if (count > 0) best = std::max(best, sum / count);
@@ -369,10 +377,7 @@ double OpenBrightSideShare(const cv::Mat& bev_float, const cv::Mat& search_mask,
       candidate.line.line.Normal();
   const double contrast = std::max(candidate.contrast_plus, candidate.contrast_minus);
   const int steps = static_cast<int>(std::ceil(max_width_m / grid.cell_m())) + 3;
-  auto sample = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
-    return SampleBilinear(bev_float, cell.x(), cell.y());
-  };
+  auto sample = [&](const Eigen::Vector2d& p) { return SampleFloor(bev_float, grid, p); };
   auto searched = [&](const Eigen::Vector2d& p) {
     const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
     const int c = static_cast<int>(std::lround(cell.x()));
@@ -405,10 +410,7 @@ SideRoughness MeasureSideRoughness(const cv::Mat& bev_float, const BevGrid& grid
       (candidate.contrast_plus > candidate.contrast_minus ? -1.0 : 1.0) *
       candidate.line.line.Normal();
   const Eigen::Vector2d along = grid.cell_m() * candidate.line.line.Direction();
-  auto sample = [&](const Eigen::Vector2d& p) {
-    const Eigen::Vector2d cell = grid.CellOfFloorPoint(p);
-    return SampleBilinear(bev_float, cell.x(), cell.y());
-  };
+  auto sample = [&](const Eigen::Vector2d& p) { return SampleFloor(bev_float, grid, p); };
   const auto side = [&](double sign) {
     std::vector<double> steps, greys;
     for (const Eigen::Vector2d& p : edge_points_m) {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -297,32 +298,28 @@ TEST(LineExtractor, ScratchBuffersAreReusedAndLeaveTheResultUnchanged) {
 // Each out-of-range option is reported by its name.
 TEST(LineExtractor, OptionErrorsNameTheField) {
   EXPECT_TRUE(LineExtractorOptions{}.Validate().ok());
-  const auto expect_named = [](LineExtractorOptions o, const char* field) {
-    const core::Status s = o.Validate();
-    EXPECT_FALSE(s.ok()) << field;
-    EXPECT_NE(s.message().find(field), std::string::npos) << s.message();
+  struct Case {
+    const char* field;
+    std::function<void(LineExtractorOptions&)> spoil;
   };
-  LineExtractorOptions o;
-  o.reference_floor_grey = -1.0;
-  expect_named(o, "reference_floor_grey");
-  o = {};
-  o.reference_floor_grey = 300.0;
-  expect_named(o, "reference_floor_grey");
-  o = {};
-  o.dark_arc_max_radius_m = -1.0;
-  expect_named(o, "dark_arc_max_radius_m");
-  o = {};
-  o.dark_sagitta_significance = std::nan("");
-  expect_named(o, "dark_sagitta_significance");
-  o = {};
-  o.dark_short_max_rms_m = 0.0;
-  expect_named(o, "dark_short_max_rms_m");
-  o = {};
-  o.min_bright_side_ratio = 1.5;
-  expect_named(o, "min_bright_side_ratio");
-  o = {};
-  o.bright_side_min_grey_share = -0.1;
-  expect_named(o, "bright_side_min_grey_share");
+  const std::vector<Case> cases = {
+      {"reference_floor_grey", [](LineExtractorOptions& o) { o.reference_floor_grey = -1.0; }},
+      {"reference_floor_grey", [](LineExtractorOptions& o) { o.reference_floor_grey = 300.0; }},
+      {"dark_arc_max_radius_m", [](LineExtractorOptions& o) { o.dark_arc_max_radius_m = -1.0; }},
+      {"dark_sagitta_significance",
+       [](LineExtractorOptions& o) { o.dark_sagitta_significance = std::nan(""); }},
+      {"dark_short_max_rms_m", [](LineExtractorOptions& o) { o.dark_short_max_rms_m = 0.0; }},
+      {"min_bright_side_ratio", [](LineExtractorOptions& o) { o.min_bright_side_ratio = 1.5; }},
+      {"bright_side_min_grey_share",
+       [](LineExtractorOptions& o) { o.bright_side_min_grey_share = -0.1; }},
+  };
+  for (const Case& c : cases) {
+    LineExtractorOptions o;
+    c.spoil(o);
+    const core::Status s = o.Validate();
+    EXPECT_FALSE(s.ok()) << c.field;
+    EXPECT_NE(s.message().find(c.field), std::string::npos) << s.message();
+  }
 }
 
 }  // namespace
