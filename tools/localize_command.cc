@@ -274,6 +274,10 @@ int RunLocalize(const LocalizeFlags& flags) {
           loc::WithOdometryCalibration(self_calibration_options, *setup->odometry_calibration);
     }
     self_calibration.emplace(*setup->camera_mount, self_calibration_options, apply);
+    if (setup->options.mode == loc::LocalizerMode::kLines) {
+      self_calibration->SetAtlas(std::make_shared<const loc::Atlas>(setup->setup.atlas),
+                                 setup->options.smoother.association);
+    }
   }
   const loc::Atlas atlas_copy = setup->setup.atlas;
   const loc::DiffDriveParams drive_used = setup->setup.drive;
@@ -370,7 +374,9 @@ int RunLocalize(const LocalizeFlags& flags) {
     if (self_calibration) {
       self_calibration->AddKeyframe(k);
       if (const auto update = self_calibration->DueMountUpdate(k.stamp_s)) {
-        if (core::Status s = localizer.SetCameraMount(update->mount, update->covariance); !s.ok())
+        if (core::Status s =
+                localizer.SetCameraMount(update->mount, update->covariance, update->observed);
+            !s.ok())
           std::fprintf(stderr, "warning: self-calibration: %s\n", s.message().c_str());
       }
       line.update(
@@ -459,6 +465,7 @@ int RunLocalize(const LocalizeFlags& flags) {
     j["frames"] = e.frames;
     j["frames_gated"] = e.frames_gated;
     j["windows_rejected"] = e.windows_rejected;
+    j["windows_with_atlas"] = e.windows_with_atlas;
     j["mount_updates"] = self_calibration->mount_updates();
     summary["self_calibration"] = j;
     std::printf(

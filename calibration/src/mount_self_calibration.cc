@@ -66,6 +66,9 @@ core::Status MountSelfCalibrationOptions::Validate() const {
     if (!PositiveFinite(s)) return OptionError("known_spacings_m", "distances > 0");
   if (!PositiveFinite(spacing_gate_m)) return OptionError("spacing_gate_m", "a distance > 0");
   if (!PositiveFinite(spacing_sigma_m)) return OptionError("spacing_sigma_m", "a sigma > 0");
+  if (!PositiveFinite(map_spacing_sigma_m)) {
+    return OptionError("map_spacing_sigma_m", "a sigma > 0");
+  }
   if (!PositiveFinite(odometry_sigma_m_per_sqrt_m))
     return OptionError("odometry_sigma_m_per_sqrt_m", "a sigma > 0");
   if (!PositiveFinite(odometry_sigma_rad_per_sqrt_m))
@@ -226,7 +229,7 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
   // A window that holds the suspicion knows the mount better than a pair.
   if (!suspect_.empty()) return;
   if (quick_streak_ >= options_.quick_step_frames) {
-    Suspect(pair.correction, /*from_frames=*/true);
+    Suspect(pair, /*from_frames=*/true);
   } else if (!over && quick_suspicion_) {
     ClearSuspicion();  // the frames agree again and no window holds a step
   }
@@ -283,7 +286,7 @@ bool MountSelfCalibrator::CloseWindow() {
   if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
     suspect_.push_back(w);
     if (static_cast<int>(suspect_.size()) < options_.step_windows) {
-      Suspect(w.correction, /*from_frames=*/false);
+      Suspect(w, /*from_frames=*/false);
       return false;
     }
     // A step: restart from the commissioned uncertainty about the current
@@ -334,6 +337,7 @@ bool MountSelfCalibrator::CloseWindow() {
       for (std::size_t i = 1; i < recent_windows_.size(); ++i) {
         Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
         --estimate_.windows_used;  // fused once already
+        if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
       }
       recent_windows_.clear();
     }
@@ -351,6 +355,7 @@ void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
   covariance_ = fused_ldlt.solve(MountMatrix::Identity());
   covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
   ++estimate_.windows_used;
+  if (w.map_spacings > 0) ++estimate_.windows_with_atlas;
   last_fused_stamp_s_ = stamp_s;
   estimate_.last_update_s = stamp_s;
 }
@@ -363,15 +368,23 @@ MountMatrix MountSelfCalibrator::RandomWalkCovariance(double dt_s) const {
   return (options_.random_walk_per_sqrt_s.array().square() * dt_s).matrix().asDiagonal();
 }
 
-void MountSelfCalibrator::Suspect(const MountVector& correction, bool from_frames) {
+void MountSelfCalibrator::Suspect(const MountWindowSolution& evidence, bool from_frames) {
   estimate_.step_suspected = true;
-  estimate_.suspected_components = MountComponents(commissioned_) + correction;
+  estimate_.suspected_components = MountComponents(commissioned_) + evidence.correction;
+  const MountMatrix information =
+      InitialCovariance().inverse() + evidence.information;  // a restart with it
+  estimate_.suspected_covariance = information.ldlt().solve(MountMatrix::Identity());
+  estimate_.suspected_covariance =
+      0.5 * (estimate_.suspected_covariance + estimate_.suspected_covariance.transpose()).eval();
+  estimate_.suspected_covariance.diagonal() +=
+      SystematicVariance(estimate_.suspected_components(kMountHeight));
   quick_suspicion_ = from_frames;
 }
 
 void MountSelfCalibrator::ClearSuspicion() {
   estimate_.step_suspected = false;
   estimate_.suspected_components.setZero();
+  estimate_.suspected_covariance.setZero();
   quick_suspicion_ = false;
 }
 

@@ -152,6 +152,19 @@ struct StructureCost {
   double sigma_rad_;
 };
 
+// Two landmarks at a known angle (the atlas's: l0's normal turned from
+// l1's by angle_rad, either description).
+struct RelativeAngleCost {
+  RelativeAngleCost(double angle_rad, double sigma_rad) : angle_rad_(angle_rad), sigma_rad_(sigma_rad) {}
+  template <typename T>
+  bool operator()(const T* l0, const T* l1, T* residual) const {
+    using std::sin;
+    residual[0] = sin(l0[1] - l1[1] - T(angle_rad_)) / sigma_rad_;
+    return true;
+  }
+  double angle_rad_, sigma_rad_;
+};
+
 // Two parallel landmarks a known distance apart.
 struct SpacingCost {
   SpacingCost(double sign, double spacing_m, double sigma_m)
@@ -189,6 +202,8 @@ struct Landmark {
   std::array<double, 2> last_line{};
   std::vector<Observation> observations;
   int last_frame = -1;
+  // The atlas line most of its sightings were associated with (none: unset).
+  std::optional<MapLineRef> map_line;
 };
 
 // The line (rho, alpha) through two points; nullopt when they coincide.
@@ -274,7 +289,7 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
       if (best < 0) {
         const auto line = LineThrough(pa, pb);
         if (!line) continue;
-        landmarks.push_back(Landmark{*line, *line, {}, -1});
+        landmarks.push_back(Landmark{*line, *line, {}, -1, std::nullopt});
         best = static_cast<int>(landmarks.size()) - 1;
       } else if (const auto line = LineThrough(pa, pb)) {
         landmarks[best].last_line = *line;
@@ -291,12 +306,41 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
     return static_cast<int>(l.observations.size()) < o.min_track_frames;
   });
 
+  // The atlas line of each landmark: the one most of its sightings were
+  // associated with, if at least min_track_frames of them were.
+  if (o.use_map_geometry) {
+    for (Landmark& l : landmarks) {
+      std::vector<std::pair<const MapLineRef*, int>> counts;
+      for (const Observation& obs : l.observations) {
+        if (!obs.segment->map_line) continue;
+        const MapLineRef& ref = *obs.segment->map_line;
+        auto it = std::find_if(counts.begin(), counts.end(),
+                               [&](const auto& c) { return c.first->id == ref.id; });
+        if (it == counts.end()) {
+          counts.emplace_back(&ref, 1);
+        } else {
+          ++it->second;
+        }
+      }
+      const auto best = std::max_element(
+          counts.begin(), counts.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+      if (best != counts.end() && best->second >= o.min_track_frames) l.map_line = *best->first;
+    }
+  }
+
   // Structure and spacing pairs among the landmarks.
   struct Pair {
     int a, b;
     bool perpendicular;
   };
   std::vector<Pair> structure;
+  struct MapPair {
+    int a, b;
+    double angle_rad, angle_sigma_rad;
+    std::optional<double> sign;  // parallel: the window's signed gap's sign ..
+    double spacing_m = 0.0, spacing_sigma_m = 0.0;  // .. and the atlas's distance
+  };
+  std::vector<MapPair> map_pairs;
   struct Spacing {
     int a, b;
     double sign, spacing_m;
@@ -306,6 +350,31 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   for (std::size_t a = 0; a < landmarks.size(); ++a) {
     for (std::size_t b = a + 1; b < landmarks.size(); ++b) {
       const double d = landmarks[a].line[1] - landmarks[b].line[1];
+      const std::optional<MapLineRef>& ma = landmarks[a].map_line;
+      const std::optional<MapLineRef>& mb = landmarks[b].map_line;
+      if (ma && mb && ma->id != mb->id) {
+        // Two atlas lines: the atlas's angle between them, as the window's
+        // descriptions pair their normals (the atlas's turned by pi where
+        // they disagree: the sine residual is indifferent to it).
+        MapPair p{static_cast<int>(a), static_cast<int>(b), ma->alpha_rad - mb->alpha_rad,
+                  std::sqrt(o.parallel_sigma_rad * o.parallel_sigma_rad +
+                            ma->sigma_rad * ma->sigma_rad + mb->sigma_rad * mb->sigma_rad),
+                  std::nullopt};
+        if (std::abs(std::sin(p.angle_rad)) < gate && std::abs(std::sin(d)) < gate) {
+          const double map_gap = ma->rho_m - std::cos(p.angle_rad) * mb->rho_m;
+          const double signed_gap = landmarks[a].line[0] - std::cos(d) * landmarks[b].line[0];
+          p.sign = signed_gap >= 0.0 ? 1.0 : -1.0;
+          p.spacing_m = std::abs(map_gap);
+          p.spacing_sigma_m = std::sqrt(o.map_spacing_sigma_m * o.map_spacing_sigma_m +
+                                        ma->sigma_m * ma->sigma_m + mb->sigma_m * mb->sigma_m);
+        }
+        // The window's angle must be the atlas's within the structure gate
+        // (else the association or the tracking is wrong: no tie).
+        if (std::abs(std::sin(d - p.angle_rad)) < gate) {
+          map_pairs.push_back(p);
+          continue;
+        }
+      }
       if (std::abs(std::sin(d)) < gate) {
         structure.push_back({static_cast<int>(a), static_cast<int>(b), false});
         const double signed_gap = landmarks[a].line[0] - std::cos(d) * landmarks[b].line[0];
@@ -348,6 +417,7 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
       if (static_cast<int>(flow.points.size()) < o.min_flow_points ||
           !FlowFollows(flow, frames[k - 1]))
         continue;
+      const CameraMount& current_mount = flow.current_mount.value_or(frames[k].mount_used);
       // The pairs whose points meet under the starting mount and the
       // odometry; at most max_flow_points of them, spread over the list.
       const core::SE2 T0(poses[k - 1][0], poses[k - 1][1], poses[k - 1][2]);
@@ -356,7 +426,7 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
       for (std::size_t i = 0; i < flow.points.size(); ++i) {
         Eigen::Vector2d q0, q1;
         if (!RemapFloorPoint(flow.points[i].first, flow.previous_mount, prior_mount, &q0) ||
-            !RemapFloorPoint(flow.points[i].second, frames[k].mount_used, prior_mount, &q1))
+            !RemapFloorPoint(flow.points[i].second, current_mount, prior_mount, &q1))
           continue;
         if (((T1 * q1) - (T0 * q0)).norm() <= o.flow_gate_m) kept.push_back(static_cast<int>(i));
       }
@@ -368,7 +438,7 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
         const auto& pair = flow.points[kept[static_cast<std::size_t>(j) * kept.size() / n]];
         problem.AddResidualBlock(
             new ceres::AutoDiffCostFunction<FlowCost, 2, 4, 3, 3>(
-                new FlowCost(pair.first, flow.previous_mount, pair.second, frames[k].mount_used,
+                new FlowCost(pair.first, flow.previous_mount, pair.second, current_mount,
                              reference, inverse_sigma)),
             new ceres::CauchyLoss(o.loss_scale), c.data(), poses[k - 1].data(),
             poses[k].data());
@@ -405,8 +475,21 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
         new ceres::CauchyLoss(o.loss_scale), landmarks[s.a].line.data(),
         landmarks[s.b].line.data());
   }
+  for (const MapPair& p : map_pairs) {
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<RelativeAngleCost, 1, 2, 2>(
+                                 new RelativeAngleCost(p.angle_rad, p.angle_sigma_rad)),
+                             new ceres::CauchyLoss(o.loss_scale), landmarks[p.a].line.data(),
+                             landmarks[p.b].line.data());
+    if (!p.sign) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SpacingCost, 1, 2, 2>(
+                                 new SpacingCost(*p.sign, p.spacing_m, p.spacing_sigma_m)),
+                             new ceres::CauchyLoss(o.loss_scale), landmarks[p.a].line.data(),
+                             landmarks[p.b].line.data());
+    ++out.map_spacings;
+  }
   out.structure_pairs = static_cast<int>(structure.size());
   out.spacing_pairs = static_cast<int>(spacings.size());
+  out.map_pairs = static_cast<int>(map_pairs.size());
   if (landmarks.empty() && out.flow_pairs == 0) {
     return Failed(out, "no marking tracked through " + std::to_string(o.min_track_frames) +
                            " frames and no floor texture tracked");

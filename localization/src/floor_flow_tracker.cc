@@ -39,6 +39,7 @@ void FloorFlowTracker::Track(const BevFrame& frame, FloorObservations* observati
     calibration::FloorFlow& flow = observations->texture_flow;
     flow.previous_stamp_s = previous_stamp_s_;
     flow.previous_mount = previous_mount_;
+    flow.current_mount = frame.mount;
     flow.points.reserve(matches.size());
     std::vector<double> dc, dr;
     for (const perception::FloorTextureMatch& m : matches) {

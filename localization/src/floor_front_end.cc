@@ -85,8 +85,14 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Build(const calibration::CameraModel&
 }
 
 core::Result<FloorFrontEnd> FloorFrontEnd::WithMount(
-    const calibration::CameraMount& mount, const Eigen::Matrix4d& mount_covariance) const {
+    const calibration::CameraMount& mount, const Eigen::Matrix4d& mount_covariance,
+    const std::optional<calibration::CameraMount>& observed) const {
   if (core::Status s = mount.Validate(); !s.ok()) return s.WithContext("floor front end: mount");
+  if (observed) {
+    if (core::Status s = observed->Validate(); !s.ok()) {
+      return s.WithContext("floor front end: observed mount");
+    }
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(mount_covariance);
   if (!mount_covariance.allFinite() || !mount_covariance.isApprox(mount_covariance.transpose()) ||
       eig.eigenvalues().minCoeff() < -1e-12 * std::max(1.0, eig.eigenvalues().maxCoeff())) {
@@ -101,12 +107,49 @@ core::Result<FloorFrontEnd> FloorFrontEnd::WithMount(
           : Build(remap_->camera(), mount, remap_options_, options_);
   if (!built.ok()) return built.status();
   built->mount_covariance_ = mount_covariance;
+  built->observed_mount_.reset();
+  if (observed && !calibration::SameMount(*observed, mount, 0.0)) built->observed_mount_ = observed;
   return built;
+}
+
+void FloorFrontEnd::ExpressUnderObservedMount(FloorObservations* observations) const {
+  if (!observed_mount_) return;
+  const calibration::CameraMount& from = remap_->mount();
+  const calibration::CameraMount& to = *observed_mount_;
+  std::vector<LineObservation> lines;
+  lines.reserve(observations->lines.size());
+  for (LineObservation& line : observations->lines) {
+    Eigen::Vector2d a, b;
+    if (!calibration::RemapFloorPoint(line.endpoint_a_base_m, from, to, &a) ||
+        !calibration::RemapFloorPoint(line.endpoint_b_base_m, from, to, &b)) {
+      continue;  // beyond the observed mount's horizon: not a floor line under it
+    }
+    const core::Result<perception::HesseLine> through = perception::LineFromPoints(a, b);
+    if (!through.ok()) continue;
+    // Perception's (rho, alpha) covariance carried over: the map between two
+    // mounts a fraction of a degree apart scales the floor by well under 1 %.
+    line.covariance = perception::CovarianceInDescriptionOf(line.line_base, *through,
+                                                            line.covariance);
+    line.line_base = *through;
+    line.endpoint_a_base_m = a;
+    line.endpoint_b_base_m = b;
+    lines.push_back(line);
+  }
+  observations->lines = std::move(lines);
+  std::vector<JunctionObservation> junctions;
+  junctions.reserve(observations->junctions.size());
+  for (JunctionObservation& junction : observations->junctions) {
+    Eigen::Vector2d p;
+    if (!calibration::RemapFloorPoint(junction.point_base_m, from, to, &p)) continue;
+    junction.point_base_m = p;
+    junctions.push_back(junction);
+  }
+  observations->junctions = std::move(junctions);
 }
 
 void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
   if (mount_covariance_.isZero(0.0)) return;
-  const calibration::CameraMount& mount = remap_->mount();
+  const calibration::CameraMount& mount = observed_mount();
   const Eigen::Matrix4d common = options_.mount_error_sightings * mount_covariance_;
   for (LineObservation& line : observations->lines) {
     Eigen::Matrix<double, 2, 4> Ja, Jb;
@@ -173,7 +216,8 @@ core::Result<ConvertedObservations> FloorFrontEnd::Observe(
   perception::ExtractionScratch local;
   ConvertedObservations converted = ObservationsFromExtraction(
       stamp_s, extractor_->Extract(*bev, scratch != nullptr ? scratch : &local));
-  converted.observations.camera_mount = remap_->mount();
+  ExpressUnderObservedMount(&converted.observations);
+  converted.observations.camera_mount = observed_mount();
   converted.observations.view = view_;
   AddMountUncertainty(&converted.observations);
   return converted;

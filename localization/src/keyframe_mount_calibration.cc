@@ -31,7 +31,10 @@ core::Status MountApplyOptions::Validate() const {
 KeyframeMountCalibration::KeyframeMountCalibration(
     const calibration::CameraMount& commissioned,
     const calibration::MountSelfCalibrationOptions& options, const MountApplyOptions& apply)
-    : calibrator_(commissioned, options), apply_(apply), applied_(commissioned) {
+    : calibrator_(commissioned, options),
+      apply_(apply),
+      applied_(commissioned),
+      observed_(commissioned) {
   assert(apply.Validate().ok());
 }
 
@@ -42,6 +45,32 @@ KeyframeMountCalibration::Restore(const calibration::SavedMountEstimate& saved) 
   return NextUpdate(/*bounded=*/false, /*may_move=*/true, /*always=*/false);
 }
 
+void KeyframeMountCalibration::SetAtlas(std::shared_ptr<const Atlas> atlas,
+                                        const AssociationOptions& association) {
+  assert(association.Validate().ok());
+  atlas_ = std::move(atlas);
+  association_ = association;
+}
+
+namespace {
+
+// The atlas line's sigma across it at anchor_m (a point on it) and of its
+// direction: LineCovarianceAbout's relation read backwards (a turn about the
+// anchor moves rho by (Direction . anchor) dalpha).
+calibration::MapLineRef MapLineRefAt(const AtlasLine& line, const Eigen::Vector2d& anchor_m) {
+  const double t = line.line_map.Direction().dot(anchor_m);
+  const Eigen::Vector2d j(1.0, -t);
+  calibration::MapLineRef ref;
+  ref.id = line.id;
+  ref.rho_m = line.line_map.rho_m;
+  ref.alpha_rad = line.line_map.alpha_rad;
+  ref.sigma_m = std::sqrt(std::max(0.0, j.dot(line.covariance * j)));
+  ref.sigma_rad = std::sqrt(std::max(0.0, line.covariance(1, 1)));
+  return ref;
+}
+
+}  // namespace
+
 bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
   if (!keyframe.frame_stamp_s) return false;
   calibration::MountFrame frame;
@@ -51,7 +80,21 @@ bool KeyframeMountCalibration::AddKeyframe(const KeyframeOutput& keyframe) {
   frame.segments.reserve(keyframe.floor.lines.size());
   for (const LineObservation& line : keyframe.floor.lines) {
     frame.segments.push_back({line.endpoint_a_base_m, line.endpoint_b_base_m,
-                              line.covariance - line.mount_covariance});
+                              line.covariance - line.mount_covariance, std::nullopt});
+  }
+  // The atlas lines they are sightings of, when the keyframe is localized on it.
+  if (atlas_ && keyframe.has_covariance && keyframe.smoother) {
+    const std::vector<Match> matches =
+        AssociateLines(keyframe.floor.lines, *atlas_, keyframe.pose.T_map_base,
+                       keyframe.pose.covariance, association_);
+    for (const Match& m : matches) {
+      if (m.landmark < 0 || m.ambiguous) continue;
+      const LineObservation& line = keyframe.floor.lines[static_cast<std::size_t>(m.observation)];
+      const Eigen::Vector2d middle =
+          keyframe.pose.T_map_base * (0.5 * (line.endpoint_a_base_m + line.endpoint_b_base_m));
+      frame.segments[static_cast<std::size_t>(m.observation)].map_line =
+          MapLineRefAt(atlas_->lines[static_cast<std::size_t>(m.landmark)], middle);
+    }
   }
   frame.flow = keyframe.floor.texture_flow;
   return calibrator_.AddFrame(frame);
@@ -70,8 +113,12 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::D
   const bool may_move = !last_update_s_ || stamp_s - *last_update_s_ >= apply_.min_interval_s;
   if (!may_move && !suspicion_changed) return std::nullopt;
   const calibration::CameraMount before = applied_;
+  const calibration::CameraMount observed_before = observed_;
   std::optional<MountUpdate> update = NextUpdate(/*bounded=*/true, may_move, suspicion_changed);
-  if (update && !calibration::SameMount(update->mount, before, 0.0)) last_update_s_ = stamp_s;
+  if (update && (!calibration::SameMount(update->mount, before, 0.0) ||
+                 !calibration::SameMount(update->observed, observed_before, 0.0))) {
+    last_update_s_ = stamp_s;
+  }
   return update;
 }
 
@@ -79,20 +126,30 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
     bool bounded, bool may_move, bool always) {
   const calibration::MountEstimate& e = calibrator_.estimate();
   const calibration::MountVector estimated = calibration::MountComponents(e.mount);
-  calibration::MountVector target;
   const calibration::MountVector current = calibration::MountComponents(applied_);
   const calibration::MountVector commissioned_components =
       calibration::MountComponents(calibrator_.commissioned());
-  calibration::MountVector next = current;
+  calibration::MountVector target;
   std::array<bool, 4> follows{};
-  bool moves = false;
   for (int i = 0; i < 4; ++i) {
     const double sigma = std::sqrt(e.covariance(i, i));
     const double moved = std::abs(estimated(i) - commissioned_components(i));
     follows[i] = sigma < apply_.max_sigma(i) || moved > apply_.min_significance * sigma;
     target(i) = follows[i] ? estimated(i) : commissioned_components(i);
+  }
+  // The observations: under the mount a suspected step showed (the mount is
+  // most likely there), else under the target.
+  const calibration::MountVector observed =
+      e.step_suspected ? e.suspected_components : target;
+  const calibration::MountVector observed_before = calibration::MountComponents(observed_);
+  calibration::MountVector next = current;
+  bool moves = false;
+  for (int i = 0; may_move && i < 4; ++i) {
+    // The observations follow at every update that may move ..
+    if (std::abs(observed(i) - observed_before(i)) > apply_.min_change(i)) moves = true;
+    // .. the BEV in bounded steps.
     const double change = target(i) - current(i);
-    if (!may_move || std::abs(change) <= apply_.min_change(i)) continue;
+    if (std::abs(change) <= apply_.min_change(i)) continue;
     next(i) = bounded ? current(i) + std::clamp(change, -apply_.max_step(i), apply_.max_step(i))
                       : target(i);
     moves = true;
@@ -100,22 +157,21 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
   if (!moves && !always) return std::nullopt;
   MountUpdate update;
   update.mount = calibration::WithMountComponents(applied_, next);
-  // The estimate's uncertainty of the components that follow it, and what a
-  // bounded step leaves between the BEV's mount and the estimate.
-  for (int i = 0; i < 4; ++i) {
-    if (!follows[i]) continue;
-    for (int j = 0; j < 4; ++j)
-      if (follows[j]) update.covariance(i, j) = e.covariance(i, j);
-    update.covariance(i, i) += (target(i) - next(i)) * (target(i) - next(i));
-  }
-  // A possible step: the mount may be where the suspect window showed it.
+  update.observed = calibration::WithMountComponents(applied_, observed);
   if (e.step_suspected) {
-    const calibration::MountVector off = e.suspected_components - next;
-    update.covariance += off * off.transpose();
+    update.covariance = e.suspected_covariance;
+  } else {
+    // The estimate's uncertainty of the components that follow it.
+    for (int i = 0; i < 4; ++i) {
+      if (!follows[i]) continue;
+      for (int j = 0; j < 4; ++j)
+        if (follows[j]) update.covariance(i, j) = e.covariance(i, j);
+    }
   }
   handed_suspicion_ = e.step_suspected;
   handed_suspected_components_ = e.suspected_components;
   applied_ = update.mount;
+  observed_ = update.observed;
   ++mount_updates_;
   return update;
 }

@@ -99,11 +99,13 @@ core::Status Localizer::SetInitialPose(double stamp_s, const core::SE2& T_map_ba
 core::Status Localizer::RequestRelocalization() { return impl_->RequestRelocalization(); }
 bool Localizer::started() const { return impl_->started; }
 core::Status Localizer::SetCameraMount(const calibration::CameraMount& mount,
-                                       const Eigen::Matrix4d& covariance) {
+                                       const Eigen::Matrix4d& covariance,
+                                       const std::optional<calibration::CameraMount>& observed) {
   if (!impl_->setup.camera) {
     return core::Status::Error("set camera mount: the localizer has no camera front end");
   }
-  core::Result<FloorFrontEnd> rebuilt = impl_->setup.camera->WithMount(mount, covariance);
+  core::Result<FloorFrontEnd> rebuilt =
+      impl_->setup.camera->WithMount(mount, covariance, observed);
   if (!rebuilt.ok()) return rebuilt.status();
   impl_->setup.camera = std::make_shared<const FloorFrontEnd>(std::move(rebuilt).value());
   return core::Status::Ok();

@@ -27,7 +27,7 @@ Extraction ExtractAll(const std::vector<NamedImage>& images,
     lines.name = image.name;
     lines.mount_used = mount;
     for (const ExtractedLine& l : extractor.Extract(bev).lines)
-      lines.segments.push_back({l.start_m, l.end_m, l.covariance});
+      lines.segments.push_back({l.start_m, l.end_m, l.covariance, std::nullopt});
     out.lines.push_back(std::move(lines));
     out.bevs.push_back(std::move(bev));
   }

@@ -63,6 +63,10 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
           loc::WithOdometryCalibration(self_calibration_options, *setup->odometry_calibration);
     }
     impl->self_calibration.emplace(*setup->camera_mount, self_calibration_options);
+    if (setup->options.mode == loc::LocalizerMode::kLines) {
+      impl->self_calibration->SetAtlas(std::make_shared<const loc::Atlas>(setup->setup.atlas),
+                                       setup->options.smoother.association);
+    }
   }
   impl->drive = setup->setup.drive;
   impl->camera = setup->setup.camera;
@@ -89,7 +93,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
         impl->mount_estimate_restored = "restored from " + impl->mount_estimate_path.string();
         if (*restored && impl->camera) {
           core::Result<loc::FloorFrontEnd> rebuilt =
-              impl->camera->WithMount((*restored)->mount, (*restored)->covariance);
+              impl->camera->WithMount((*restored)->mount, (*restored)->covariance,
+                                  (*restored)->observed);
           if (!rebuilt.ok()) return rebuilt.status().WithContext("restored mount estimate");
           impl->camera = std::make_shared<const loc::FloorFrontEnd>(std::move(rebuilt).value());
           setup->setup.camera = impl->camera;

@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <vector>
@@ -47,6 +49,7 @@ KeyframeOutput KeyframeOf(const calibration::MountFrame& f) {
     LineObservation line;
     line.endpoint_a_base_m = s.start_m;
     line.endpoint_b_base_m = s.end_m;
+    line.line_base = perception::LineFromPoints(s.start_m, s.end_m).value();
     // As FloorFrontEnd::WithMount gives it: the applied mount's uncertainty
     // on top of perception's (about 2 cm across the line), which the
     // self-calibration must take out again.
@@ -61,10 +64,11 @@ KeyframeOutput KeyframeOf(const calibration::MountFrame& f) {
 // taken off at 30 s. The BEV (frames made under the applied mount) follows
 // in steps of at most max_step, at most one per min_interval_s, is on the
 // loaded mount before the unloading and back on the commissioned one at the
-// end; the estimate is not disturbed by the frames' changing mount. While a
-// window is held as a possible step, the lines are widened at once by how
-// far it puts the mount (an update of the covariance alone), and narrowed
-// again when the step is confirmed.
+// end; the estimate is not disturbed by the frames' changing mount. The
+// observations are expressed under the best estimate at each update: while a
+// window or frame pair is held as a possible step, under the mount it showed
+// with its covariance (handed out at once, the BEV unchanged), otherwise
+// under the estimate's components that follow it.
 TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   Drive d;
   d.world = Aisle(200.0);
@@ -73,7 +77,8 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   const MountApplyOptions apply;
   KeyframeMountCalibration cal(commissioned, calibration::MountSelfCalibrationOptions{}, apply);
   CameraMount bev_mount = commissioned;
-  std::vector<double> update_stamps;  // of the updates that moved the mount
+  CameraMount observed = commissioned;
+  std::vector<double> update_stamps;  // of the updates that moved the BEV
   int updates = 0, suspicion_updates = 0;
   std::vector<double> suspected_at;  // the first update of each suspicion
   bool suspected = false;
@@ -85,28 +90,48 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
     const calibration::MountEstimate& e = cal.estimate();
     const auto update = cal.DueMountUpdate(t);
     // A suspicion's coming and going is handed out at the keyframe it came,
-    // and an update that leaves the mount is one of them.
-    if (e.step_suspected != suspected) {
+    // and an update that leaves both mounts where they were is one of them.
+    const bool suspicion_changed = e.step_suspected != suspected;
+    if (suspicion_changed) {
       EXPECT_TRUE(update.has_value()) << "t " << t;
     }
-    if (update && SameMount(update->mount, bev_mount, 0.0)) {
-      EXPECT_NE(e.step_suspected, suspected) << "t " << t;
+    if (update && SameMount(update->mount, bev_mount, 0.0) &&
+        SameMount(update->observed, observed, 0.0)) {
+      EXPECT_TRUE(suspicion_changed) << "t " << t;
     }
     if (!update) continue;
     ++updates;
+    if (suspicion_changed) ++suspicion_updates;
     EXPECT_TRUE(SameMount(update->mount, cal.applied()));
+    EXPECT_TRUE(SameMount(update->observed, cal.observed()));
     for (int i = 0; i < 4; ++i) EXPECT_GE(update->covariance(i, i), 0.0);
+    const MountVector observed_components = calibration::MountComponents(update->observed);
     if (e.step_suspected) {
-      // As wide as the suspect window puts the mount from the one applied.
-      const MountVector off = e.suspected_components - calibration::MountComponents(update->mount);
-      for (int i = 0; i < 4; ++i) EXPECT_GE(update->covariance(i, i), 0.999 * off(i) * off(i));
+      // Under the mount the suspect showed, with its covariance; while the
+      // payload is on, that holds the loaded mount.
+      EXPECT_TRUE(observed_components.isApprox(e.suspected_components, 1e-12)) << "t " << t;
+      EXPECT_TRUE(update->covariance.isApprox(e.suspected_covariance, 1e-12)) << "t " << t;
+      if (t > 10.0 && t < 30.0) {
+        const MountVector off = observed_components - calibration::MountComponents(loaded);
+        for (int i : {kMountPitch, kMountHeight}) {
+          EXPECT_LT(std::abs(off(i)), 3.0 * std::sqrt(update->covariance(i, i)))
+              << "t " << t << " component " << i;
+        }
+      }
       if (!suspected) suspected_at.push_back(t);
+    } else {
+      // Under the estimate, each component where it follows it.
+      const MountVector estimated = calibration::MountComponents(e.mount);
+      for (int i = 0; i < 4; ++i) {
+        const bool follows = update->covariance(i, i) > 0.0;
+        EXPECT_DOUBLE_EQ(observed_components(i),
+                         follows ? estimated(i) : calibration::MountComponents(commissioned)(i))
+            << "t " << t << " component " << i;
+      }
     }
     suspected = e.step_suspected;
-    if (SameMount(update->mount, bev_mount, 0.0)) {
-      ++suspicion_updates;
-      continue;
-    }
+    observed = update->observed;
+    if (SameMount(update->mount, bev_mount, 0.0)) continue;
     const MountVector step = Difference(update->mount, bev_mount);
     for (int i = 0; i < 4; ++i)
       EXPECT_LE(std::abs(step(i)), apply.max_step(i) + 1e-12) << "t " << t << " component " << i;
@@ -136,6 +161,57 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   EXPECT_LT(std::abs(estimate_off(kMountHeight)) * 1e3, 1.0);
   EXPECT_FALSE(cal.estimate().alarm) << cal.estimate().alarm_message;
   EXPECT_EQ(cal.mount_updates(), updates);
+}
+
+// Localized on an atlas, the self-calibration ties markings seen together to
+// the atlas's geometry: wheels 0.6 % off put the height from the motion
+// about 3.5 mm off, the aisle's lane tapes (1.2 m apart on the atlas) put it
+// back near the truth. The keyframes' lines are associated at their pose
+// estimates (here the true poses, to the centimetre the association needs).
+TEST(KeyframeMountCalibration, OnAnAtlasTheHeightDoesNotFollowTheWheelsScale) {
+  Drive d;
+  d.world = Aisle(200.0);
+  auto atlas = std::make_shared<Atlas>();
+  atlas->covariances_stated = true;
+  for (std::size_t i = 0; i < d.world.size(); ++i) {
+    AtlasLine line;
+    line.id = static_cast<std::int64_t>(i);
+    line.line_map = perception::LineFromPoints(d.world[i].a, d.world[i].b).value();
+    line.endpoint_a_m = d.world[i].a;
+    line.endpoint_b_m = d.world[i].b;
+    line.covariance =
+        LineCovarianceAbout(line.line_map, 0.5 * (d.world[i].a + d.world[i].b), 0.0005, 0.0005);
+    atlas->lines.push_back(line);
+  }
+  ASSERT_TRUE(atlas->Validate().ok()) << atlas->Validate().message();
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 0.0, 0.0, -4.0, 0.0);
+  MountApplyOptions apply;
+  apply.enabled = false;  // both see the same frames, under the commissioned mount
+  KeyframeMountCalibration wheels(commissioned, calibration::MountSelfCalibrationOptions{}, apply);
+  KeyframeMountCalibration on_atlas(commissioned, calibration::MountSelfCalibrationOptions{},
+                                    apply);
+  on_atlas.SetAtlas(atlas);
+  for (double t = 0.0; t < 40.0; t += 1.0 / d.rate_hz) {
+    calibration::MountFrame f = MakeFrame(d, t, truth, commissioned);
+    f.T_odom_base =
+        core::SE2(1.006 * f.T_odom_base.x(), 1.006 * f.T_odom_base.y(), f.T_odom_base.yaw());
+    KeyframeOutput k = KeyframeOf(f);
+    k.pose.stamp_s = t;
+    k.pose.T_map_base = testing_aisle::PoseAt(d, t);
+    k.pose.covariance = core::Vector3(1e-6, 1e-6, 1e-7).asDiagonal();
+    k.has_covariance = true;
+    k.smoother = KeyframeHealth{};
+    wheels.AddKeyframe(k);
+    on_atlas.AddKeyframe(k);
+  }
+  const double wheels_off = Difference(wheels.estimate().mount, truth)(kMountHeight) * 1e3;
+  const double atlas_off = Difference(on_atlas.estimate().mount, truth)(kMountHeight) * 1e3;
+  std::printf("height off after 40 s: wheels %.2f mm, on the atlas %.2f mm\n", wheels_off,
+              atlas_off);
+  EXPECT_GT(std::abs(wheels_off), 2.0);
+  EXPECT_LT(std::abs(atlas_off), 0.5 * std::abs(wheels_off));
+  EXPECT_GT(on_atlas.estimate().windows_used, 10);
 }
 
 // A component whose sigma stays above max_sigma keeps its value; disabled,
@@ -343,6 +419,94 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
   CameraMount invalid = truth;
   invalid.height_m = -1.0;
   EXPECT_FALSE(as_commissioned->WithMount(invalid, C).ok());
+  EXPECT_FALSE(as_commissioned->WithMount(commissioned, C, invalid).ok());
+}
+
+// The BEV left on the commissioned mount, its observations expressed under the
+// true one: every line's endpoints are where the true mount puts what the BEV
+// shows (the remap between the mounts, exactly), the floor is read where it
+// is, and the observations say which mount they are under. The mount's
+// uncertainty is added about that mount.
+TEST(FloorFrontEnd, ExpressesItsObservationsUnderTheObservedMount) {
+  Eigen::Matrix3d K;
+  K << 1132.0, 0.0, 639.5, 0.0, 1132.0, 511.5, 0.0, 0.0, 1.0;
+  const calibration::CameraModel camera =
+      calibration::CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
+  const CameraMount commissioned;
+  const CameraMount truth = Moved(commissioned, 1.0, 0.2, -5.0, 0.0);
+  const cv::Mat image = PhotographFloor(camera, K, truth);
+  const core::Result<FloorFrontEnd> as_commissioned = FloorFrontEnd::Create(camera, commissioned);
+  ASSERT_TRUE(as_commissioned.ok()) << as_commissioned.message();
+  const core::Result<FloorFrontEnd> observing =
+      as_commissioned->WithMount(commissioned, Eigen::Matrix4d::Zero(), truth);
+  ASSERT_TRUE(observing.ok()) << observing.message();
+  EXPECT_TRUE(SameMount(observing->mount(), commissioned));
+  EXPECT_TRUE(SameMount(observing->observed_mount(), truth));
+  // The same table: only the observations' mount differs.
+  EXPECT_EQ(&observing->remap(), &as_commissioned->remap());
+
+  const auto bev_seen = as_commissioned->Observe(image, 1.0);
+  const auto seen = observing->Observe(image, 1.0);
+  ASSERT_TRUE(bev_seen.ok() && seen.ok());
+  ASSERT_TRUE(seen->observations.camera_mount.has_value());
+  EXPECT_TRUE(SameMount(*seen->observations.camera_mount, truth));
+  ASSERT_EQ(seen->observations.lines.size(), bev_seen->observations.lines.size());
+  for (std::size_t i = 0; i < seen->observations.lines.size(); ++i) {
+    const LineObservation& from = bev_seen->observations.lines[i];
+    const LineObservation& to = seen->observations.lines[i];
+    Eigen::Vector2d a, b;
+    ASSERT_TRUE(calibration::RemapFloorPoint(from.endpoint_a_base_m, commissioned, truth, &a));
+    ASSERT_TRUE(calibration::RemapFloorPoint(from.endpoint_b_base_m, commissioned, truth, &b));
+    EXPECT_LT((to.endpoint_a_base_m - a).norm(), 1e-12) << i;
+    EXPECT_LT((to.endpoint_b_base_m - b).norm(), 1e-12) << i;
+    EXPECT_NEAR(perception::SignedDistance(to.line_base, a), 0.0, 1e-9) << i;
+    EXPECT_NEAR(perception::SignedDistance(to.line_base, b), 0.0, 1e-9) << i;
+    EXPECT_NEAR(to.covariance.determinant(), from.covariance.determinant(),
+                1e-9 * from.covariance.determinant())
+        << i;
+  }
+  const TapeAndBar w = Find(bev_seen->observations), r = Find(seen->observations);
+  ASSERT_TRUE(w.bar && r.bar && r.tape);
+  EXPECT_GT(std::abs(w.bar->line_base.rho_m - 1.6), 0.05);
+  EXPECT_LT(std::abs(r.bar->line_base.rho_m - 1.6), 0.005);
+  EXPECT_LT(std::abs(r.tape->line_base.rho_m - 0.3), 0.005);
+
+  // The uncertainty about the observed mount: what a front end built on it
+  // adds to the same endpoints.
+  const Eigen::Matrix4d C = MountVector(std::pow(0.05 * kDegToRad, 2), 0.0, std::pow(1e-3, 2), 0.0)
+                                .asDiagonal();
+  const core::Result<FloorFrontEnd> uncertain =
+      as_commissioned->WithMount(commissioned, C, truth);
+  ASSERT_TRUE(uncertain.ok());
+  const auto with_c = uncertain->Observe(image, 1.0);
+  ASSERT_TRUE(with_c.ok());
+  ASSERT_EQ(with_c->observations.lines.size(), seen->observations.lines.size());
+  for (std::size_t i = 0; i < with_c->observations.lines.size(); ++i) {
+    const LineObservation& line = with_c->observations.lines[i];
+    Eigen::Matrix<double, 2, 4> J;  // of the line through the endpoints, central differences
+    for (int k = 0; k < 4; ++k) {
+      const double h = 1e-5;
+      MountVector step = MountVector::Zero();
+      step(k) = h;
+      const auto moved_line = [&](double sign) {
+        const CameraMount m = Moved(truth, sign * step(0) * kRadToDeg, sign * step(1) * kRadToDeg,
+                                    sign * step(2) * 1e3, sign * step(3) * kRadToDeg);
+        Eigen::Vector2d a, b;
+        EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_a_base_m, truth, m, &a));
+        EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_b_base_m, truth, m, &b));
+        return perception::LineFromPoints(a, b).value();
+      };
+      J.col(k) = perception::LineDifference(moved_line(+1), moved_line(-1)) / (2 * h);
+    }
+    const Eigen::Matrix2d expected = perception::CovarianceInDescriptionOf(
+        perception::LineFromPoints(line.endpoint_a_base_m, line.endpoint_b_base_m).value(),
+        line.line_base, FloorFrontEndOptions{}.mount_error_sightings * J * C * J.transpose());
+    EXPECT_NEAR(line.mount_covariance(0, 0), expected(0, 0), 1e-3 * expected(0, 0) + 1e-12) << i;
+    EXPECT_NEAR(line.mount_covariance(1, 1), expected(1, 1), 1e-3 * expected(1, 1) + 1e-12) << i;
+    EXPECT_TRUE((line.covariance - line.mount_covariance)
+                    .isApprox(seen->observations.lines[i].covariance, 1e-9))
+        << i;
+  }
 }
 
 }  // namespace

@@ -57,7 +57,9 @@
 #define GROUNDLINE_CALIBRATION_MOUNT_SELF_CALIBRATION_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,21 @@ double MountComponentInUnit(int component, double value);
 MountVector MountComponents(const CameraMount& mount);
 CameraMount WithMountComponents(CameraMount mount, const MountVector& components);
 
+// The atlas line a segment is a sighting of (the vehicle localized on an
+// atlas associated it): its id, its line in the map frame, and the line's
+// uncertainty where it was seen (across the line, and its direction). Only
+// the relative geometry of two atlas lines seen in one window is used (their
+// angle, and the distance between parallel ones): it does not depend on
+// where the vehicle is, so it cannot confirm a mount that the localized pose
+// absorbed.
+struct MapLineRef {
+  std::int64_t id = 0;
+  double rho_m = 0.0;
+  double alpha_rad = 0.0;
+  double sigma_m = 0.0;
+  double sigma_rad = 0.0;
+};
+
 // One floor line segment as perception found it, in base_link, under the mount
 // its frame's BEV was made with; covariance of its Hesse (rho_m, alpha_rad)
 // about the origin of base_link (perception's ExtractedLine::covariance).
@@ -90,6 +107,7 @@ struct FloorSegment {
   Eigen::Vector2d start_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d end_m = Eigen::Vector2d::Zero();
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  std::optional<MapLineRef> map_line;  // unset: not associated with an atlas line
 };
 
 // The floor's texture tracked from the previous frame into this one
@@ -100,6 +118,11 @@ struct FloorSegment {
 struct FloorFlow {
   double previous_stamp_s = 0.0;  // the frame the points were tracked from
   CameraMount previous_mount;     // its BEV's mount
+  // This frame's BEV's mount, when it is not the frame's (MountFrame::
+  // mount_used: the frame's lines were re-expressed under a better estimate
+  // of the mount than its BEV was made with; the texture is tracked in the
+  // BEV itself). Unset: mount_used.
+  std::optional<CameraMount> current_mount;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> points;  // (previous, current)
 };
 
@@ -148,6 +171,16 @@ struct MountSelfCalibrationOptions {
   std::vector<double> known_spacings_m;
   double spacing_gate_m = 0.03;
   double spacing_sigma_m = 0.002;
+  // The atlas's geometry (FloorSegment::map_line): two markings of a window
+  // that are sightings of two atlas lines are tied to the atlas's angle
+  // between them (parallel_sigma_rad added to the lines' own direction
+  // sigmas: paint is not perfectly straight), and two parallel ones to its
+  // distance between them (map_spacing_sigma_m added to the lines' own
+  // sigmas across them: where the paint's edge is). The pair's generic
+  // structure tie is then not added. A distance is scale, so height,
+  // independent of the wheels.
+  bool use_map_geometry = true;
+  double map_spacing_sigma_m = 0.001;
   // Odometry noise of the frames' relative poses: per metre driven (along
   // and across, m/sqrt(m)) and heading (rad/sqrt(m)).
   double odometry_sigma_m_per_sqrt_m = 0.002;
@@ -249,12 +282,17 @@ struct MountEstimate {
   // window confirms or drops it, the mount may be this far from `mount`.
   bool step_suspected = false;
   MountVector suspected_components = MountVector::Zero();
+  // Their covariance: what the estimate's would be if the step were
+  // confirmed with that window (the commissioning's uncertainty fused with
+  // it, and the motion's systematic errors).
+  MountMatrix suspected_covariance = MountMatrix::Zero();
   // Counters since the start.
   int frames = 0;
   int frames_gated = 0;  // not straight or steady
   int windows_used = 0;
   int windows_rejected = 0;    // too few frames or evidence, or the solve failed
   int steps = 0;               // steps detected
+  int windows_with_atlas = 0;  // windows fused with an atlas distance (MapLineRef)
   double last_update_s = 0.0;  // stamp of the last window fused (0: none)
 };
 
@@ -272,6 +310,8 @@ struct MountWindowSolution {
   int observations = 0;
   int structure_pairs = 0;
   int spacing_pairs = 0;
+  int map_pairs = 0;     // pairs tied to the atlas's angle ..
+  int map_spacings = 0;  // .. and of them, to its distance
   int flow_pairs = 0;   // frame pairs with texture evidence
   int flow_points = 0;  // their points used
   int iterations = 0;
@@ -332,7 +372,7 @@ class MountSelfCalibrator {
   MountMatrix RandomWalkCovariance(double dt_s) const;
   // Marks a suspected step at the mount `correction` shows (from frame
   // pairs, or from a window over the step gate), or clears it.
-  void Suspect(const MountVector& correction, bool from_frames);
+  void Suspect(const MountWindowSolution& evidence, bool from_frames);
   void ClearSuspicion();
   // The variances of the motion's systematic errors, added to the
   // estimate's (motion_scale_sigma, motion_heading_sigma_rad).

@@ -74,12 +74,27 @@ class FloorFrontEnd {
   // extent; cells the new mount does not see become unseen); the extractor is
   // rebuilt for the new table. About the cost of Create: not per frame
   // (the same mount with another covariance shares this one's table: cheap).
+  //
+  // `observed`: the mount the observations are expressed under, when it is
+  // not the BEV's (the best estimate of the mount, which the BEV follows
+  // only in bounded steps, or a step the self-calibration suspects before
+  // it confirms it): every line's endpoints and every junction are moved
+  // from the BEV's mount to it (calibration::RemapFloorPoint, exact: the map
+  // between two mounts is a floor-to-floor homography), the observations
+  // carry it as their camera_mount, and `mount_covariance` is about it.
+  // Unset: the BEV's mount.
   // Errors: an invalid mount, a covariance that is not symmetric positive
   // semi-definite, a mount that sees none of the grid.
-  core::Result<FloorFrontEnd> WithMount(const calibration::CameraMount& mount,
-                                        const Eigen::Matrix4d& mount_covariance) const;
+  core::Result<FloorFrontEnd> WithMount(
+      const calibration::CameraMount& mount, const Eigen::Matrix4d& mount_covariance,
+      const std::optional<calibration::CameraMount>& observed = std::nullopt) const;
 
+  // The BEV's mount.
   const calibration::CameraMount& mount() const { return remap_->mount(); }
+  // The mount the observations are expressed under (WithMount's `observed`).
+  const calibration::CameraMount& observed_mount() const {
+    return observed_mount_ ? *observed_mount_ : remap_->mount();
+  }
   const Eigen::Matrix4d& mount_covariance() const { return mount_covariance_; }
   const perception::BevRemap& remap() const { return *remap_; }
   const perception::LineExtractor& extractor() const { return *extractor_; }
@@ -95,12 +110,15 @@ class FloorFrontEnd {
                                            const calibration::CameraMount& mount,
                                            const perception::BevRemap::Options& remap_options,
                                            const FloorFrontEndOptions& options);
+  // Moves the observations from the BEV's mount to the observed one.
+  void ExpressUnderObservedMount(FloorObservations* observations) const;
   // Adds the mount's uncertainty to the observations' covariances.
   void AddMountUncertainty(FloorObservations* observations) const;
 
   FloorFrontEndOptions options_;
   perception::BevRemap::Options remap_options_;  // the grid as built
   Eigen::Matrix4d mount_covariance_ = Eigen::Matrix4d::Zero();
+  std::optional<calibration::CameraMount> observed_mount_;  // unset: the BEV's
   std::shared_ptr<const perception::BevRemap> remap_;
   std::shared_ptr<const perception::LineExtractor> extractor_;
   std::shared_ptr<const FloorView> view_;

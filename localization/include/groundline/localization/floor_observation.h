@@ -64,9 +64,11 @@ struct FloorObservations {
   double stamp_s = 0.0;
   std::vector<LineObservation> lines;
   std::vector<JunctionObservation> junctions;
-  // The camera mount the frame's bird's-eye view was made with (FloorFrontEnd
-  // sets it; the self-calibration remaps the lines from it). Unset: lines
-  // made elsewhere, under the commissioned mount.
+  // The camera mount the frame's lines and junctions are under (FloorFrontEnd
+  // sets it: the mount its bird's-eye view was made with, or the better
+  // estimate it re-expressed them under; the self-calibration remaps the
+  // lines from it). Unset: lines made elsewhere, under the commissioned
+  // mount.
   std::optional<calibration::CameraMount> camera_mount;
   // The floor the frame covered (FloorFrontEnd sets it, shared by all of its
   // frames). Unset: unknown, and the frame is no evidence that a landmark is

@@ -10,11 +10,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <optional>
 
 #include "groundline/calibration/camera_extrinsics.h"
 #include "groundline/calibration/mount_estimate_file.h"
 #include "groundline/calibration/mount_self_calibration.h"
+#include "groundline/localization/atlas.h"
+#include "groundline/localization/floor_association.h"
 #include "groundline/localization/localizer.h"
 #include "groundline/localization/odometry_calibration.h"
 
@@ -60,6 +63,16 @@ class KeyframeMountCalibration {
                            const MountApplyOptions& apply = {});
 
 
+  // The atlas the vehicle localizes on (the localizer's kLines): each
+  // keyframe's lines are associated with its lines at the keyframe's pose
+  // estimate (floor_association.h, `association`), and the estimator ties
+  // markings seen together to the atlas's angle and distance between them
+  // (calibration::MapLineRef: pose-free, so the pose the lines pulled on
+  // cannot confirm the mount they were read under). The distance between two
+  // parallel markings is the view's scale, so the height, independently of
+  // the wheels. Null: none (the default).
+  void SetAtlas(std::shared_ptr<const Atlas> atlas, const AssociationOptions& association = {});
+
   // A keyframe in time order. Keyframes without a frame advance nothing
   // (their motion is in the next one's odometry pose). The frame's lines are
   // under the mount its observations carry (FloorObservations::camera_mount;
@@ -69,18 +82,25 @@ class KeyframeMountCalibration {
   bool AddKeyframe(const KeyframeOutput& keyframe);
 
   // The mount to rebuild the BEV with at stamp_s, when a rebuild is due
-  // (MountApplyOptions), with the covariance of the components that follow
-  // the estimate (the others are zero: they are the commissioned ones). While
-  // the estimator holds a window as a possible step
-  // (MountEstimate::step_suspected), the covariance also holds how far that
-  // window puts the mount from the one handed out: an update with the mount
-  // unchanged is handed out when the suspicion comes and when it goes, at
-  // once. The caller
+  // (MountApplyOptions), and the mount the observations are to be expressed
+  // under: the best estimate, which the BEV reaches only in bounded steps.
+  // Its components that follow the estimate are the estimate's (the others
+  // the commissioned ones), with the estimate's covariance of them (the
+  // others' is zero: the commissioning's accuracy is in perception's
+  // presets). While the estimator holds a window or frame pair as a possible
+  // step (MountEstimate::step_suspected), the observations are expressed
+  // under the mount the suspect showed, with its covariance (what a restart
+  // with it would give): a joint seen between a payload and its
+  // confirmation is read under the mount the floor's texture shows, instead
+  // of under the old one (4 cm off 2 m ahead for 0.5 deg of pitch) or
+  // widened until it no longer corrects anything. An update is handed out
+  // when the suspicion comes and when it goes, at once. The caller
   // rebuilds (Localizer::SetCameraMount, the service's camera stage); this
   // object takes the mount as applied.
   struct MountUpdate {
-    calibration::CameraMount mount;
-    Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+    calibration::CameraMount mount;     // the BEV's
+    calibration::CameraMount observed;  // the observations'
+    Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // about `observed`
   };
   std::optional<MountUpdate> DueMountUpdate(double stamp_s);
 
@@ -92,8 +112,10 @@ class KeyframeMountCalibration {
   core::Result<std::optional<MountUpdate>> Restore(const calibration::SavedMountEstimate& saved);
   const calibration::MountEstimate& estimate() const { return calibrator_.estimate(); }
   const calibration::CameraMount& commissioned() const { return calibrator_.commissioned(); }
-  // The mount of the last update handed out (the commissioned one before any).
+  // The BEV's mount of the last update handed out (the commissioned one
+  // before any), and its observed mount.
   const calibration::CameraMount& applied() const { return applied_; }
+  const calibration::CameraMount& observed() const { return observed_; }
   int mount_updates() const { return mount_updates_; }
 
  private:
@@ -103,7 +125,10 @@ class KeyframeMountCalibration {
 
   calibration::MountSelfCalibrator calibrator_;
   MountApplyOptions apply_;
+  std::shared_ptr<const Atlas> atlas_;
+  AssociationOptions association_;
   calibration::CameraMount applied_;
+  calibration::CameraMount observed_;
   std::optional<double> last_update_s_;  // the last update that moved the mount
   // The suspicion of a step in the last update handed out.
   bool handed_suspicion_ = false;

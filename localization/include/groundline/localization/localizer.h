@@ -328,11 +328,13 @@ class Localizer {
   core::Status RequestRelocalization();
   bool started() const;
   // The camera front end rebuilt for another mount (the self-calibrated one,
-  // with its covariance: FloorFrontEnd::WithMount); frames observed from now
-  // on use it, and their observations carry the mount. Errors (the front end
-  // is unchanged): no camera in the setup; those of WithMount.
-  core::Status SetCameraMount(const calibration::CameraMount& mount,
-                              const Eigen::Matrix4d& covariance);
+  // with its covariance, and the mount the observations are expressed under
+  // when it is not the BEV's: FloorFrontEnd::WithMount); frames observed
+  // from now on use it, and their observations carry the mount. Errors (the
+  // front end is unchanged): no camera in the setup; those of WithMount.
+  core::Status SetCameraMount(
+      const calibration::CameraMount& mount, const Eigen::Matrix4d& covariance,
+      const std::optional<calibration::CameraMount>& observed = std::nullopt);
   // Set once a relocalization committed.
   const std::optional<PoseEstimate>& relocalized() const;
   const RelocalizerStatus* relocalizer_status() const;
