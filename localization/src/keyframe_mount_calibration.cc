@@ -134,7 +134,8 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
   for (int i = 0; i < 4; ++i) {
     const double sigma = std::sqrt(e.covariance(i, i));
     const double moved = std::abs(estimated(i) - commissioned_components(i));
-    follows[i] = sigma < apply_.max_sigma(i) || moved > apply_.min_significance * sigma;
+    follows[i] = (apply_.follow_all_after_step && e.steps > 0) || sigma < apply_.max_sigma(i) ||
+                 moved > apply_.min_significance * sigma;
     target(i) = follows[i] ? estimated(i) : commissioned_components(i);
   }
   // The observations: under the mount a suspected step showed (the mount is

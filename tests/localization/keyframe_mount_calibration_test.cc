@@ -163,6 +163,57 @@ TEST(KeyframeMountCalibration, TheBevFollowsAPayloadInBoundedSteps) {
   EXPECT_EQ(cal.mount_updates(), updates);
 }
 
+// A payload pitches the camera 1 deg and lowers it 1.5 mm. With the wheels'
+// scale uncertain (0.2 %: 1.2 mm of height sigma), the height alone would
+// never be significantly off its commissioned value; once the step is found,
+// every component follows the estimate, which is then nearer the truth than
+// the commissioned height. With follow_all_after_step off, the height stays
+// commissioned.
+TEST(KeyframeMountCalibration, AfterAStepEveryComponentFollowsTheEstimate) {
+  const CameraMount commissioned;
+  const CameraMount loaded = Moved(commissioned, 1.0, 0.0, -1.5, 0.0);
+  calibration::MountSelfCalibrationOptions options;
+  options.motion_scale_sigma = 2e-3;
+  for (const bool follow_all : {true, false}) {
+    SCOPED_TRACE(follow_all ? "follow all after a step" : "significant components only");
+    Drive d;
+    d.world = Aisle(200.0);
+    MountApplyOptions apply;
+    apply.follow_all_after_step = follow_all;
+    KeyframeMountCalibration cal(commissioned, options, apply);
+    CameraMount bev_mount = commissioned;
+    std::optional<KeyframeMountCalibration::MountUpdate> last;
+    double estimated_mm = 0.0;  // at the last update
+    bool height_followed_before_step = false;
+    for (double t = 0.0; t < 30.0; t += 1.0 / d.rate_hz) {
+      const CameraMount truth = t < 10.0 ? commissioned : loaded;
+      cal.AddKeyframe(KeyframeOf(MakeFrame(d, t, truth, bev_mount)));
+      if (auto update = cal.DueMountUpdate(t)) {
+        if (cal.estimate().steps == 0 && !cal.estimate().step_suspected &&
+            update->covariance(kMountHeight, kMountHeight) > 0.0)
+          height_followed_before_step = true;
+        bev_mount = update->mount;
+        last = update;
+        estimated_mm = cal.estimate().mount.height_m * 1e3;
+      }
+    }
+    ASSERT_EQ(cal.estimate().steps, 1);
+    ASSERT_TRUE(last.has_value());
+    EXPECT_FALSE(height_followed_before_step);
+    const double observed_mm = last->observed.height_m * 1e3;
+    EXPECT_GT(std::sqrt(cal.estimate().covariance(kMountHeight, kMountHeight)) * 1e3, 1.0);
+    if (follow_all) {
+      EXPECT_DOUBLE_EQ(observed_mm, estimated_mm);
+      EXPECT_LT(std::abs(observed_mm - loaded.height_m * 1e3), 0.75);
+      EXPECT_GT(last->covariance(kMountHeight, kMountHeight), 0.0);
+    } else {
+      EXPECT_DOUBLE_EQ(observed_mm, commissioned.height_m * 1e3);
+      EXPECT_EQ(last->covariance(kMountHeight, kMountHeight), 0.0);
+    }
+    EXPECT_LT(std::abs(last->observed.pitch_rad - loaded.pitch_rad) * kRadToDeg, 0.05);
+  }
+}
+
 // Localized on an atlas, the self-calibration ties markings seen together to
 // the atlas's geometry: wheels 0.6 % off put the height from the motion
 // about 3.5 mm off, the aisle's lane tapes (1.2 m apart on the atlas) put it

@@ -46,6 +46,13 @@ struct MountApplyOptions {
   calibration::MountVector max_sigma =
       (calibration::MountVector() << 0.00035, 0.00035, 0.0005, 0.00035).finished();  // 0.02 deg, 0.5 mm
   double min_significance = 3.0;
+  // Once the estimator has found a step (a payload, a knock: the mount moved
+  // away from its commissioning), every component follows the estimate: the
+  // commissioned value is no longer known to be right for any of them, and
+  // a payload lowers the camera by a millimetre or two, below what the
+  // significance test sees against the wheels' scale error, while the
+  // commissioned height is then further from the truth than the estimate.
+  bool follow_all_after_step = true;
   // A rebuild only when a component would move by more than this (smaller
   // changes are below what perception resolves).
   calibration::MountVector min_change =
