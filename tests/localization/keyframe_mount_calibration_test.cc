@@ -340,6 +340,24 @@ cv::Mat PhotographFloor(const calibration::CameraModel& camera, const Eigen::Mat
   return image;
 }
 
+// The reference pinhole camera, its commissioned mount, a true mount 1 deg
+// of pitch and 0.2 deg of roll off it and 5 mm lower, and the floor
+// photographed on the truth.
+struct PhotographedFloor {
+  calibration::CameraModel camera =
+      calibration::CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
+  CameraMount commissioned;
+  CameraMount truth = Moved(CameraMount{}, 1.0, 0.2, -5.0, 0.0);
+  cv::Mat image;
+};
+PhotographedFloor PhotographTheFloor() {
+  PhotographedFloor f;
+  Eigen::Matrix3d K;
+  K << 1132.0, 0.0, 639.5, 0.0, 1132.0, 511.5, 0.0, 0.0, 1.0;
+  f.image = PhotographFloor(f.camera, K, f.truth);
+  return f;
+}
+
 // The lines nearest to the tape (alpha near +90 deg) and the bar (alpha near 0).
 struct TapeAndBar {
   const LineObservation* tape = nullptr;
@@ -390,14 +408,37 @@ TEST(KeyframeMountCalibration, ACalibratedOdometrySetsTheMotionsSystematicErrors
   EXPECT_EQ(o.flow_sigma_m, defaults.flow_sigma_m);
 }
 
+// What the front end should add to a line's covariance for the mount's
+// uncertainty C about `mount`: N J C J^T in the line's description, J the
+// derivative of the line through its endpoints by central differences.
+Eigen::Matrix2d ExpectedMountCovariance(const LineObservation& line, const CameraMount& mount,
+                                        const Eigen::Matrix4d& C) {
+  Eigen::Matrix<double, 2, 4> J;
+  for (int k = 0; k < 4; ++k) {
+    const double h = 1e-5;
+    MountVector step = MountVector::Zero();
+    step(k) = h;
+    const auto moved_line = [&](double sign) {
+      const CameraMount m = Moved(mount, sign * step(0) * kRadToDeg, sign * step(1) * kRadToDeg,
+                                  sign * step(2) * 1e3, sign * step(3) * kRadToDeg);
+      Eigen::Vector2d a, b;
+      EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_a_base_m, mount, m, &a));
+      EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_b_base_m, mount, m, &b));
+      return perception::LineFromPoints(a, b).value();
+    };
+    J.col(k) = perception::LineDifference(moved_line(+1), moved_line(-1)) / (2 * h);
+  }
+  return perception::CovarianceInDescriptionOf(
+      perception::LineFromPoints(line.endpoint_a_base_m, line.endpoint_b_base_m).value(),
+      line.line_base, FloorFrontEndOptions{}.mount_error_sightings * J * C * J.transpose());
+}
+
 TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
-  Eigen::Matrix3d K;
-  K << 1132.0, 0.0, 639.5, 0.0, 1132.0, 511.5, 0.0, 0.0, 1.0;
-  const calibration::CameraModel camera =
-      calibration::CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
-  const CameraMount commissioned;
-  const CameraMount truth = Moved(commissioned, 1.0, 0.2, -5.0, 0.0);
-  const cv::Mat image = PhotographFloor(camera, K, truth);
+  const PhotographedFloor photographed = PhotographTheFloor();
+  const calibration::CameraModel& camera = photographed.camera;
+  const CameraMount& commissioned = photographed.commissioned;
+  const CameraMount& truth = photographed.truth;
+  const cv::Mat& image = photographed.image;
 
   core::Result<FloorFrontEnd> as_commissioned = FloorFrontEnd::Create(camera, commissioned);
   ASSERT_TRUE(as_commissioned.ok()) << as_commissioned.message();
@@ -438,25 +479,8 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
   ASSERT_EQ(with_c->observations.lines.size(), right->observations.lines.size());
   for (std::size_t i = 0; i < with_c->observations.lines.size(); ++i) {
     const LineObservation& base = right->observations.lines[i];
-    Eigen::Matrix<double, 2, 4> J;
-    for (int k = 0; k < 4; ++k) {
-      const double h = 1e-5;
-      MountVector step = MountVector::Zero();
-      step(k) = h;
-      const auto moved_line = [&](double sign) {
-        const CameraMount m = Moved(truth, sign * step(0) * kRadToDeg, sign * step(1) * kRadToDeg,
-                                    sign * step(2) * 1e3, sign * step(3) * kRadToDeg);
-        Eigen::Vector2d a, b;
-        EXPECT_TRUE(calibration::RemapFloorPoint(base.endpoint_a_base_m, truth, m, &a));
-        EXPECT_TRUE(calibration::RemapFloorPoint(base.endpoint_b_base_m, truth, m, &b));
-        return perception::LineFromPoints(a, b).value();
-      };
-      J.col(k) = perception::LineDifference(moved_line(+1), moved_line(-1)) / (2 * h);
-    }
     const Eigen::Matrix2d added = with_c->observations.lines[i].covariance - base.covariance;
-    const Eigen::Matrix2d expected = perception::CovarianceInDescriptionOf(
-        perception::LineFromPoints(base.endpoint_a_base_m, base.endpoint_b_base_m).value(),
-        base.line_base, FloorFrontEndOptions{}.mount_error_sightings * J * C * J.transpose());
+    const Eigen::Matrix2d expected = ExpectedMountCovariance(base, truth, C);
     EXPECT_NEAR(added(0, 0), expected(0, 0), 1e-3 * expected(0, 0) + 1e-12) << i;
     EXPECT_NEAR(added(1, 1), expected(1, 1), 1e-3 * expected(1, 1) + 1e-12) << i;
     EXPECT_NEAR(added(0, 1), expected(0, 1), 1e-3 * std::abs(expected(0, 1)) + 1e-12) << i;
@@ -479,13 +503,11 @@ TEST(FloorFrontEnd, RebuiltForTheTrueMountReadsTheFloorWhereItIs) {
 // is, and the observations say which mount they are under. The mount's
 // uncertainty is added about that mount.
 TEST(FloorFrontEnd, ExpressesItsObservationsUnderTheObservedMount) {
-  Eigen::Matrix3d K;
-  K << 1132.0, 0.0, 639.5, 0.0, 1132.0, 511.5, 0.0, 0.0, 1.0;
-  const calibration::CameraModel camera =
-      calibration::CameraModel::Pinhole(1132.0, 1132.0, 639.5, 511.5, 1280, 1024);
-  const CameraMount commissioned;
-  const CameraMount truth = Moved(commissioned, 1.0, 0.2, -5.0, 0.0);
-  const cv::Mat image = PhotographFloor(camera, K, truth);
+  const PhotographedFloor photographed = PhotographTheFloor();
+  const calibration::CameraModel& camera = photographed.camera;
+  const CameraMount& commissioned = photographed.commissioned;
+  const CameraMount& truth = photographed.truth;
+  const cv::Mat& image = photographed.image;
   const core::Result<FloorFrontEnd> as_commissioned = FloorFrontEnd::Create(camera, commissioned);
   ASSERT_TRUE(as_commissioned.ok()) << as_commissioned.message();
   const core::Result<FloorFrontEnd> observing =
@@ -534,24 +556,7 @@ TEST(FloorFrontEnd, ExpressesItsObservationsUnderTheObservedMount) {
   ASSERT_EQ(with_c->observations.lines.size(), seen->observations.lines.size());
   for (std::size_t i = 0; i < with_c->observations.lines.size(); ++i) {
     const LineObservation& line = with_c->observations.lines[i];
-    Eigen::Matrix<double, 2, 4> J;  // of the line through the endpoints, central differences
-    for (int k = 0; k < 4; ++k) {
-      const double h = 1e-5;
-      MountVector step = MountVector::Zero();
-      step(k) = h;
-      const auto moved_line = [&](double sign) {
-        const CameraMount m = Moved(truth, sign * step(0) * kRadToDeg, sign * step(1) * kRadToDeg,
-                                    sign * step(2) * 1e3, sign * step(3) * kRadToDeg);
-        Eigen::Vector2d a, b;
-        EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_a_base_m, truth, m, &a));
-        EXPECT_TRUE(calibration::RemapFloorPoint(line.endpoint_b_base_m, truth, m, &b));
-        return perception::LineFromPoints(a, b).value();
-      };
-      J.col(k) = perception::LineDifference(moved_line(+1), moved_line(-1)) / (2 * h);
-    }
-    const Eigen::Matrix2d expected = perception::CovarianceInDescriptionOf(
-        perception::LineFromPoints(line.endpoint_a_base_m, line.endpoint_b_base_m).value(),
-        line.line_base, FloorFrontEndOptions{}.mount_error_sightings * J * C * J.transpose());
+    const Eigen::Matrix2d expected = ExpectedMountCovariance(line, truth, C);
     EXPECT_NEAR(line.mount_covariance(0, 0), expected(0, 0), 1e-3 * expected(0, 0) + 1e-12) << i;
     EXPECT_NEAR(line.mount_covariance(1, 1), expected(1, 1), 1e-3 * expected(1, 1) + 1e-12) << i;
     EXPECT_TRUE((line.covariance - line.mount_covariance)
