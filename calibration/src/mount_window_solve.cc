@@ -155,7 +155,8 @@ struct StructureCost {
 // Two landmarks at a known angle (the atlas's: l0's normal turned from
 // l1's by angle_rad, either description).
 struct RelativeAngleCost {
-  RelativeAngleCost(double angle_rad, double sigma_rad) : angle_rad_(angle_rad), sigma_rad_(sigma_rad) {}
+  RelativeAngleCost(double angle_rad, double sigma_rad)
+      : angle_rad_(angle_rad), sigma_rad_(sigma_rad) {}
   template <typename T>
   bool operator()(const T* l0, const T* l1, T* residual) const {
     using std::sin;
@@ -322,8 +323,9 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
           ++it->second;
         }
       }
-      const auto best = std::max_element(
-          counts.begin(), counts.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+      const auto best =
+          std::max_element(counts.begin(), counts.end(),
+                           [](const auto& x, const auto& y) { return x.second < y.second; });
       if (best != counts.end() && best->second >= o.min_track_frames) l.map_line = *best->first;
     }
   }
@@ -337,7 +339,7 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   struct MapPair {
     int a, b;
     double angle_rad, angle_sigma_rad;
-    std::optional<double> sign;  // parallel: the window's signed gap's sign ..
+    std::optional<double> sign;                     // parallel: the window's signed gap's sign ..
     double spacing_m = 0.0, spacing_sigma_m = 0.0;  // .. and the atlas's distance
   };
   std::vector<MapPair> map_pairs;
@@ -436,12 +438,11 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
       const double inverse_sigma = 1.0 / (o.flow_sigma_m * std::sqrt(inflation));
       for (int j = 0; j < n; ++j) {
         const auto& pair = flow.points[kept[static_cast<std::size_t>(j) * kept.size() / n]];
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<FlowCost, 2, 4, 3, 3>(
-                new FlowCost(pair.first, flow.previous_mount, pair.second, current_mount,
-                             reference, inverse_sigma)),
-            new ceres::CauchyLoss(o.loss_scale), c.data(), poses[k - 1].data(),
-            poses[k].data());
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FlowCost, 2, 4, 3, 3>(
+                                     new FlowCost(pair.first, flow.previous_mount, pair.second,
+                                                  current_mount, reference, inverse_sigma)),
+                                 new ceres::CauchyLoss(o.loss_scale), c.data(), poses[k - 1].data(),
+                                 poses[k].data());
       }
       ++out.flow_pairs;
       out.flow_points += n;

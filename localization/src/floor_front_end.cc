@@ -128,8 +128,8 @@ void FloorFrontEnd::ExpressUnderObservedMount(FloorObservations* observations) c
     if (!through.ok()) continue;
     // Perception's (rho, alpha) covariance carried over: the map between two
     // mounts a fraction of a degree apart scales the floor by well under 1 %.
-    line.covariance = perception::CovarianceInDescriptionOf(line.line_base, *through,
-                                                            line.covariance);
+    line.covariance =
+        perception::CovarianceInDescriptionOf(line.line_base, *through, line.covariance);
     line.line_base = *through;
     line.endpoint_a_base_m = a;
     line.endpoint_b_base_m = b;

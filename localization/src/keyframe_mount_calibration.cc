@@ -140,8 +140,7 @@ std::optional<KeyframeMountCalibration::MountUpdate> KeyframeMountCalibration::N
   }
   // The observations: under the mount a suspected step showed (the mount is
   // most likely there), else under the target.
-  const calibration::MountVector observed =
-      e.step_suspected ? e.suspected_components : target;
+  const calibration::MountVector observed = e.step_suspected ? e.suspected_components : target;
   const calibration::MountVector observed_before = calibration::MountComponents(observed_);
   calibration::MountVector next = current;
   bool moves = false;

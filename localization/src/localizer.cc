@@ -104,8 +104,7 @@ core::Status Localizer::SetCameraMount(const calibration::CameraMount& mount,
   if (!impl_->setup.camera) {
     return core::Status::Error("set camera mount: the localizer has no camera front end");
   }
-  core::Result<FloorFrontEnd> rebuilt =
-      impl_->setup.camera->WithMount(mount, covariance, observed);
+  core::Result<FloorFrontEnd> rebuilt = impl_->setup.camera->WithMount(mount, covariance, observed);
   if (!rebuilt.ok()) return rebuilt.status();
   impl_->setup.camera = std::make_shared<const FloorFrontEnd>(std::move(rebuilt).value());
   return core::Status::Ok();

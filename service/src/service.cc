@@ -92,9 +92,8 @@ core::Result<std::unique_ptr<Service>> Service::Create(const ServiceConfig& conf
       } else {
         impl->mount_estimate_restored = "restored from " + impl->mount_estimate_path.string();
         if (*restored && impl->camera) {
-          core::Result<loc::FloorFrontEnd> rebuilt =
-              impl->camera->WithMount((*restored)->mount, (*restored)->covariance,
-                                  (*restored)->observed);
+          core::Result<loc::FloorFrontEnd> rebuilt = impl->camera->WithMount(
+              (*restored)->mount, (*restored)->covariance, (*restored)->observed);
           if (!rebuilt.ok()) return rebuilt.status().WithContext("restored mount estimate");
           impl->camera = std::make_shared<const loc::FloorFrontEnd>(std::move(rebuilt).value());
           setup->setup.camera = impl->camera;

@@ -98,8 +98,7 @@ void Service::Impl::CameraStage() {
     }
     if (mount_update && camera) {
       core::Result<loc::FloorFrontEnd> rebuilt =
-          camera->WithMount(mount_update->mount, mount_update->covariance,
-                            mount_update->observed);
+          camera->WithMount(mount_update->mount, mount_update->covariance, mount_update->observed);
       if (rebuilt.ok()) {
         camera = std::make_shared<const loc::FloorFrontEnd>(std::move(rebuilt).value());
         ++mount_rebuilds;

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/LU>
 #include <ceres/jet.h>
+#include <Eigen/LU>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -306,8 +306,8 @@ TEST(SolveMountWindow, TheAtlasDistanceBetweenParallelMarkingsFixesTheScale) {
   const CameraMount truth = Moved(commissioned, 0.2, 0.0, -4.0, 0.0);
   std::vector<MountFrame> frames = Frames(d, 2.0, 3.6, truth, commissioned);
   for (MountFrame& f : frames) {
-    f.T_odom_base = core::SE2(1.006 * f.T_odom_base.x(), 1.006 * f.T_odom_base.y(),
-                              f.T_odom_base.yaw());
+    f.T_odom_base =
+        core::SE2(1.006 * f.T_odom_base.x(), 1.006 * f.T_odom_base.y(), f.T_odom_base.yaw());
   }
   const MountSelfCalibrationOptions o;
   const double truth_mm = Difference(truth, commissioned)(kMountHeight) * 1e3;
@@ -316,7 +316,8 @@ TEST(SolveMountWindow, TheAtlasDistanceBetweenParallelMarkingsFixesTheScale) {
   EXPECT_EQ(wheels.map_pairs, 0);
   std::vector<MountFrame> on_atlas = frames;
   AttachMapLines(d, &on_atlas, 0.0005, 0.0005);
-  const MountWindowSolution atlas = SolveMountWindow(on_atlas, commissioned, MountVector::Zero(), o);
+  const MountWindowSolution atlas =
+      SolveMountWindow(on_atlas, commissioned, MountVector::Zero(), o);
   ASSERT_TRUE(atlas.ok) << atlas.message;
   EXPECT_GE(atlas.map_spacings, 1);
   EXPECT_GE(atlas.map_pairs, atlas.map_spacings);

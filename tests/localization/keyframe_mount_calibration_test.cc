@@ -546,10 +546,9 @@ TEST(FloorFrontEnd, ExpressesItsObservationsUnderTheObservedMount) {
 
   // The uncertainty about the observed mount: what a front end built on it
   // adds to the same endpoints.
-  const Eigen::Matrix4d C = MountVector(std::pow(0.05 * kDegToRad, 2), 0.0, std::pow(1e-3, 2), 0.0)
-                                .asDiagonal();
-  const core::Result<FloorFrontEnd> uncertain =
-      as_commissioned->WithMount(commissioned, C, truth);
+  const Eigen::Matrix4d C =
+      MountVector(std::pow(0.05 * kDegToRad, 2), 0.0, std::pow(1e-3, 2), 0.0).asDiagonal();
+  const core::Result<FloorFrontEnd> uncertain = as_commissioned->WithMount(commissioned, C, truth);
   ASSERT_TRUE(uncertain.ok());
   const auto with_c = uncertain->Observe(image, 1.0);
   ASSERT_TRUE(with_c.ok());

@@ -69,7 +69,6 @@ class KeyframeMountCalibration {
                            const calibration::MountSelfCalibrationOptions& options,
                            const MountApplyOptions& apply = {});
 
-
   // The atlas the vehicle localizes on (the localizer's kLines): each
   // keyframe's lines are associated with its lines at the keyframe's pose
   // estimate (floor_association.h, `association`), and the estimator ties
@@ -105,8 +104,8 @@ class KeyframeMountCalibration {
   // rebuilds (Localizer::SetCameraMount, the service's camera stage); this
   // object takes the mount as applied.
   struct MountUpdate {
-    calibration::CameraMount mount;     // the BEV's
-    calibration::CameraMount observed;  // the observations'
+    calibration::CameraMount mount;                        // the BEV's
+    calibration::CameraMount observed;                     // the observations'
     Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // about `observed`
   };
   std::optional<MountUpdate> DueMountUpdate(double stamp_s);
