@@ -20,10 +20,11 @@ bool SameGrid(const perception::BevGridOptions& a, const perception::BevGridOpti
 
 }  // namespace
 
-void FloorFlowTracker::Track(const cv::Mat& bev, const FloorFrontEnd& front_end,
+void FloorFlowTracker::Track(const cv::Mat& grey, const FloorFrontEnd& front_end,
                              FloorObservations* observations) {
-  Track(BevFrame{bev, front_end.remap().valid_mask(), front_end.remap().grid(), front_end.mount()},
-        observations);
+  observations->texture_flow = {};
+  if (!front_end.TextureBev(grey, &current_).ok()) return;
+  Track(current_, observations);
 }
 
 void FloorFlowTracker::Track(const BevFrame& frame, FloorObservations* observations) {

@@ -40,6 +40,11 @@ FloorView SeenFloor(const perception::BevRemap& remap) {
 core::Status FloorFrontEndOptions::Validate() const {
   if (core::Status s = remap.Validate(); !s.ok()) return s.WithContext("remap");
   if (core::Status s = extractor.Validate(); !s.ok()) return s.WithContext("extractor");
+  if (core::Status s = texture.Validate(); !s.ok()) return s.WithContext("texture");
+  if (!(std::isfinite(texture.grid.cell_m) && texture.grid.cell_m > 0.0 &&
+        texture.grid.cell_m <= 0.05)) {
+    return core::Status::Error("texture.grid.cell_m: expected a cell side in (0, 0.05] m");
+  }
   if (core::Status s = bev.Validate(); !s.ok()) return s;
   if (!(min_frame_stddev >= 0.0 && min_frame_stddev < 128.0)) {
     return core::Status::Error("min_frame_stddev: expected 0..128 grey levels");
@@ -75,6 +80,7 @@ core::Result<FloorFrontEnd> FloorFrontEnd::Build(const calibration::CameraModel&
   }
   front_end.extractor_ = std::make_shared<perception::LineExtractor>(*remap, options.extractor);
   front_end.view_ = std::make_shared<const FloorView>(SeenFloor(*remap));
+  front_end.texture_ = std::make_shared<TextureTable>();
   front_end.remap_ = std::move(remap);
   front_end.options_ = options;
   front_end.remap_options_ = remap_options;
@@ -171,6 +177,31 @@ void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
     if (!calibration::FloorPointMountJacobian(junction.point_base_m, mount, &J)) continue;
     junction.covariance += J * common * J.transpose();
   }
+}
+
+core::Status FloorFrontEnd::TextureBev(const cv::Mat& grey, BevFrame* out) const {
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols != width_px_ ||
+      grey.rows != height_px_) {
+    return core::Status::Error("floor texture: expected an 8-bit grey frame of " +
+                               std::to_string(width_px_) + "x" + std::to_string(height_px_) +
+                               " px (the camera model's imager)");
+  }
+  std::call_once(texture_->built, [this] {
+    perception::BevRemap::Options o = options_.texture;
+    o.grid = remap_options_.grid;
+    // As fine as the grid's 4096 cells a side allow.
+    o.grid.cell_m = std::max({options_.texture.grid.cell_m,
+                              (o.grid.x_max_m - o.grid.x_min_m) / 4000.0,
+                              (o.grid.y_max_m - o.grid.y_min_m) / 4000.0});
+    texture_->remap = std::make_shared<const perception::BevRemap>(remap_->camera(),
+                                                                   remap_->mount(), o);
+  });
+  const perception::BevRemap& remap = *texture_->remap;
+  remap.Apply(grey, &out->image);
+  out->seen = remap.valid_mask();
+  out->grid = remap.grid();
+  out->mount = remap.mount();
+  return core::Status::Ok();
 }
 
 core::Result<ConvertedObservations> FloorFrontEnd::Observe(const cv::Mat& grey,

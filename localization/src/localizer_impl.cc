@@ -393,7 +393,7 @@ std::optional<ConvertedObservations> LocalizerImpl::Observe(PendingFrame& frame,
   core::Result<ConvertedObservations> seen =
       setup.camera->Observe(grey, stamp_s, &bev, &extraction_scratch);
   if (!seen.ok()) return std::nullopt;
-  if (flow_tracker) flow_tracker->Track(bev, *setup.camera, &seen->observations);
+  if (flow_tracker) flow_tracker->Track(grey, *setup.camera, &seen->observations);
   return std::move(seen).value();
 }
 

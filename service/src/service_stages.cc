@@ -120,8 +120,8 @@ void Service::Impl::CameraStage() {
         grey.empty() || !camera ? core::Status::Error("unreadable frame " + job->path.string())
                                 : camera->Observe(grey, job->stamp_s, &bev, &scratch);
     if (seen.ok() && localizer->options().track_floor_texture) {
-      seen->bev = loc::BevFrame{bev.clone(), camera->remap().valid_mask(), camera->remap().grid(),
-                                camera->mount()};
+      loc::BevFrame texture{cv::Mat(), cv::Mat(), camera->remap().grid(), camera->mount()};
+      if (camera->TextureBev(grey, &texture).ok()) seen->bev = std::move(texture);
     }
     if (seen.ok()) {
       ++camera_processed;

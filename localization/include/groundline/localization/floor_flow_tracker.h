@@ -24,16 +24,20 @@ class FloorFlowTracker {
   // Valid options (asserted).
   explicit FloorFlowTracker(const perception::FloorTextureFlowOptions& options = {});
 
-  // `bev`: the BEV `observations` were made from. Sets
-  // observations->texture_flow to the texture tracked from the BEV given
-  // last (empty for the first, after a frame older than the last, and when
-  // the grid changed), and keeps this one for the next frame.
+  // `bev`: the texture BEV (FloorFrontEnd::TextureBev) of the frame
+  // `observations` were made from. Sets observations->texture_flow to the
+  // texture tracked from the BEV given last (empty for the first, after a
+  // frame older than the last, and when the grid changed), and keeps this
+  // one for the next frame.
   void Track(const BevFrame& bev, FloorObservations* observations);
-  // The same for the BEV `front_end` has just made (FloorFrontEnd::Observe).
-  void Track(const cv::Mat& bev, const FloorFrontEnd& front_end, FloorObservations* observations);
+  // The same for the grey frame `front_end` has just observed (nothing
+  // tracked, and the last BEV kept, when it is not one of its frames).
+  void Track(const cv::Mat& grey, const FloorFrontEnd& front_end, FloorObservations* observations);
 
  private:
   perception::FloorTextureFlowOptions options_;
+  // TextureBev's buffers, reused frame after frame.
+  BevFrame current_{cv::Mat(), cv::Mat(), perception::BevGrid(perception::BevGridOptions{}), {}};
   bool has_previous_ = false;
   cv::Mat previous_;
   cv::Mat previous_seen_;

@@ -9,6 +9,8 @@
 #ifndef GROUNDLINE_LOCALIZATION_FLOOR_FRONT_END_H_
 #define GROUNDLINE_LOCALIZATION_FLOOR_FRONT_END_H_
 
+#include <memory>
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <optional>
 
@@ -28,6 +30,9 @@ struct FloorFrontEndOptions {
   // floor footprint at 1 cm cells.
   perception::BevExtent bev;
   perception::LineExtractorOptions extractor = perception::LineExtractorOptions::ForFusion();
+  // The sampling of the floor texture's BEV (TextureBev): the BEV's extent
+  // at texture.grid.cell_m (the rest of texture.grid is not used).
+  perception::BevRemap::Options texture = perception::BevRemap::Options::ForTextureTracking();
   // A frame whose grey levels spread less than this (standard deviation over
   // a grid of samples) is blank: a covered lens, a blacked-out or saturated
   // camera. It is refused (an error), not read as a floor without markings.
@@ -63,6 +68,14 @@ class FloorFrontEnd {
   core::Result<ConvertedObservations> Observe(
       const cv::Mat& grey, double stamp_s, cv::Mat* bev,
       perception::ExtractionScratch* scratch = nullptr) const;
+
+  // The frame's BEV for tracking the floor's texture (FloorFlowTracker): the
+  // BEV's extent and mount at the finer cells of options.texture, with its
+  // seen cells. Its table is built at the first call on this mount (about
+  // the cost of the BEV's own), and shared with the copies WithMount makes
+  // for the same mount. Errors: a frame that is not an 8-bit grey image of
+  // the camera's size.
+  core::Status TextureBev(const cv::Mat& grey, BevFrame* out) const;
 
   // The same camera and options on another mount (a self-calibrated one),
   // with the mount's uncertainty: `mount_covariance` over (pitch_rad,
@@ -122,6 +135,12 @@ class FloorFrontEnd {
   std::shared_ptr<const perception::BevRemap> remap_;
   std::shared_ptr<const perception::LineExtractor> extractor_;
   std::shared_ptr<const FloorView> view_;
+  // TextureBev's table, built at its first call (thread-safe).
+  struct TextureTable {
+    std::once_flag built;
+    std::shared_ptr<const perception::BevRemap> remap;
+  };
+  std::shared_ptr<TextureTable> texture_;
   int width_px_ = 0;
   int height_px_ = 0;
   double min_frame_stddev_ = 0.0;

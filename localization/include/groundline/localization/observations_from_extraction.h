@@ -36,9 +36,10 @@ struct BevFrame {
 
 struct ConvertedObservations {
   FloorObservations observations;
-  // The BEV the observations were made from, when a camera stage hands it
-  // on for the floor's texture to be tracked at the keyframe
-  // (FloorFlowTracker); dropped once tracked.
+  // The texture BEV of the frame the observations were made from
+  // (FloorFrontEnd::TextureBev), when a camera stage hands it on for the
+  // floor's texture to be tracked at the keyframe (FloorFlowTracker);
+  // dropped once tracked.
   std::optional<BevFrame> bev;
   int dropped_lines = 0;      // covariance not SPD
   int dropped_junctions = 0;  // covariance not SPD

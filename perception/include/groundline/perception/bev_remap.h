@@ -124,6 +124,21 @@ class BevRemap {
       options.supersampling_across = 4;
       return options;
     }
+    // The sampling of the floor texture's tracking (floor_texture_flow.h):
+    // 4 mm cells, 2 x 2 samples each. Lucas-Kanade on 1 cm cells reads a
+    // shift biased towards whole cells, by up to 0.07 cell, alike for every
+    // patch: a vehicle at constant speed moves the floor by the same
+    // fraction of a cell in every frame pair, and the common bias is read as
+    // a scale (a camera height off by up to a millimetre for minutes). At
+    // 4 mm the bias is within +-0.05 mm per 27 cm frame step, and four times
+    // as many patches pass the forward-backward check
+    // (docs/2026-12-07-texture-tracking-cells.md).
+    static Options ForTextureTracking() {
+      Options options;
+      options.grid.cell_m = 0.004;
+      options.supersampling = 2;
+      return options;
+    }
     int SamplesAcross() const {
       return supersampling_across > 0 ? supersampling_across : supersampling;
     }
