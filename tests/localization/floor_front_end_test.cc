@@ -112,5 +112,62 @@ TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {
   EXPECT_EQ(seen->observations.stamp_s, 2.0);
 }
 
+
+// The texture's BEV covers the line BEV's floor at its own finer cells, on
+// the same mount, and sees the same floor; a frame of another size is
+// refused; another mount gets its own table.
+TEST(FloorFrontEnd, TheTextureBevIsTheSameFloorAtFinerCells) {
+  const FloorFrontEnd front_end = ReferenceCamera();
+  cv::Mat grey(1024, 1280, CV_8UC1);
+  cv::randu(grey, 60, 120);
+  BevFrame texture{cv::Mat(), cv::Mat(), perception::BevGrid(perception::BevGridOptions{}), {}};
+  ASSERT_TRUE(front_end.TextureBev(grey, &texture).ok());
+  const perception::BevGrid& lines = front_end.remap().grid();
+  EXPECT_DOUBLE_EQ(texture.grid.cell_m(), FloorFrontEndOptions().texture.grid.cell_m);
+  EXPECT_LT(texture.grid.cell_m(), lines.cell_m());
+  EXPECT_EQ(texture.image.size(), texture.seen.size());
+  EXPECT_EQ(texture.image.cols, texture.grid.cols());
+  // The same extent: the far left corner exactly, the near right one within
+  // a texture cell.
+  const Eigen::Vector2d far_left(-0.5, -0.5);
+  EXPECT_NEAR((texture.grid.FloorPointOfCell(far_left) - lines.FloorPointOfCell(far_left)).norm(),
+              0.0, 1e-9);
+  const Eigen::Vector2d near_right =
+      lines.FloorPointOfCell({lines.cols() - 0.5, lines.rows() - 0.5});
+  EXPECT_LT((texture.grid.FloorPointOfCell({texture.grid.cols() - 0.5, texture.grid.rows() - 0.5}) -
+             near_right)
+                .cwiseAbs()
+                .maxCoeff(),
+            texture.grid.cell_m());
+  // The same floor seen: seen in one, seen in the other (away from the border).
+  int both = 0;
+  for (int row = 5; row < texture.grid.rows(); row += 17) {
+    for (int col = 5; col < texture.grid.cols(); col += 17) {
+      const Eigen::Vector2d c =
+          lines.CellOfFloorPoint(texture.grid.FloorPointOfCell({col, row}));
+      const int lc = static_cast<int>(std::lround(c.x())), lr = static_cast<int>(std::lround(c.y()));
+      if (lc < 1 || lr < 1 || lc >= lines.cols() - 1 || lr >= lines.rows() - 1) continue;
+      const bool a = texture.seen.at<std::uint8_t>(row, col) != 0;
+      const bool b = front_end.remap().valid_mask().at<std::uint8_t>(lr, lc) != 0;
+      const cv::Rect near(lc - 1, lr - 1, 3, 3);
+      const int around = cv::countNonZero(front_end.remap().valid_mask()(near));
+      if (around == 0 || around == 9) {
+        EXPECT_EQ(a, b) << col << ", " << row;
+      }
+      both += a && b;
+    }
+  }
+  EXPECT_GT(both, 50);
+  const core::Status wrong = front_end.TextureBev(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), &texture);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_NE(wrong.message().find("1280x1024"), std::string::npos) << wrong.message();
+  calibration::CameraMount lower = front_end.mount();
+  lower.height_m -= 0.01;
+  const core::Result<FloorFrontEnd> moved = front_end.WithMount(lower, Eigen::Matrix4d::Zero());
+  ASSERT_TRUE(moved.ok()) << moved.message();
+  ASSERT_TRUE(moved->TextureBev(grey, &texture).ok());
+  EXPECT_DOUBLE_EQ(texture.mount.height_m, lower.height_m);
+}
+
 }  // namespace
 }  // namespace groundline::localization
