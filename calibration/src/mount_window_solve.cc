@@ -135,25 +135,9 @@ struct OdometryCost {
   double sigma_m_, sigma_rad_;
 };
 
-// Two landmarks parallel (sin of the angle between them) or perpendicular
-// (its cos) on the floor.
-struct StructureCost {
-  StructureCost(bool perpendicular, double sigma_rad)
-      : perpendicular_(perpendicular), sigma_rad_(sigma_rad) {}
-  template <typename T>
-  bool operator()(const T* l0, const T* l1, T* residual) const {
-    using std::cos;
-    using std::sin;
-    const T d = l0[1] - l1[1];
-    residual[0] = (perpendicular_ ? cos(d) : sin(d)) / sigma_rad_;
-    return true;
-  }
-  bool perpendicular_;
-  double sigma_rad_;
-};
-
-// Two landmarks at a known angle (the atlas's: l0's normal turned from
-// l1's by angle_rad, either description).
+// Two landmarks at a known angle: l0's normal turned from l1's by angle_rad,
+// either description (the atlas's angle; parallel markings: 0, the sin of
+// the angle between them; perpendicular ones: -pi/2, its cos).
 struct RelativeAngleCost {
   RelativeAngleCost(double angle_rad, double sigma_rad)
       : angle_rad_(angle_rad), sigma_rad_(sigma_rad) {}
@@ -464,8 +448,8 @@ MountWindowSolution SolveOnce(const std::vector<MountFrame>& frames, const Camer
   }
   for (const Pair& p : structure) {
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<StructureCost, 1, 2, 2>(
-            new StructureCost(p.perpendicular, o.parallel_sigma_rad)),
+        new ceres::AutoDiffCostFunction<RelativeAngleCost, 1, 2, 2>(new RelativeAngleCost(
+            p.perpendicular ? -0.5 * std::numbers::pi : 0.0, o.parallel_sigma_rad)),
         new ceres::CauchyLoss(o.loss_scale), landmarks[p.a].line.data(),
         landmarks[p.b].line.data());
   }
