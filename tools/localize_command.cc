@@ -380,7 +380,8 @@ int RunLocalize(const LocalizeFlags& flags) {
           std::fprintf(stderr, "warning: self-calibration: %s\n", s.message().c_str());
       }
       line.update(
-          loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied()));
+          loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied(),
+                                &self_calibration->observed()));
     }
     if (diagnostics) {
       line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
@@ -461,7 +462,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["counters"] = loc::CountersJson(c);
   if (self_calibration) {
     const calibration::MountEstimate& e = self_calibration->estimate();
-    nlohmann::ordered_json j = loc::MountEstimateJson(e, &self_calibration->applied());
+    nlohmann::ordered_json j = loc::MountEstimateJson(e, &self_calibration->applied(),
+                                &self_calibration->observed());
     j["frames"] = e.frames;
     j["frames_gated"] = e.frames_gated;
     j["windows_rejected"] = e.windows_rejected;

@@ -20,20 +20,25 @@ struct Component {
   const char* title;
   const char* value_key;
   const char* sigma_key;
-  const char* applied_key;  // the mount the BEV was made with
+  const char* applied_key;   // the mount the BEV was made with
+  const char* observed_key;  // the mount the lines were read under
   double to_display;        // field units -> the plot's (deg, mm)
   double from_field;        // field units -> the estimator's (rad, m)
   const char* unit;
 };
 // In MountComponent order. The health fields are degrees and metres.
 constexpr Component kComponents[4] = {
-    {"pitch", "selfcal_pitch_deg", "selfcal_pitch_sigma_deg", "selfcal_applied_pitch_deg", 1.0,
+    {"pitch", "selfcal_pitch_deg", "selfcal_pitch_sigma_deg", "selfcal_applied_pitch_deg",
+     "selfcal_observed_pitch_deg", 1.0,
      core::kDegToRad, "deg"},
-    {"roll", "selfcal_roll_deg", "selfcal_roll_sigma_deg", "selfcal_applied_roll_deg", 1.0,
+    {"roll", "selfcal_roll_deg", "selfcal_roll_sigma_deg", "selfcal_applied_roll_deg",
+     "selfcal_observed_roll_deg", 1.0,
      core::kDegToRad, "deg"},
-    {"height", "selfcal_height_m", "selfcal_height_sigma_m", "selfcal_applied_height_m", 1000.0,
+    {"height", "selfcal_height_m", "selfcal_height_sigma_m", "selfcal_applied_height_m",
+     "selfcal_observed_height_m", 1000.0,
      1.0, "mm"},
-    {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", "selfcal_applied_yaw_deg", 1.0,
+    {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", "selfcal_applied_yaw_deg",
+     "selfcal_observed_yaw_deg", 1.0,
      core::kDegToRad, "deg"},
 };
 
@@ -96,6 +101,12 @@ core::Result<std::vector<SelfCalibrationSample>> ReadSelfCalibrationHistory(
       for (int i = 0; i < 4; ++i)
         applied(i) = r.Finite(j, "", kComponents[i].applied_key) * kComponents[i].from_field;
       s.applied = applied;
+    }
+    if (j.contains("selfcal_observed_pitch_deg")) {
+      MountVector observed;
+      for (int i = 0; i < 4; ++i)
+        observed(i) = r.Finite(j, "", kComponents[i].observed_key) * kComponents[i].from_field;
+      s.observed = observed;
     }
     if (s.alarm && j.contains("selfcal_alarm_message"))
       s.alarm_message = r.String(j, "", "selfcal_alarm_message");
@@ -189,6 +200,7 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
          "vehicle)";
   }
   if (history.back().applied) h << "; green: the mount the bird's-eye view was made with";
+  if (history.back().observed) h << "; orange: the mount the lines were read under";
   h << "; red marks: the alarm raised.</p>\n";
   for (int i = 0; i < 4; ++i) {
     const Component& c = kComponents[i];
@@ -288,6 +300,16 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
     if (!applied.str().empty()) {
       h << "<polyline class='applied' points='" << applied.str()
         << "' fill='none' stroke='#31a354' stroke-width='1.5' stroke-dasharray='4,2'/>\n";
+    }
+    std::ostringstream observed;
+    for (const SelfCalibrationSample& s : history) {
+      if (!s.observed) continue;
+      observed << FormatNumber("%.1f", X(s.stamp_s)) << ","
+               << FormatNumber("%.1f", Y(MountComponentInUnit(i, (*s.observed)(i)))) << " ";
+    }
+    if (!observed.str().empty()) {
+      h << "<polyline class='observed' points='" << observed.str()
+        << "' fill='none' stroke='#e6550d' stroke-width='1.2' stroke-dasharray='2,2'/>\n";
     }
     h << "<polyline class='estimate' points='" << line.str()
       << "' fill='none' stroke='#2171b5' stroke-width='1.5'/>\n";

@@ -190,7 +190,8 @@ calibration::MountSelfCalibrationOptions WithOdometryCalibration(
 }
 
 nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e,
-                                         const calibration::CameraMount* applied) {
+                                         const calibration::CameraMount* applied,
+                                         const calibration::CameraMount* observed) {
   using calibration::kMountHeight;
   using calibration::kMountPitch;
   using calibration::kMountRoll;
@@ -215,6 +216,12 @@ nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& e,
     j["selfcal_applied_roll_deg"] = applied->roll_rad * core::kRadToDeg;
     j["selfcal_applied_height_m"] = applied->height_m;
     j["selfcal_applied_yaw_deg"] = applied->yaw_rad * core::kRadToDeg;
+  }
+  if (observed) {
+    j["selfcal_observed_pitch_deg"] = observed->pitch_rad * core::kRadToDeg;
+    j["selfcal_observed_roll_deg"] = observed->roll_rad * core::kRadToDeg;
+    j["selfcal_observed_height_m"] = observed->height_m;
+    j["selfcal_observed_yaw_deg"] = observed->yaw_rad * core::kRadToDeg;
   }
   return j;
 }

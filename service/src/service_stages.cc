@@ -198,7 +198,8 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
           pending_mount = std::move(update);
         }
         line.update(
-            loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied()));
+            loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied(),
+                                &self_calibration->observed()));
       }
       if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(

@@ -594,7 +594,9 @@ TEST_F(LocalizeTrust, SelfCalibrationEstimatesTheMountAndHistoryPlotsIt) {
   int lines = 0;
   while (std::getline(health, line)) {
     ++lines;
-    EXPECT_TRUE(nlohmann::json::parse(line).contains("selfcal_height_sigma_m")) << line;
+    const nlohmann::json j = nlohmann::json::parse(line);
+    EXPECT_TRUE(j.contains("selfcal_height_sigma_m")) << line;
+    EXPECT_TRUE(j.contains("selfcal_observed_height_m")) << line;
   }
   EXPECT_GT(lines, 100);
 
@@ -611,7 +613,8 @@ TEST_F(LocalizeTrust, SelfCalibrationEstimatesTheMountAndHistoryPlotsIt) {
   const std::string html = ReadText(run / "self_calibration.html");
   EXPECT_NE(html.find("data-component='height'"), std::string::npos);
   EXPECT_NE(html.find("class='truth'"), std::string::npos);
-  EXPECT_NE(html.find("class='applied'"), std::string::npos);  // the BEV's mount
+  EXPECT_NE(html.find("class='applied'"), std::string::npos);   // the BEV's mount
+  EXPECT_NE(html.find("class='observed'"), std::string::npos);  // the lines' mount
   // Without selfcal fields: an error that says what to do.
   ASSERT_EQ(RunGroundline("localize --dataset " + Quoted(dataset_) + " --mode lines --out " +
                               Quoted(dir_ / "plain_run"),

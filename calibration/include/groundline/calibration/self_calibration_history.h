@@ -29,6 +29,8 @@ struct SelfCalibrationSample {
   // The mount the BEV was made with (selfcal_applied_*), when the run
   // applied the estimate.
   std::optional<MountVector> applied;
+  // The mount the lines were read under (selfcal_observed_*), when recorded.
+  std::optional<MountVector> observed;
 };
 
 // The selfcal_* fields of every keyframe line of a health.jsonl

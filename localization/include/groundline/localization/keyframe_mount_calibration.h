@@ -158,9 +158,12 @@ calibration::MountSelfCalibrationOptions WithOdometryCalibration(
 // selfcal_alarm and, when raised, selfcal_alarm_message; selfcal_windows
 // (windows fused so far), selfcal_steps and selfcal_step_suspected (a window
 // held as a possible step); with `applied`, the mount the
-// BEV is made with: selfcal_applied_pitch_deg, _roll_deg, _height_m, _yaw_deg.
+// BEV is made with: selfcal_applied_pitch_deg, _roll_deg, _height_m, _yaw_deg;
+// with `observed`, the mount the lines are read under (MountUpdate::observed):
+// selfcal_observed_pitch_deg, _roll_deg, _height_m, _yaw_deg.
 nlohmann::ordered_json MountEstimateJson(const calibration::MountEstimate& estimate,
-                                         const calibration::CameraMount* applied = nullptr);
+                                         const calibration::CameraMount* applied = nullptr,
+                                         const calibration::CameraMount* observed = nullptr);
 
 }  // namespace groundline::localization
 
