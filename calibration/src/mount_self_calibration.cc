@@ -45,6 +45,8 @@ CameraMount WithMountComponents(CameraMount m, const MountVector& v) {
 
 core::Status MountSelfCalibrationOptions::Validate() const {
   if (!PositiveFinite(window_s)) return OptionError("window_s", "a time > 0 s");
+  if (!(PositiveFinite(suspected_window_s) && suspected_window_s <= window_s))
+    return OptionError("suspected_window_s", "a time > 0 s, at most window_s");
   if (min_window_frames < 2) return OptionError("min_window_frames", "at least 2");
   if (!PositiveFinite(max_frame_gap_s)) return OptionError("max_frame_gap_s", "a time > 0 s");
   if (!PositiveFinite(max_yaw_rate_rad_s)) return OptionError("max_yaw_rate_rad_s", "a rate > 0");
@@ -204,7 +206,9 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
     while (window_.size() > 1 && !HasEvidence(window_.front()) &&
            !HasFlowFrom(window_[1], window_.front()))
       window_.erase(window_.begin());
-    if (window_.back().stamp_s - window_.front().stamp_s >= options_.window_s)
+    const double length_s =
+        estimate_.step_suspected ? options_.suspected_window_s : options_.window_s;
+    if (window_.back().stamp_s - window_.front().stamp_s >= length_s)
       changed = CloseWindow() || changed;
   }
   recent_.push_back(frame);

@@ -146,6 +146,11 @@ struct MountSelfCalibrationOptions {
   // Windows.
   double window_s = 1.5;             // a window closes after this much time ..
   int min_window_frames = 4;         // .. and is used with at least this many frames
+  // .. or after this much while a step is suspected (MountEstimate::
+  // step_suspected): the windows that confirm or drop it come sooner, and a
+  // knock that came in a turn, where no window is made, is confirmed soon
+  // after the drive is straight again. At most window_s.
+  double suspected_window_s = 0.6;
   double max_frame_gap_s = 0.6;      // a longer gap closes the window
   double max_yaw_rate_rad_s = 0.05;  // straight-drive gate (about 3 deg/s)
   double max_accel_mps2 = 0.3;       // steady-drive gate
