@@ -206,8 +206,12 @@ bool MountSelfCalibrator::AddFrame(const MountFrame& frame) {
     while (window_.size() > 1 && !HasEvidence(window_.front()) &&
            !HasFlowFrom(window_[1], window_.front()))
       window_.erase(window_.begin());
-    const double length_s =
-        estimate_.step_suspected ? options_.suspected_window_s : options_.window_s;
+    const bool alarming_suspicion =
+        estimate_.step_suspected &&
+        ((estimate_.suspected_components - MountComponents(commissioned_)).cwiseAbs().array() >
+         options_.alarm_threshold.array())
+            .any();
+    const double length_s = alarming_suspicion ? options_.suspected_window_s : options_.window_s;
     if (window_.back().stamp_s - window_.front().stamp_s >= length_s)
       changed = CloseWindow() || changed;
   }
