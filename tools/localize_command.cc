@@ -379,9 +379,8 @@ int RunLocalize(const LocalizeFlags& flags) {
             !s.ok())
           std::fprintf(stderr, "warning: self-calibration: %s\n", s.message().c_str());
       }
-      line.update(
-          loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied(),
-                                &self_calibration->observed()));
+      line.update(loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied(),
+                                         &self_calibration->observed()));
     }
     if (diagnostics) {
       line.update(diagnostics->BeforeUpdate(k.predicted, k.floor));
@@ -462,8 +461,8 @@ int RunLocalize(const LocalizeFlags& flags) {
   summary["counters"] = loc::CountersJson(c);
   if (self_calibration) {
     const calibration::MountEstimate& e = self_calibration->estimate();
-    nlohmann::ordered_json j = loc::MountEstimateJson(e, &self_calibration->applied(),
-                                &self_calibration->observed());
+    nlohmann::ordered_json j =
+        loc::MountEstimateJson(e, &self_calibration->applied(), &self_calibration->observed());
     j["frames"] = e.frames;
     j["frames_gated"] = e.frames_gated;
     j["windows_rejected"] = e.windows_rejected;

@@ -29,17 +29,13 @@ struct Component {
 // In MountComponent order. The health fields are degrees and metres.
 constexpr Component kComponents[4] = {
     {"pitch", "selfcal_pitch_deg", "selfcal_pitch_sigma_deg", "selfcal_applied_pitch_deg",
-     "selfcal_observed_pitch_deg", 1.0,
-     core::kDegToRad, "deg"},
+     "selfcal_observed_pitch_deg", 1.0, core::kDegToRad, "deg"},
     {"roll", "selfcal_roll_deg", "selfcal_roll_sigma_deg", "selfcal_applied_roll_deg",
-     "selfcal_observed_roll_deg", 1.0,
-     core::kDegToRad, "deg"},
+     "selfcal_observed_roll_deg", 1.0, core::kDegToRad, "deg"},
     {"height", "selfcal_height_m", "selfcal_height_sigma_m", "selfcal_applied_height_m",
-     "selfcal_observed_height_m", 1000.0,
-     1.0, "mm"},
+     "selfcal_observed_height_m", 1000.0, 1.0, "mm"},
     {"yaw", "selfcal_yaw_deg", "selfcal_yaw_sigma_deg", "selfcal_applied_yaw_deg",
-     "selfcal_observed_yaw_deg", 1.0,
-     core::kDegToRad, "deg"},
+     "selfcal_observed_yaw_deg", 1.0, core::kDegToRad, "deg"},
 };
 
 MountVector TruthVector(const core::CameraExtrinsicsRecord& r) {

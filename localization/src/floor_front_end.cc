@@ -180,8 +180,7 @@ void FloorFrontEnd::AddMountUncertainty(FloorObservations* observations) const {
 }
 
 core::Status FloorFrontEnd::TextureBev(const cv::Mat& grey, BevFrame* out) const {
-  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols != width_px_ ||
-      grey.rows != height_px_) {
+  if (grey.empty() || grey.type() != CV_8UC1 || grey.cols != width_px_ || grey.rows != height_px_) {
     return core::Status::Error("floor texture: expected an 8-bit grey frame of " +
                                std::to_string(width_px_) + "x" + std::to_string(height_px_) +
                                " px (the camera model's imager)");
@@ -190,11 +189,11 @@ core::Status FloorFrontEnd::TextureBev(const cv::Mat& grey, BevFrame* out) const
     perception::BevRemap::Options o = options_.texture;
     o.grid = remap_options_.grid;
     // As fine as the grid's 4096 cells a side allow.
-    o.grid.cell_m = std::max({options_.texture.grid.cell_m,
-                              (o.grid.x_max_m - o.grid.x_min_m) / 4000.0,
-                              (o.grid.y_max_m - o.grid.y_min_m) / 4000.0});
-    texture_->remap = std::make_shared<const perception::BevRemap>(remap_->camera(),
-                                                                   remap_->mount(), o);
+    o.grid.cell_m =
+        std::max({options_.texture.grid.cell_m, (o.grid.x_max_m - o.grid.x_min_m) / 4000.0,
+                  (o.grid.y_max_m - o.grid.y_min_m) / 4000.0});
+    texture_->remap =
+        std::make_shared<const perception::BevRemap>(remap_->camera(), remap_->mount(), o);
   });
   const perception::BevRemap& remap = *texture_->remap;
   remap.Apply(grey, &out->image);

@@ -403,7 +403,7 @@ nlohmann::ordered_json Service::StatusJsonOf(const Impl& m) {
   if (m.self_calibration) {
     nlohmann::ordered_json s =
         loc::MountEstimateJson(m.self_calibration->estimate(), &m.self_calibration->applied(),
-                                &m.self_calibration->observed());
+                               &m.self_calibration->observed());
     s["mount_updates"] = m.self_calibration->mount_updates();
     s["mount_rebuilds"] = m.mount_rebuilds.load();
     s["mount_rebuild_failures"] = m.mount_rebuild_failures.load();

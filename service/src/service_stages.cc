@@ -197,9 +197,9 @@ void Service::Impl::EstimatorStage(std::ofstream& keyframes, std::ofstream& odom
           std::lock_guard<std::mutex> mount_lock(mount_mutex);
           pending_mount = std::move(update);
         }
-        line.update(
-            loc::MountEstimateJson(self_calibration->estimate(), &self_calibration->applied(),
-                                &self_calibration->observed()));
+        line.update(loc::MountEstimateJson(self_calibration->estimate(),
+                                           &self_calibration->applied(),
+                                           &self_calibration->observed()));
       }
       if (k->frame_stamp_s && last_frame_arrival && config.replay_speed > 0.0) {
         latency_ms.push_back(

@@ -112,7 +112,6 @@ TEST(FloorFrontEnd, RefusesBlankAndMisSizedFramesAndReadsATapeLine) {
   EXPECT_EQ(seen->observations.stamp_s, 2.0);
 }
 
-
 // The texture's BEV covers the line BEV's floor at its own finer cells, on
 // the same mount, and sees the same floor; a frame of another size is
 // refused; another mount gets its own table.
@@ -143,9 +142,9 @@ TEST(FloorFrontEnd, TheTextureBevIsTheSameFloorAtFinerCells) {
   int both = 0;
   for (int row = 5; row < texture.grid.rows(); row += 17) {
     for (int col = 5; col < texture.grid.cols(); col += 17) {
-      const Eigen::Vector2d c =
-          lines.CellOfFloorPoint(texture.grid.FloorPointOfCell({col, row}));
-      const int lc = static_cast<int>(std::lround(c.x())), lr = static_cast<int>(std::lround(c.y()));
+      const Eigen::Vector2d c = lines.CellOfFloorPoint(texture.grid.FloorPointOfCell({col, row}));
+      const int lc = static_cast<int>(std::lround(c.x())),
+                lr = static_cast<int>(std::lround(c.y()));
       if (lc < 1 || lr < 1 || lc >= lines.cols() - 1 || lr >= lines.rows() - 1) continue;
       const bool a = texture.seen.at<std::uint8_t>(row, col) != 0;
       const bool b = front_end.remap().valid_mask().at<std::uint8_t>(lr, lc) != 0;
@@ -158,7 +157,8 @@ TEST(FloorFrontEnd, TheTextureBevIsTheSameFloorAtFinerCells) {
     }
   }
   EXPECT_GT(both, 50);
-  const core::Status wrong = front_end.TextureBev(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), &texture);
+  const core::Status wrong =
+      front_end.TextureBev(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0)), &texture);
   ASSERT_FALSE(wrong.ok());
   EXPECT_NE(wrong.message().find("1280x1024"), std::string::npos) << wrong.message();
   calibration::CameraMount lower = front_end.mount();
