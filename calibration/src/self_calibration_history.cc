@@ -287,26 +287,23 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
       h << "<polyline class='truth' points='" << steps.str()
         << "' fill='none' stroke='black' stroke-width='1.5'/>\n";
     }
-    std::ostringstream applied;
-    for (const SelfCalibrationSample& s : history) {
-      if (!s.applied) continue;
-      applied << FormatNumber("%.1f", X(s.stamp_s)) << ","
-              << FormatNumber("%.1f", Y(MountComponentInUnit(i, (*s.applied)(i)))) << " ";
-    }
-    if (!applied.str().empty()) {
-      h << "<polyline class='applied' points='" << applied.str()
-        << "' fill='none' stroke='#31a354' stroke-width='1.5' stroke-dasharray='4,2'/>\n";
-    }
-    std::ostringstream observed;
-    for (const SelfCalibrationSample& s : history) {
-      if (!s.observed) continue;
-      observed << FormatNumber("%.1f", X(s.stamp_s)) << ","
-               << FormatNumber("%.1f", Y(MountComponentInUnit(i, (*s.observed)(i)))) << " ";
-    }
-    if (!observed.str().empty()) {
-      h << "<polyline class='observed' points='" << observed.str()
-        << "' fill='none' stroke='#e6550d' stroke-width='1.2' stroke-dasharray='2,2'/>\n";
-    }
+    // A mount the run recorded beside the estimate, as a dashed line.
+    const auto recorded = [&](std::optional<MountVector> SelfCalibrationSample::*mount,
+                              const char* css_class, const char* stroke, const char* width,
+                              const char* dashes) {
+      std::ostringstream points;
+      for (const SelfCalibrationSample& s : history) {
+        if (!(s.*mount)) continue;
+        points << FormatNumber("%.1f", X(s.stamp_s)) << ","
+               << FormatNumber("%.1f", Y(MountComponentInUnit(i, (*(s.*mount))(i)))) << " ";
+      }
+      if (points.str().empty()) return;
+      h << "<polyline class='" << css_class << "' points='" << points.str()
+        << "' fill='none' stroke='" << stroke << "' stroke-width='" << width
+        << "' stroke-dasharray='" << dashes << "'/>\n";
+    };
+    recorded(&SelfCalibrationSample::applied, "applied", "#31a354", "1.5", "4,2");
+    recorded(&SelfCalibrationSample::observed, "observed", "#e6550d", "1.2", "2,2");
     h << "<polyline class='estimate' points='" << line.str()
       << "' fill='none' stroke='#2171b5' stroke-width='1.5'/>\n";
     for (const SelfCalibrationSample& s : history) {
