@@ -516,9 +516,10 @@ TEST(MountSelfCalibrator, AKnockIsAlarmedFromTheFloorTextureAloneWithinFiveSecon
 
 // A knock in a turn (the zone B scenario, seed 14: 0.65 rad/s for 2.4 s from
 // the knock on): no window is made while turning, so the step shows only
-// once the drive is straight again. While a step is suspected the windows
-// are shorter (suspected_window_s), so the alarm still comes within five
-// seconds of the knock; with windows of the usual length it would not.
+// once the drive is straight again. While a step that would raise the alarm
+// is suspected the windows are shorter (suspected_window_s), so the alarm
+// still comes within five seconds of the knock; with windows of the usual
+// length it would not.
 TEST(MountSelfCalibrator, AKnockInATurnIsAlarmedWithinFiveSeconds) {
   const CameraMount commissioned;
   const CameraMount knocked = Moved(commissioned, 0.3, -0.4, 0.0, 1.2);
