@@ -95,6 +95,7 @@ core::Status MountSelfCalibrationOptions::Validate() const {
     if (!PositiveFinite(window_prior_sigma(i)))
       return OptionError("window_prior_sigma." + c, "> 0");
     if (!PositiveFinite(initial_sigma(i))) return OptionError("initial_sigma." + c, "> 0");
+    if (!PositiveFinite(step_sigma(i))) return OptionError("step_sigma." + c, "> 0");
     if (!(std::isfinite(random_walk_per_sqrt_s(i)) && random_walk_per_sqrt_s(i) >= 0.0))
       return OptionError("random_walk_per_sqrt_s." + c, ">= 0");
     if (!PositiveFinite(alarm_threshold(i))) return OptionError("alarm_threshold." + c, "> 0");
@@ -234,10 +235,22 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
                              : 0.0;
   const bool over = dims > 0 && nis > core::ChiSquareQuantile(dims, options_.step_probability);
   quick_streak_ = over ? quick_streak_ + 1 : 0;
-  // A window that holds the suspicion knows the mount better than a pair.
+  // The first pair over the gate straddles the step: `frame` is the first
+  // under the new mount. The suspicion is read from the pairs after it,
+  // together (one pair's height is a few millimetres off).
+  if (quick_streak_ == 1) {
+    streak_onset_s_ = frame.stamp_s;
+    streak_evidence_ = MountWindowSolution{};
+  }
+  if (over && (quick_streak_ >= 2 || options_.quick_step_frames == 1)) {
+    streak_evidence_.information += pair.information;
+    streak_evidence_.information_vector += pair.information_vector;
+  }
+  // A window that holds the suspicion knows the mount better than the pairs.
   if (!suspect_.empty()) return;
   if (quick_streak_ >= options_.quick_step_frames) {
-    Suspect(pair, /*from_frames=*/true);
+    Suspect(streak_evidence_, /*from_frames=*/true);
+    suspected_onset_s_ = streak_onset_s_;
   } else if (!over && quick_suspicion_) {
     ClearSuspicion();  // the frames agree again and no window holds a step
   }
@@ -270,6 +283,13 @@ bool MountSelfCalibrator::CloseWindow() {
   std::vector<MountFrame> frames;
   frames.swap(window_);
   last_windowed_stamp_s_ = frames.back().stamp_s;
+  // A window that straddles a step suspected from frame pairs holds frames
+  // under two mounts, which no one mount explains: the texture tracked
+  // across the step reads as a scale, a height error of millimetres. It is
+  // solved from the frames under the new mount only.
+  if (estimate_.step_suspected && frames.front().stamp_s < suspected_onset_s_) {
+    std::erase_if(frames, [&](const MountFrame& f) { return f.stamp_s < suspected_onset_s_; });
+  }
   if (static_cast<int>(frames.size()) < options_.min_window_frames) {
     ++estimate_.windows_rejected;
     return false;
@@ -354,14 +374,22 @@ bool MountSelfCalibrator::CloseWindow() {
   return true;
 }
 
+namespace {
+
+// The Gaussian (mean, covariance) fused with a window's evidence (its
+// information and information vector about the same origin).
+void FuseEvidence(const MountWindowSolution& w, MountVector* mean, MountMatrix* covariance) {
+  const MountMatrix information = covariance->ldlt().solve(MountMatrix::Identity());
+  const Eigen::LDLT<MountMatrix> fused(information + w.information);
+  *mean = fused.solve(information * *mean + w.information_vector);
+  *covariance = fused.solve(MountMatrix::Identity());
+  *covariance = 0.5 * (*covariance + covariance->transpose()).eval();
+}
+
+}  // namespace
+
 void MountSelfCalibrator::Fuse(const MountWindowSolution& w, double stamp_s) {
-  const Eigen::LDLT<MountMatrix> ldlt(covariance_);
-  const MountMatrix information = ldlt.solve(MountMatrix::Identity());
-  const MountMatrix fused = information + w.information;
-  const Eigen::LDLT<MountMatrix> fused_ldlt(fused);
-  mean_ = fused_ldlt.solve(information * mean_ + w.information_vector);
-  covariance_ = fused_ldlt.solve(MountMatrix::Identity());
-  covariance_ = 0.5 * (covariance_ + covariance_.transpose()).eval();
+  FuseEvidence(w, &mean_, &covariance_);
   ++estimate_.windows_used;
   if (w.map_spacings > 0) ++estimate_.windows_with_atlas;
   last_fused_stamp_s_ = stamp_s;
@@ -377,13 +405,13 @@ MountMatrix MountSelfCalibrator::RandomWalkCovariance(double dt_s) const {
 }
 
 void MountSelfCalibrator::Suspect(const MountWindowSolution& evidence, bool from_frames) {
+  MountVector mean = mean_;
+  MountMatrix covariance = covariance_;
+  covariance.diagonal() += options_.step_sigma.array().square().matrix();
+  FuseEvidence(evidence, &mean, &covariance);
   estimate_.step_suspected = true;
-  estimate_.suspected_components = MountComponents(commissioned_) + evidence.correction;
-  const MountMatrix information =
-      InitialCovariance().inverse() + evidence.information;  // a restart with it
-  estimate_.suspected_covariance = information.ldlt().solve(MountMatrix::Identity());
-  estimate_.suspected_covariance =
-      0.5 * (estimate_.suspected_covariance + estimate_.suspected_covariance.transpose()).eval();
+  estimate_.suspected_components = MountComponents(commissioned_) + mean;
+  estimate_.suspected_covariance = covariance;
   estimate_.suspected_covariance.diagonal() +=
       SystematicVariance(estimate_.suspected_components(kMountHeight));
   quick_suspicion_ = from_frames;
@@ -394,6 +422,7 @@ void MountSelfCalibrator::ClearSuspicion() {
   estimate_.suspected_components.setZero();
   estimate_.suspected_covariance.setZero();
   quick_suspicion_ = false;
+  suspected_onset_s_ = -1e300;
 }
 
 MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {

@@ -241,6 +241,15 @@ struct MountSelfCalibrationOptions {
   // The commissioned mount's uncertainty: the running estimate's start, and
   // its restart after a step.
   MountVector initial_sigma = (MountVector() << 0.02, 0.02, 0.02, 0.02).finished();
+  // A step's plausible size per component: a payload flexes the mast by
+  // about a degree and presses the tires by millimetres, a knock turns the
+  // bracket by a degree or so. A suspected step is the running estimate
+  // widened by it and fused with the evidence that showed the step, so the
+  // components the step did not move keep what the estimate knew of them
+  // (one frame pair of texture sees the pitch well and the height poorly).
+  // A confirmed step restarts from initial_sigma instead, with a window's
+  // evidence: a larger knock is then not held back by this.
+  MountVector step_sigma = (MountVector() << 0.0175, 0.0087, 0.005, 0.0175).finished();
   // Random walk of the true mount (per sqrt(s) of driving time): lets the
   // estimate follow tire wear and a slowly settling load.
   MountVector random_walk_per_sqrt_s = (MountVector() << 2e-5, 2e-5, 2e-5, 2e-5).finished();
@@ -286,15 +295,16 @@ struct MountEstimate {
   MountMatrix covariance = MountMatrix::Zero();
   bool alarm = false;
   std::string alarm_message;  // what changed and by how much, when alarm
-  // A window held as a possible step (over the step gate, fewer than
-  // step_windows in a row so far): the mount's components as that window
-  // showed them (pitch_rad, roll_rad, height_m, yaw_rad). Until the next
-  // window confirms or drops it, the mount may be this far from `mount`.
+  // A possible step (a window over the step gate, fewer than step_windows
+  // in a row so far, or quick_step_frames frame pairs over it): the mount's
+  // components as that evidence shows them, read with the running estimate
+  // widened by step_sigma (pitch_rad, roll_rad, height_m, yaw_rad). Until
+  // the windows confirm or drop it, the mount may be this far from `mount`.
   bool step_suspected = false;
   MountVector suspected_components = MountVector::Zero();
-  // Their covariance: what the estimate's would be if the step were
-  // confirmed with that window (the commissioning's uncertainty fused with
-  // it, and the motion's systematic errors).
+  // Their covariance: the running estimate widened by a step
+  // (MountSelfCalibrationOptions::step_sigma) fused with the evidence that
+  // showed it, and the motion's systematic errors.
   MountMatrix suspected_covariance = MountMatrix::Zero();
   // Counters since the start.
   int frames = 0;
@@ -398,6 +408,10 @@ class MountSelfCalibrator {
   int alarm_streak_ = 0;                   // updates in a row with the alarm's condition
   int quick_streak_ = 0;                   // frame pairs in a row over the step gate
   bool quick_suspicion_ = false;           // step_suspected from frame pairs, no window
+  double streak_onset_s_ = -1e300;       // the first frame after the pair that began quick_streak_
+  MountWindowSolution streak_evidence_;  // the pairs of quick_streak_ after its first, summed
+  double suspected_onset_s_ = -1e300;    // of the suspicion from frame pairs: frames before it
+                                         // are under the old mount
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;            // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
