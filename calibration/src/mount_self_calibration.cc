@@ -248,7 +248,10 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
   }
   // A window that holds the suspicion knows the mount better than the pairs.
   if (!suspect_.empty()) return;
-  if (quick_streak_ >= options_.quick_step_frames) {
+  if (quick_streak_ >= options_.quick_step_frames || over) {
+    // Before quick_step_frames pairs the streak's evidence is empty: the
+    // first pair over the gate straddles the step and cannot say where the
+    // mount went, so the suspicion is the estimate widened by a step.
     Suspect(streak_evidence_, /*from_frames=*/true);
     suspected_onset_s_ = streak_onset_s_;
   } else if (!over && quick_suspicion_) {

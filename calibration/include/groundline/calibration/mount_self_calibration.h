@@ -267,9 +267,12 @@ struct MountSelfCalibrationOptions {
   // frame pair (the frame and the one before, solved as a window of two)
   // over the step gate for this many frame pairs in a row. It only marks a
   // suspected step (MountEstimate::step_suspected, so that the localizer
-  // widens the lines at once, within a few frames of a payload or a knock
-  // instead of the one or two windows a step takes to show); the estimate
-  // waits for the windows. 0: off.
+  // reads the lines under the suspected mount at once, within a few frames
+  // of a payload or a knock instead of the one or two windows a step takes
+  // to show); the estimate waits for the windows. The first pair over the
+  // gate already marks a suspicion at the running estimate widened by a
+  // step (step_sigma): that frame may be under another mount, which a pair
+  // straddling the step cannot tell. 0: off.
   int quick_step_frames = 2;
   // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
   // height_m, yaw_rad) by more than alarm_sigmas sigma.
