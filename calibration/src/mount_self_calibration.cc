@@ -242,17 +242,18 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
     streak_onset_s_ = frame.stamp_s;
     streak_evidence_ = MountWindowSolution{};
   }
-  if (over && (quick_streak_ >= 2 || options_.quick_step_frames == 1)) {
+  if (quick_streak_ >= std::min(2, options_.quick_step_frames)) {
     streak_evidence_.information += pair.information;
     streak_evidence_.information_vector += pair.information_vector;
   }
   // A window that holds the suspicion knows the mount better than the pairs.
   if (!suspect_.empty()) return;
-  if (quick_streak_ >= options_.quick_step_frames || over) {
-    // Before quick_step_frames pairs the streak's evidence is empty: the
-    // first pair over the gate straddles the step and cannot say where the
-    // mount went, so the suspicion is the estimate widened by a step.
-    Suspect(streak_evidence_, /*from_frames=*/true);
+  if (over) {
+    // Before quick_step_frames pairs the evidence is not yet trusted (the
+    // first pair straddles the step and cannot say where the mount went):
+    // the suspicion is the estimate widened by a step.
+    Suspect(quick_streak_ >= options_.quick_step_frames ? streak_evidence_ : MountWindowSolution{},
+            /*from_frames=*/true);
     suspected_onset_s_ = streak_onset_s_;
   } else if (!over && quick_suspicion_) {
     ClearSuspicion();  // the frames agree again and no window holds a step
@@ -290,7 +291,7 @@ bool MountSelfCalibrator::CloseWindow() {
   // under two mounts, which no one mount explains: the texture tracked
   // across the step reads as a scale, a height error of millimetres. It is
   // solved from the frames under the new mount only.
-  if (estimate_.step_suspected && frames.front().stamp_s < suspected_onset_s_) {
+  if (frames.front().stamp_s < suspected_onset_s_) {
     std::erase_if(frames, [&](const MountFrame& f) { return f.stamp_s < suspected_onset_s_; });
   }
   if (static_cast<int>(frames.size()) < options_.min_window_frames) {

@@ -270,9 +270,10 @@ struct MountSelfCalibrationOptions {
   // reads the lines under the suspected mount at once, within a few frames
   // of a payload or a knock instead of the one or two windows a step takes
   // to show); the estimate waits for the windows. The first pair over the
-  // gate already marks a suspicion at the running estimate widened by a
-  // step (step_sigma): that frame may be under another mount, which a pair
-  // straddling the step cannot tell. 0: off.
+  // gate already marks a suspicion, at the running estimate widened by a
+  // step (step_sigma), until this many pairs move it: that frame may be
+  // under another mount, which a pair straddling the step cannot tell.
+  // 0: off.
   int quick_step_frames = 2;
   // The alarm: |estimate - commissioned| above these (pitch_rad, roll_rad,
   // height_m, yaw_rad) by more than alarm_sigmas sigma.
@@ -413,8 +414,8 @@ class MountSelfCalibrator {
   bool quick_suspicion_ = false;           // step_suspected from frame pairs, no window
   double streak_onset_s_ = -1e300;       // the first frame after the pair that began quick_streak_
   MountWindowSolution streak_evidence_;  // the pairs of quick_streak_ after its first, summed
-  double suspected_onset_s_ = -1e300;    // of the suspicion from frame pairs: frames before it
-                                         // are under the old mount
+  double suspected_onset_s_ = -1e300;    // of a standing suspicion from frame pairs: frames
+                                         // before it are under the old mount
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;            // the last frames, for the motion gates
   std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
