@@ -240,6 +240,7 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
   // together (one pair's height is a few millimetres off).
   if (quick_streak_ == 1) {
     streak_onset_s_ = frame.stamp_s;
+    onset_pending_ = true;
     streak_evidence_ = MountWindowSolution{};
   }
   if (quick_streak_ >= std::min(2, options_.quick_step_frames)) {
@@ -254,7 +255,6 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
     // the suspicion is the estimate widened by a step.
     Suspect(quick_streak_ >= options_.quick_step_frames ? streak_evidence_ : MountWindowSolution{},
             /*from_frames=*/true);
-    suspected_onset_s_ = streak_onset_s_;
   } else if (!over && quick_suspicion_) {
     ClearSuspicion();  // the frames agree again and no window holds a step
   }
@@ -287,12 +287,16 @@ bool MountSelfCalibrator::CloseWindow() {
   std::vector<MountFrame> frames;
   frames.swap(window_);
   last_windowed_stamp_s_ = frames.back().stamp_s;
-  // A window that straddles a step suspected from frame pairs holds frames
-  // under two mounts, which no one mount explains: the texture tracked
-  // across the step reads as a scale, a height error of millimetres. It is
-  // solved from the frames under the new mount only.
-  if (frames.front().stamp_s < suspected_onset_s_) {
-    std::erase_if(frames, [&](const MountFrame& f) { return f.stamp_s < suspected_onset_s_; });
+  // A window that straddles a step shown by frame pairs holds frames under
+  // two mounts, which no one mount explains: the texture tracked across the
+  // step reads as a scale, a height error of millimetres, and a small step
+  // is diluted below the gate. It is solved from the frames under the new
+  // mount only. That holds for a streak whose suspicion was cleared since (a
+  // 0.2 deg roll shows in the pair straddling it, and in too few pairs
+  // after it for a suspicion to stand): no pair over the gate came on the
+  // drives without drift, so the cut costs nothing there.
+  if (frames.front().stamp_s < streak_onset_s_ && streak_onset_s_ <= frames.back().stamp_s) {
+    std::erase_if(frames, [&](const MountFrame& f) { return f.stamp_s < streak_onset_s_; });
   }
   if (static_cast<int>(frames.size()) < options_.min_window_frames) {
     ++estimate_.windows_rejected;
@@ -316,18 +320,34 @@ bool MountSelfCalibrator::CloseWindow() {
     return false;
   }
   if (nis > core::ChiSquareQuantile(dims, options_.step_probability)) {
-    suspect_.push_back(w);
+    suspect_.push_back({w, mean_, covariance_, stamp_s, frames.front().stamp_s});
     if (static_cast<int>(suspect_.size()) < options_.step_windows) {
       Suspect(w, /*from_frames=*/false);
       return false;
     }
-    // A step: restart from the commissioned uncertainty about the current
-    // mean and take the last window that showed it (the first may straddle
-    // the step, half of its frames under the old mount).
+    // A step: restart from the commissioned uncertainty. Where a frame pair
+    // showed when the step came, every window since it is under the new
+    // mount (the one open at it was cut there): the estimate restarts from
+    // before the first of them with all of them. Otherwise with the last
+    // window that showed the step (the first may straddle it, half of its
+    // frames under the old mount).
     ++estimate_.steps;
     covariance_ = InitialCovariance();
-    Fuse(suspect_.back(), stamp_s);
-    estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
+    if (onset_pending_ && suspect_.front().first_stamp_s >= streak_onset_s_) {
+      std::size_t from = recent_windows_.size();
+      while (from > 0 && recent_windows_[from - 1].first_stamp_s >= streak_onset_s_) --from;
+      if (from < recent_windows_.size()) mean_ = recent_windows_[from].mean_before;
+      for (std::size_t i = from; i < recent_windows_.size(); ++i) {
+        Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
+        --estimate_.windows_used;  // fused once already
+        if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
+      }
+      for (const RecentWindow& s : suspect_) Fuse(s.window, s.stamp_s);
+    } else {
+      Fuse(suspect_.back().window, stamp_s);
+      estimate_.windows_rejected += static_cast<int>(suspect_.size()) - 1;
+    }
+    onset_pending_ = false;
     // The windows that showed the step are updates in a row that disagree
     // with the mount from before: they count toward alarm_windows.
     alarm_streak_ = std::max(alarm_streak_, static_cast<int>(suspect_.size()) - 1);
@@ -339,42 +359,60 @@ bool MountSelfCalibrator::CloseWindow() {
   // A lone outlier window before this one is dropped.
   estimate_.windows_rejected += static_cast<int>(suspect_.size());
   suspect_.clear();
-  recent_windows_.push_back({w, mean_, covariance_, stamp_s});
+  recent_windows_.push_back({w, mean_, covariance_, stamp_s, frames.front().stamp_s});
   Fuse(w, stamp_s);
-  if (options_.step_evidence_windows > 0 &&
-      static_cast<int>(recent_windows_.size()) > options_.step_evidence_windows) {
-    recent_windows_.pop_front();
+  const std::size_t n_windows = static_cast<std::size_t>(options_.step_evidence_windows);
+  if (n_windows > 0 && recent_windows_.size() > n_windows) recent_windows_.pop_front();
+  bool step = false;
+  if (n_windows > 0 && onset_pending_) {
+    // A step small for one window whose onset a frame pair showed: the
+    // windows since the onset together, none of which straddles it.
+    std::size_t from = 0;
+    while (from < recent_windows_.size() && recent_windows_[from].first_stamp_s < streak_onset_s_) {
+      ++from;
+    }
+    const std::size_t after = recent_windows_.size() - from;
+    if (after >= 2) step = StepInRecentWindows(from, from, stamp_s);
+    if (step || after >= n_windows) onset_pending_ = false;
   }
-  if (options_.step_evidence_windows > 0 &&
-      static_cast<int>(recent_windows_.size()) == options_.step_evidence_windows) {
-    // A step too small for one window: the last windows' evidence together
-    // against the estimate from before them (with the random walk since).
-    const RecentWindow& first = recent_windows_.front();
-    MountMatrix information = MountMatrix::Zero();
-    MountVector information_vector = MountVector::Zero();
-    for (const RecentWindow& r : recent_windows_) {
-      information += r.window.information;
-      information_vector += r.window.information_vector;
-    }
-    const MountMatrix before =
-        first.covariance_before + RandomWalkCovariance(std::max(0.0, stamp_s - first.stamp_s));
-    const double together =
-        EvidenceNis(information, information_vector, first.mean_before, before, &dims);
-    if (dims > 0 && together > core::ChiSquareQuantile(dims, options_.step_probability)) {
-      // Restart from the estimate before them, with all but the first (which
-      // may straddle the step).
-      ++estimate_.steps;
-      mean_ = first.mean_before;
-      covariance_ = InitialCovariance();
-      for (std::size_t i = 1; i < recent_windows_.size(); ++i) {
-        Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
-        --estimate_.windows_used;  // fused once already
-        if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
-      }
-      recent_windows_.clear();
-    }
+  if (!step && n_windows > 0 && recent_windows_.size() == n_windows) {
+    // A step small for one window: the last windows' evidence together
+    // against the estimate from before them, but for the first (which may
+    // straddle the step) in the restart.
+    StepInRecentWindows(0, 1, stamp_s);
   }
   UpdateEstimate();
+  return true;
+}
+
+bool MountSelfCalibrator::StepInRecentWindows(std::size_t from, std::size_t fuse_from,
+                                              double stamp_s) {
+  const RecentWindow& first = recent_windows_[from];
+  MountMatrix information = MountMatrix::Zero();
+  MountVector information_vector = MountVector::Zero();
+  for (std::size_t i = from; i < recent_windows_.size(); ++i) {
+    information += recent_windows_[i].window.information;
+    information_vector += recent_windows_[i].window.information_vector;
+  }
+  // The estimate from before them, with the random walk since.
+  const MountMatrix before =
+      first.covariance_before + RandomWalkCovariance(std::max(0.0, stamp_s - first.stamp_s));
+  int dims = 0;
+  const double together =
+      EvidenceNis(information, information_vector, first.mean_before, before, &dims);
+  if (dims == 0 || together <= core::ChiSquareQuantile(dims, options_.step_probability)) {
+    return false;
+  }
+  ++estimate_.steps;
+  onset_pending_ = false;
+  mean_ = first.mean_before;
+  covariance_ = InitialCovariance();
+  for (std::size_t i = fuse_from; i < recent_windows_.size(); ++i) {
+    Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
+    --estimate_.windows_used;  // fused once already
+    if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
+  }
+  recent_windows_.clear();
   return true;
 }
 
@@ -426,7 +464,6 @@ void MountSelfCalibrator::ClearSuspicion() {
   estimate_.suspected_components.setZero();
   estimate_.suspected_covariance.setZero();
   quick_suspicion_ = false;
-  suspected_onset_s_ = -1e300;
 }
 
 MountVector MountSelfCalibrator::SystematicVariance(double height_m) const {

@@ -261,7 +261,10 @@ struct MountSelfCalibrationOptions {
   // window's): the evidence of the last step_evidence_windows windows
   // together, against the estimate from before them, over the same gate is
   // a step too; the estimate restarts from before them with all of them but
-  // the first (which may straddle it). 0: off.
+  // the first (which may straddle it). Where a frame pair over the gate
+  // showed when a step came, the windows since then (at least two, at most
+  // step_evidence_windows) are tested so too, as each closes, and a step
+  // restarts the estimate from before them with all of them. 0: off.
   int step_evidence_windows = 4;
   // A step suspected before a window closes: the floor's texture of one
   // frame pair (the frame and the one before, solved as a window of two)
@@ -398,6 +401,10 @@ class MountSelfCalibrator {
   // pairs, or from a window over the step gate), or clears it.
   void Suspect(const MountWindowSolution& evidence, bool from_frames);
   void ClearSuspicion();
+  // The evidence of recent_windows_[from..] together against the estimate
+  // from before recent_windows_[from], over the step gate: a step, and the
+  // estimate restarts from before them with recent_windows_[fuse_from..].
+  bool StepInRecentWindows(std::size_t from, std::size_t fuse_from, double stamp_s);
   // The variances of the motion's systematic errors, added to the
   // estimate's (motion_scale_sigma, motion_heading_sigma_rad).
   MountVector SystematicVariance(double height_m) const;
@@ -412,21 +419,24 @@ class MountSelfCalibrator {
   int alarm_streak_ = 0;                   // updates in a row with the alarm's condition
   int quick_streak_ = 0;                   // frame pairs in a row over the step gate
   bool quick_suspicion_ = false;           // step_suspected from frame pairs, no window
-  double streak_onset_s_ = -1e300;       // the first frame after the pair that began quick_streak_
+  // The first frame after the pair that began the last streak of pairs over
+  // the step gate: the window open at it is solved from it on, and the
+  // windows since it are tested together while onset_pending_.
+  double streak_onset_s_ = -1e300;
+  bool onset_pending_ = false;
   MountWindowSolution streak_evidence_;  // the pairs of quick_streak_ after its first, summed
-  double suspected_onset_s_ = -1e300;    // of a standing suspicion from frame pairs: frames
-                                         // before it are under the old mount
   std::vector<MountFrame> window_;
   std::deque<MountFrame> recent_;            // the last frames, for the motion gates
-  std::deque<MountWindowSolution> suspect_;  // windows over the step gate in a row
-  // The last windows fused, with the estimate from before each.
+  // A window, with the estimate from before it.
   struct RecentWindow {
     MountWindowSolution window;
     MountVector mean_before;
     MountMatrix covariance_before;
-    double stamp_s = 0.0;
+    double stamp_s = 0.0;        // of its last frame
+    double first_stamp_s = 0.0;  // of its first frame (after a cut at a streak's onset)
   };
-  std::deque<RecentWindow> recent_windows_;
+  std::deque<RecentWindow> suspect_;         // windows over the step gate in a row
+  std::deque<RecentWindow> recent_windows_;  // the last windows fused
   MountEstimate estimate_;
 };
 
