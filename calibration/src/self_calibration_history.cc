@@ -200,31 +200,32 @@ std::string SelfCalibrationHistoryHtml(const std::vector<SelfCalibrationSample>&
   h << "; red marks: the alarm raised.</p>\n";
   for (int i = 0; i < 4; ++i) {
     const Component& c = kComponents[i];
-    // The y range: estimates (after the first window), truth, and a band of
-    // at least 3 typical sigmas.
+    // The y range: estimates (after the first window), the mounts the BEV
+    // was made with and the lines were read under (a suspected step's can
+    // lie beyond every estimate), truth, and a band of at least 3 typical
+    // sigmas.
     double lo = 1e300, hi = -1e300;
+    const auto include = [&](double v) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    };
     std::vector<double> sigmas;
     for (const SelfCalibrationSample& s : history) {
       if (s.windows == 0) continue;
-      lo = std::min(lo, MountComponentInUnit(i, s.value(i)));
-      hi = std::max(hi, MountComponentInUnit(i, s.value(i)));
+      include(MountComponentInUnit(i, s.value(i)));
+      if (s.applied) include(MountComponentInUnit(i, (*s.applied)(i)));
+      if (s.observed) include(MountComponentInUnit(i, (*s.observed)(i)));
       sigmas.push_back(MountComponentInUnit(i, s.sigma(i)));
     }
     if (truth != nullptr) {
       for (const core::CameraExtrinsicsRecord& r : *truth) {
         if (r.stamp_s < t0 || r.stamp_s > t1) continue;
-        lo = std::min(lo, MountComponentInUnit(i, TruthVector(r)(i)));
-        hi = std::max(hi, MountComponentInUnit(i, TruthVector(r)(i)));
+        include(MountComponentInUnit(i, TruthVector(r)(i)));
       }
-      const double v = MountComponentInUnit(i, TruthVector(TruthAt(*truth, t0))(i));
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+      include(MountComponentInUnit(i, TruthVector(TruthAt(*truth, t0))(i)));
     }
     const double commissioned = MountComponentInUnit(i, history.front().value(i));
-    if (history.front().windows == 0) {
-      lo = std::min(lo, commissioned);
-      hi = std::max(hi, commissioned);
-    }
+    if (history.front().windows == 0) include(commissioned);
     if (lo > hi) lo = hi = commissioned;
     double typical = 0.0;
     if (!sigmas.empty()) {

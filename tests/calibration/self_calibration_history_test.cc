@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -131,6 +132,49 @@ TEST(SelfCalibrationHistory, ThePageHasAPanelPerComponentTheTruthAndTheAlarms) {
   EXPECT_NE(html.find("run &lt;1&gt;"), std::string::npos);  // the title escaped
   EXPECT_EQ(SelfCalibrationHistoryHtml(*history, nullptr, "x").find("class='truth'"),
             std::string::npos);
+}
+
+// The mount the lines were read under can lie beyond every estimate (a
+// suspected step's, before the windows confirm it): the panel's range holds
+// it, so its line is drawn where it is instead of flat on the panel's edge.
+TEST(SelfCalibrationHistory, ThePanelsRangeHoldsTheMountTheLinesWereReadUnder) {
+  const auto dir = ::groundline::testing::ScratchDir("selfcal_history_observed");
+  const std::filesystem::path path = dir / "health.jsonl";
+  {
+    std::ofstream out(path);
+    // Estimates within 0.5 mm of 580 mm; the lines read 10 and 15 mm lower
+    // at the second and third keyframe.
+    const double observed_mm[] = {580.0, 570.0, 565.0, 580.0};
+    for (int k = 0; k < 4; ++k) {
+      out << "{\"stamp_s\":" << k + 1 << ",\"selfcal_pitch_deg\":42.4,\"selfcal_roll_deg\":0,"
+          << "\"selfcal_height_m\":" << 0.58 - 0.0001 * k << ",\"selfcal_yaw_deg\":0,"
+          << "\"selfcal_pitch_sigma_deg\":0.01,\"selfcal_roll_sigma_deg\":0.01,"
+             "\"selfcal_height_sigma_m\":0.0002,\"selfcal_yaw_sigma_deg\":0.01,"
+             "\"selfcal_alarm\":false,\"selfcal_windows\":"
+          << k + 1 << ",\"selfcal_steps\":0,\"selfcal_observed_pitch_deg\":42.4,"
+          << "\"selfcal_observed_roll_deg\":0,\"selfcal_observed_height_m\":"
+          << observed_mm[k] / 1000.0 << ",\"selfcal_observed_yaw_deg\":0}\n";
+    }
+  }
+  const auto history = ReadSelfCalibrationHistory(path);
+  ASSERT_TRUE(history.ok()) << history.status().message();
+  const std::string html = SelfCalibrationHistoryHtml(*history, nullptr, "run");
+  const std::size_t panel = html.find("data-component='height'");
+  ASSERT_NE(panel, std::string::npos);
+  const std::string key = "class='observed' points='";
+  const std::size_t at = html.find(key, panel);
+  ASSERT_NE(at, std::string::npos) << html;
+  std::istringstream points(
+      html.substr(at + key.size(), html.find('\'', at + key.size()) - at - key.size()));
+  std::vector<double> ys;
+  double x = 0.0, y = 0.0;
+  char comma = 0;
+  while (points >> x >> comma >> y) ys.push_back(y);
+  ASSERT_EQ(ys.size(), 4u);
+  // SVG y grows downwards: 565 mm below 570 mm below the estimates.
+  EXPECT_GT(ys[1], ys[0] + 1.0);
+  EXPECT_GT(ys[2], ys[1] + 1.0);
+  EXPECT_NEAR(ys[3], ys[0], 1e-9);
 }
 
 }  // namespace
