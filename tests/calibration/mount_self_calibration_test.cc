@@ -4,6 +4,7 @@
 
 #include <ceres/jet.h>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -562,6 +563,17 @@ TEST(MountSelfCalibrator, ASuspectedStepIsReadFromTheFramesAfterIt) {
   EXPECT_FALSE(cal.estimate().alarm);
 }
 
+// The frame at t of a drive whose odometry turns at yaw_rate from turn_start_s
+// to turn_end_s: a rotation of the odom frame, so the motion between two
+// frames after the turn is the drive's again.
+MountFrame FrameInATurn(Drive& d, double t, const CameraMount& truth, const CameraMount& used,
+                        double turn_start_s, double turn_end_s, double yaw_rate) {
+  MountFrame f = MakeFrame(d, t, truth, used);
+  const double turned = yaw_rate * std::clamp(t - turn_start_s, 0.0, turn_end_s - turn_start_s);
+  f.T_odom_base = core::SE2(0.0, 0.0, turned) * f.T_odom_base;
+  return f;
+}
+
 // A 0.2 deg roll (a bracket bent a little: a third of the alarm's limit) with
 // only the floor's texture in view, and a turn 4 s after it (zone B seed 20's
 // roll step). One window sees such a roll at about 3 sigma, so the step
@@ -580,11 +592,7 @@ TEST(MountSelfCalibrator, ASmallRollStepIsFoundBeforeATurnThatFollowsIt) {
   MountSelfCalibrator cal(commissioned, MountSelfCalibrationOptions{});
   for (double t = 0.0; t < 45.0; t += 1.0 / d.rate_hz) {
     const CameraMount truth = t < kStepS ? commissioned : bent;
-    MountFrame f = MakeFrame(d, t, truth, commissioned);
-    // The odometry turns during the turn (a rotation of the odom frame).
-    const double turned = kYawRate * std::clamp(t - kTurnS, 0.0, kTurnEndS - kTurnS);
-    f.T_odom_base = core::SE2(0.0, 0.0, turned) * f.T_odom_base;
-    cal.AddFrame(f);
+    cal.AddFrame(FrameInATurn(d, t, truth, commissioned, kTurnS, kTurnEndS, kYawRate));
     const MountEstimate& e = cal.estimate();
     EXPECT_FALSE(e.alarm) << t << " s: " << e.alarm_message;
     if (t >= kTurnS) {
@@ -612,12 +620,7 @@ TEST(MountSelfCalibrator, AKnockInATurnIsAlarmedWithinFiveSeconds) {
     MountSelfCalibrator cal(commissioned, options);
     for (double t = 0.0; t < 40.0; t += 1.0 / d.rate_hz) {
       const CameraMount truth = t < kKnockS ? commissioned : knocked;
-      MountFrame f = MakeFrame(d, t, truth, commissioned);
-      // The odometry turns during the turn (a rotation of the odom frame:
-      // the motion between two frames after it is the drive's again).
-      const double turned = kYawRate * std::clamp(t - kKnockS, 0.0, kTurnEndS - kKnockS);
-      f.T_odom_base = core::SE2(0.0, 0.0, turned) * f.T_odom_base;
-      cal.AddFrame(f);
+      cal.AddFrame(FrameInATurn(d, t, truth, commissioned, kKnockS, kTurnEndS, kYawRate));
       if (cal.estimate().alarm) {
         EXPECT_GE(t, kTurnEndS);
         return t - kKnockS;
