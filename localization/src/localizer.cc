@@ -39,6 +39,12 @@ core::Status LocalizerOptions::Validate() const {
                                  ": expected a finite number > 0, got " + std::to_string(value));
     }
   }
+  if (!(std::isfinite(slip_speed_difference_change_mps) &&
+        slip_speed_difference_change_mps >= 0.0)) {
+    return core::Status::Error(
+        "localizer option slip_speed_difference_change_mps: expected >= 0 (0: off), got " +
+        std::to_string(slip_speed_difference_change_mps));
+  }
   if (!(std::isfinite(max_coast_s) && max_coast_s >= 0.0)) {
     return core::Status::Error("localizer option max_coast_s: expected >= 0, got " +
                                std::to_string(max_coast_s));

@@ -266,15 +266,30 @@ std::optional<KeyframeOutput> LocalizerImpl::TakeReading(core::WheelEncoderReadi
     return Coast(r.stamp_s);
   }
   odometry_frozen = false;
+  const bool after_coasting = coasting;
   coasting = false;
+  if (gap_s > 0.0 && gap_s <= options.max_odometry_gap_s && !after_coasting && wheel_speeds_known &&
+      options.slip_speed_difference_change_mps > 0.0 && IsWheelSlip(r, gap_s)) {
+    ++counters.wheel_dropped_slip;
+    return Coast(r.stamp_s);
+  }
   if (gap_s > 0.0) {
     const double ds_m = 0.5 * (setup.drive.LeftRadius() * r.left_delta_rad +
                                setup.drive.RightRadius() * r.right_delta_rad);
     last_speed_mps = std::abs(ds_m) / gap_s;
     last_left_radps = r.left_delta_rad / gap_s;
     last_right_radps = r.right_delta_rad / gap_s;
+    wheel_speeds_known = true;
   }
   return Advance(r, previous_s);
+}
+
+bool LocalizerImpl::IsWheelSlip(const core::WheelEncoderReading& r, double gap_s) const {
+  const double left_change_mps =
+      setup.drive.LeftRadius() * (r.left_delta_rad / gap_s - last_left_radps);
+  const double right_change_mps =
+      setup.drive.RightRadius() * (r.right_delta_rad / gap_s - last_right_radps);
+  return std::abs(right_change_mps - left_change_mps) > options.slip_speed_difference_change_mps;
 }
 
 std::optional<KeyframeOutput> LocalizerImpl::Advance(const core::WheelEncoderReading& r,

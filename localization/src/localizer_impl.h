@@ -92,6 +92,7 @@ class LocalizerImpl {
   bool coasting = false;
   double coast_since_s = 0.0;
   double last_left_radps = 0.0, last_right_radps = 0.0;
+  bool wheel_speeds_known = false;  // last_*_radps come from a taken reading
   long keyframe_index = 0;
   bool relocalizer_done_ = false;  // committed: the relocalizer is kept for its status
 
@@ -124,6 +125,9 @@ class LocalizerImpl {
   // (LocalizerOptions::max_coast_s), so that the outputs, the LiDAR and the
   // lines go on.
   std::optional<KeyframeOutput> Coast(double stamp_s);
+  // The difference of the wheels' speeds over the reading differs from the
+  // last taken reading's by more than slip_speed_difference_change_mps.
+  bool IsWheelSlip(const core::WheelEncoderReading& r, double gap_s) const;
   // Adds the covariance of unknown motion to the odometry: speed and yaw-rate
   // errors of odometry_gap_speed_mps / _yaw_rate_radps over seconds2 [s^2]
   // (a gap of T: T^2; a coast from T0 to T1: T1^2 - T0^2).

@@ -135,6 +135,7 @@ nlohmann::ordered_json CountersJson(const LocalizerCounters& c) {
           {"clock_jumps", c.clock_jumps},
           {"wheel_before_start", c.wheel_before_start},
           {"wheel_dropped_frozen", c.wheel_dropped_frozen},
+          {"wheel_dropped_slip", c.wheel_dropped_slip},
           {"wheel_coasted", c.wheel_coasted},
           {"odometry_gaps", c.odometry_gaps},
           {"frames", c.frames},

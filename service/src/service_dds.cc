@@ -186,11 +186,9 @@ void Service::Impl::PublishDiagnostics() {
   const auto rate = [period_s](long now_count, long before) {
     return period_s > 0.0 ? Fixed(static_cast<double>(now_count - before) / period_s, 1) : "-";
   };
-  const long dropped = c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order +
-                       c.wheel_dropped_frozen + c.scans_dropped_bad + c.scans_dropped_out_of_order +
-                       c.frames_dropped_late;
-  const long dropped_before = b.wheel_dropped_non_finite + b.wheel_dropped_out_of_order +
-                              b.wheel_dropped_frozen + b.scans_dropped_bad +
+  const long dropped = c.WheelReadingsDropped() + c.scans_dropped_bad +
+                       c.scans_dropped_out_of_order + c.frames_dropped_late;
+  const long dropped_before = b.WheelReadingsDropped() + b.scans_dropped_bad +
                               b.scans_dropped_out_of_order + b.frames_dropped_late;
   std::uint64_t dds_dropped = 0;
   for (const io::DdsInputCounters& d : dds_counters) dds_dropped += d.dropped;
@@ -234,8 +232,7 @@ void Service::Impl::PublishDiagnostics() {
       {"odometry rate hz", rate(c.wheel_readings, b.wheel_readings)},
       {"scan rate hz", rate(c.scans, b.scans)},
       {"frame rate hz", rate(c.frames, b.frames)},
-      {"readings dropped", std::to_string(c.wheel_dropped_non_finite +
-                                          c.wheel_dropped_out_of_order + c.wheel_dropped_frozen)},
+      {"readings dropped", std::to_string(c.WheelReadingsDropped())},
       {"scans dropped", std::to_string(c.scans_dropped_bad + c.scans_dropped_out_of_order)},
       {"frames dropped (queue full)", std::to_string(camera_dropped.load())},
       {"frames dropped (late)", std::to_string(c.frames_dropped_late)}};

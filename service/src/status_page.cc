@@ -91,7 +91,7 @@ async function tick() {
       row('frames dropped (queue full)', h.camera_stage.dropped_queue_full, h.camera_stage.dropped_queue_full ? 'bad' : '') +
       row('frames unreadable', c.frames_unreadable + h.camera_stage.unreadable) +
       row('frames without odometry', h.camera_stage.without_odometry, h.camera_stage.without_odometry ? 'bad' : '') +
-      row('readings dropped', c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order + c.wheel_dropped_duplicate + c.wheel_dropped_frozen) +
+      row('readings dropped', c.wheel_dropped_non_finite + c.wheel_dropped_out_of_order + c.wheel_dropped_duplicate + c.wheel_dropped_frozen + c.wheel_dropped_slip) +
       row('readings late (merged)', c.wheel_late_merged) +
       row('clock jumps', c.clock_jumps, c.clock_jumps ? 'bad' : '') +
       row('scans dropped', c.scans_dropped_bad + c.scans_dropped_out_of_order + c.scans_dropped_ahead) +

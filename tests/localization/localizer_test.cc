@@ -42,8 +42,7 @@ LocalizerSetup Vehicle() {
 
 core::Matrix3 StartCovariance() { return core::Vector3(1e-6, 1e-6, 1e-6).asDiagonal(); }
 
-std::unique_ptr<Localizer> Make(LocalizerMode mode) {
-  LocalizerOptions options;
+std::unique_ptr<Localizer> Make(LocalizerMode mode, LocalizerOptions options = {}) {
   options.mode = mode;
   core::Result<std::unique_ptr<Localizer>> made = Localizer::Create(options, Vehicle());
   EXPECT_TRUE(made.ok()) << made.message();
@@ -230,11 +229,74 @@ TEST(Localizer, FrozenEncodersAreDroppedAndTheEstimateCoastsOverThemWithAGrowing
   EXPECT_FALSE(stopping->Sensors().odometry_frozen);
 }
 
+// A wheel that spins for one reading (the left one reports 7 cm backwards
+// while the vehicle drives straight at 1 m/s): taken, the heading would turn
+// by 7 cm over the 0.76 m track, 5.3 deg; dropped as a slip, the estimate
+// coasts over the reading at the last wheel speeds and stays straight.
+// Speeds that change as a vehicle's do, a start while driving, and a turn
+// begun as a vehicle begins one are no slip.
+TEST(Localizer, AWheelSpeedStepNoVehicleMakesIsASlipThatIsDroppedAndCoastedOver) {
+  const auto drive = [](double slip_speed_difference_change_mps) {
+    LocalizerOptions options;
+    options.slip_speed_difference_change_mps = slip_speed_difference_change_mps;
+    std::unique_ptr<Localizer> localizer = Make(LocalizerMode::kOdometry, options);
+    for (int k = 1; k <= 100; ++k) {
+      core::WheelEncoderReading r = Straight(k);
+      if (k == 51) r.left_delta_rad = -0.06 / kRadiusM;  // 1 cm forward less 7 cm spun back
+      localizer->AddWheelReading(r);
+    }
+    return localizer;
+  };
+  const std::unique_ptr<Localizer> checked =
+      drive(LocalizerOptions{}.slip_speed_difference_change_mps);
+  EXPECT_EQ(checked->counters().wheel_dropped_slip, 1);
+  EXPECT_EQ(checked->counters().wheel_coasted, 1);
+  EXPECT_EQ(checked->counters().WheelReadingsDropped(), 1);
+  EXPECT_NEAR(checked->Current().T_map_base.yaw(), 0.0, 1e-9);
+  EXPECT_NEAR(checked->Current().T_map_base.x(), 1.00, 1e-9);
+  const std::unique_ptr<Localizer> unchecked = drive(0.0);
+  EXPECT_EQ(unchecked->counters().wheel_dropped_slip, 0);
+  EXPECT_NEAR(unchecked->Current().T_map_base.yaw(), 0.07 / 0.76, 1e-6);
+
+  // From a standstill to 1.8 m/s at 3 m/s^2, then braking at 5 m/s^2 to a
+  // stop; and a localizer started while driving at 1.8 m/s.
+  std::unique_ptr<Localizer> accelerating = Make(LocalizerMode::kOdometry);
+  std::unique_ptr<Localizer> started_driving = Make(LocalizerMode::kOdometry);
+  double speed_mps = 0.0;
+  for (int k = 1; k <= 200; ++k) {
+    speed_mps = k <= 60    ? std::min(1.8, speed_mps + 3.0 * kPeriodS)
+                : k <= 100 ? std::max(0.0, speed_mps - 5.0 * kPeriodS)
+                           : 0.0;
+    const double delta_rad = speed_mps * kPeriodS / kRadiusM;
+    accelerating->AddWheelReading({k * kPeriodS, delta_rad, delta_rad});
+    const double driving_rad = 1.8 * kPeriodS / kRadiusM;
+    started_driving->AddWheelReading({k * kPeriodS, driving_rad, driving_rad});
+  }
+  EXPECT_EQ(accelerating->counters().wheel_dropped_slip, 0);
+  EXPECT_EQ(started_driving->counters().wheel_dropped_slip, 0);
+  // Into a turn in place at 1 rad/s within 0.2 s (5 rad/s^2), and out again.
+  std::unique_ptr<Localizer> turning = Make(LocalizerMode::kOdometry);
+  double yaw_rate = 0.0;
+  for (int k = 1; k <= 200; ++k) {
+    yaw_rate = k <= 100 ? std::min(1.0, yaw_rate + 5.0 * kPeriodS)
+                        : std::max(0.0, yaw_rate - 5.0 * kPeriodS);
+    const double wheel_rad = yaw_rate * 0.5 * Vehicle().drive.track_m * kPeriodS / kRadiusM;
+    turning->AddWheelReading({k * kPeriodS, -wheel_rad, wheel_rad});
+  }
+  EXPECT_EQ(turning->counters().wheel_dropped_slip, 0);
+  EXPECT_NEAR(turning->Current().T_map_base.yaw(), 1.0, 0.02);
+}
+
 TEST(Localizer, OdometryIncrementsDriveItAsTheWheelReadingsTheyCameFrom) {
   // What a base driver publishes as nav_msgs/Odometry: the integrated wheel
   // poses; their consecutive Between are the increments.
-  std::unique_ptr<Localizer> wheels = Make(LocalizerMode::kOdometry);
-  std::unique_ptr<Localizer> increments = Make(LocalizerMode::kOdometry);
+  // The drive switches its wheel speeds at once (a step no vehicle makes,
+  // which the slip check would drop): the check is off, this is about the
+  // increments carrying what the readings do.
+  LocalizerOptions no_slip_check;
+  no_slip_check.slip_speed_difference_change_mps = 0.0;
+  std::unique_ptr<Localizer> wheels = Make(LocalizerMode::kOdometry, no_slip_check);
+  std::unique_ptr<Localizer> increments = Make(LocalizerMode::kOdometry, no_slip_check);
   OdometryIntegrator base_driver(Vehicle().drive, OdometryNoiseParams{});
   core::SE2 previous;
   std::vector<KeyframeOutput> from_wheels, from_increments;

@@ -139,6 +139,18 @@ struct LocalizerOptions {
   // Exactly zero wheel increments right after a speed above this are frozen
   // encoders, not a stop (dropped and counted until the wheels turn again).
   double frozen_speed_mps = 0.2;
+  // A reading in which the difference of the two wheels' speeds (the yaw
+  // rate times the track) changes by more than this from the last reading
+  // is a wheel that slipped or spun: at 100 Hz, on a 0.76 m track, that is a
+  // yaw acceleration of 130 rad/s^2, which no vehicle makes while its wheels
+  // hold the floor. The reading is dropped and counted, and the estimate
+  // coasts over it on the last good wheel speeds; taken, a 7 cm one-wheel
+  // slip turns the heading by 5 deg, and the gates then reject the lines and
+  // walls that would correct it. The difference, not each wheel's speed:
+  // a reading late or early in transport (its interval miscounted) scales
+  // both wheels' speeds alike. Checked between two readings taken in turn,
+  // not across a gap or after a coasted reading. 0: off.
+  double slip_speed_difference_change_mps = 1.0;
   // Wheel readings with non-finite or frozen increments but a valid stamp:
   // for up to this long the estimate coasts on the last good wheel speeds,
   // its covariance growing as odometry_gap_speed_mps / _yaw_rate_radps times
@@ -209,7 +221,8 @@ struct LocalizerCounters {
   long clock_jumps = 0;                 // the source clock jumped back (clock_jump_readings)
   long wheel_before_start = 0;          // before the start pose was known
   long wheel_dropped_frozen = 0;        // zero increments right after driving (frozen encoders)
-  long wheel_coasted = 0;               // non-finite or frozen readings the estimate coasted over
+  long wheel_dropped_slip = 0;          // a wheel speed step no vehicle makes (a slip, a spin)
+  long wheel_coasted = 0;               // dropped readings the estimate coasted over
   long odometry_gaps = 0;               // consecutive readings > max_odometry_gap_s apart
   long frames = 0;
   long frames_used = 0;
@@ -247,6 +260,12 @@ struct LocalizerCounters {
   long walls_observed = 0;
   long walls_used = 0;
   long walls_ambiguous = 0;
+
+  // Wheel readings dropped for any reason (the merged late ones are not lost).
+  long WheelReadingsDropped() const {
+    return wheel_dropped_non_finite + wheel_dropped_out_of_order + wheel_dropped_duplicate +
+           wheel_dropped_frozen + wheel_dropped_slip;
+  }
 };
 
 struct WallCounts {
