@@ -255,7 +255,7 @@ void MountSelfCalibrator::CheckFramePair(const MountFrame& frame) {
     // the suspicion is the estimate widened by a step.
     Suspect(quick_streak_ >= options_.quick_step_frames ? streak_evidence_ : MountWindowSolution{},
             /*from_frames=*/true);
-  } else if (!over && quick_suspicion_) {
+  } else if (quick_suspicion_) {
     ClearSuspicion();  // the frames agree again and no window holds a step
   }
 }
@@ -334,14 +334,9 @@ bool MountSelfCalibrator::CloseWindow() {
     ++estimate_.steps;
     covariance_ = InitialCovariance();
     if (onset_pending_ && suspect_.front().first_stamp_s >= streak_onset_s_) {
-      std::size_t from = recent_windows_.size();
-      while (from > 0 && recent_windows_[from - 1].first_stamp_s >= streak_onset_s_) --from;
+      const std::size_t from = FirstRecentWindowAfterOnset();
       if (from < recent_windows_.size()) mean_ = recent_windows_[from].mean_before;
-      for (std::size_t i = from; i < recent_windows_.size(); ++i) {
-        Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
-        --estimate_.windows_used;  // fused once already
-        if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
-      }
+      FuseRecentWindowsAgain(from);
       for (const RecentWindow& s : suspect_) Fuse(s.window, s.stamp_s);
     } else {
       Fuse(suspect_.back().window, stamp_s);
@@ -367,10 +362,7 @@ bool MountSelfCalibrator::CloseWindow() {
   if (n_windows > 0 && onset_pending_) {
     // A step small for one window whose onset a frame pair showed: the
     // windows since the onset together, none of which straddles it.
-    std::size_t from = 0;
-    while (from < recent_windows_.size() && recent_windows_[from].first_stamp_s < streak_onset_s_) {
-      ++from;
-    }
+    const std::size_t from = FirstRecentWindowAfterOnset();
     const std::size_t after = recent_windows_.size() - from;
     if (after >= 2) step = StepInRecentWindows(from, from, stamp_s);
     if (step || after >= n_windows) onset_pending_ = false;
@@ -407,13 +399,25 @@ bool MountSelfCalibrator::StepInRecentWindows(std::size_t from, std::size_t fuse
   onset_pending_ = false;
   mean_ = first.mean_before;
   covariance_ = InitialCovariance();
-  for (std::size_t i = fuse_from; i < recent_windows_.size(); ++i) {
+  FuseRecentWindowsAgain(fuse_from);
+  recent_windows_.clear();
+  return true;
+}
+
+std::size_t MountSelfCalibrator::FirstRecentWindowAfterOnset() const {
+  std::size_t from = 0;
+  while (from < recent_windows_.size() && recent_windows_[from].first_stamp_s < streak_onset_s_) {
+    ++from;
+  }
+  return from;
+}
+
+void MountSelfCalibrator::FuseRecentWindowsAgain(std::size_t from) {
+  for (std::size_t i = from; i < recent_windows_.size(); ++i) {
     Fuse(recent_windows_[i].window, recent_windows_[i].stamp_s);
     --estimate_.windows_used;  // fused once already
     if (recent_windows_[i].window.map_spacings > 0) --estimate_.windows_with_atlas;
   }
-  recent_windows_.clear();
-  return true;
 }
 
 namespace {

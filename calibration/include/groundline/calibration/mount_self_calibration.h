@@ -405,6 +405,12 @@ class MountSelfCalibrator {
   // from before recent_windows_[from], over the step gate: a step, and the
   // estimate restarts from before them with recent_windows_[fuse_from..].
   bool StepInRecentWindows(std::size_t from, std::size_t fuse_from, double stamp_s);
+  // The index of the first of recent_windows_ that began at or after
+  // streak_onset_s_ (their size when none did).
+  std::size_t FirstRecentWindowAfterOnset() const;
+  // Fuses recent_windows_[from..] again into a restarted estimate (their
+  // counts stay those of one fusion).
+  void FuseRecentWindowsAgain(std::size_t from);
   // The variances of the motion's systematic errors, added to the
   // estimate's (motion_scale_sigma, motion_heading_sigma_rad).
   MountVector SystematicVariance(double height_m) const;
